@@ -1,0 +1,30 @@
+//! Command-line interface (clap). Each subcommand lives in its own file and only calls
+//! into the library; only subcommands that work are listed.
+use clap::{Parser, Subcommand};
+
+/// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
+#[derive(Debug, Parser)]
+#[command(name = "fem2rbd", version, about, long_about = None)]
+pub struct Cli {
+    /// Print nothing but errors (no progress bars).
+    #[arg(long, global = true)]
+    pub quiet: bool,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {}
+
+/// Parses the process arguments and runs the chosen subcommand.
+pub fn main() -> anyhow::Result<()> {
+    let cli = Cli::parse();
+    run(cli)
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let _ = cli.quiet;
+    match cli.command {}
+}

@@ -1,0 +1,1 @@
+//! Analyses: gravity (load control), modal (eigen), transient (Newmark + Newton).

@@ -1,0 +1,71 @@
+//! Beam-column elements (3D, two nodes, 6 DOF per node): elastic, displacement-based
+//! fiber (Gauss-Legendre) and force-based fiber (Gauss-Lobatto).
+//!
+//! The contract between elements and the analysis layer is [`Element`]: the domain
+//! hands each element the trial displacements of its end nodes, and reads back the
+//! resisting force and tangent stiffness in global coordinates.
+
+use nalgebra::{SMatrix, SVector};
+
+/// 12-component vector of element end quantities, global axes:
+/// `[ux_i, uy_i, uz_i, rx_i, ry_i, rz_i, ux_j, uy_j, uz_j, rx_j, ry_j, rz_j]` (m, rad / N, N·m).
+pub type Vec12 = SVector<f64, 12>;
+/// 12 × 12 matrix in the DOF order of [`Vec12`].
+pub type Mat12 = SMatrix<f64, 12, 12>;
+
+/// End-node kinematics handed to an element for one Newton iteration.
+#[derive(Debug, Clone, Copy)]
+pub struct EndDisplacements {
+    /// Total trial displacements and rotations of both end nodes since the start (global).
+    pub total: Vec12,
+    /// Increment since the previous iteration (global). Corotational transformations
+    /// compound the rotational part onto their nodal triads, as OpenSees'
+    /// `CorotCrdTransf3d` does with `getIncrDeltaDisp()`.
+    pub delta: Vec12,
+}
+
+/// Damage state of an element, for the collapse criteria and the hand-off.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ElementDamage {
+    /// Some fiber has yielded (steel) or passed peak (concrete).
+    pub yielded: bool,
+    /// Some steel fiber has ruptured / the section has lost its capacity.
+    pub ruptured: bool,
+}
+
+/// Error from an element's state determination (e.g. the force-based element's
+/// internal iterations did not converge). The analysis treats it like a failed
+/// Newton iteration.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("element {element}: {reason}")]
+pub struct ElementError {
+    /// The element's tag.
+    pub element: i64,
+    /// What went wrong.
+    pub reason: String,
+}
+
+/// A two-node, 12-DOF structural element.
+pub trait Element: std::fmt::Debug + Send {
+    /// The element's tag (id in the model).
+    fn tag(&self) -> i64;
+    /// Indices of the end nodes i and j in the domain's node arrays.
+    fn nodes(&self) -> [usize; 2];
+    /// Sets the trial state from the end-node displacements.
+    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError>;
+    /// Resisting force of the trial state, global axes (N, N·m).
+    fn resisting_force(&self) -> Vec12;
+    /// Tangent stiffness of the trial state, global axes (material + geometric).
+    fn tangent_stiffness(&self) -> Mat12;
+    /// Stiffness of the undeformed, undamaged element (for initial-stiffness Rayleigh
+    /// damping and modified Newton with the initial tangent).
+    fn initial_stiffness(&self) -> Mat12;
+    /// Accepts the trial state.
+    fn commit_state(&mut self);
+    /// Returns to the last committed state.
+    fn revert_to_last_commit(&mut self);
+    /// Damage reached so far.
+    fn damage(&self) -> ElementDamage {
+        ElementDamage::default()
+    }
+}

@@ -1,0 +1,8 @@
+//! The nonlinear finite-element solver (the paper's small-deformation stage): uniaxial
+//! materials, fiber sections, beam-column elements, geometric transformations, and
+//! static / modal / transient analyses on sparse linear algebra (faer).
+pub mod analysis;
+pub mod element;
+pub mod material;
+pub mod section;
+pub mod transform;

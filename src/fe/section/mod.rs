@@ -1,0 +1,1 @@
+//! Sections: fiber sections integrating uniaxial materials; elastic sections.

@@ -1,0 +1,1 @@
+//! Geometric transformations: linear, P-Delta, 3D corotational.

@@ -1,0 +1,1 @@
+//! Geometry mapping: FE elements → rigid boxes, overlap removal, mass mapping. (Issue 3.)

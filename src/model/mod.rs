@@ -1,0 +1,1 @@
+//! The building model: file format (serde, TOML/JSON), validation, generator. (Issue 3.)

@@ -1,0 +1,1 @@
+//! Ground motions: PEER AT2 / two-column / BCB CSV readers, scaling, integration. (Issue 3.)
