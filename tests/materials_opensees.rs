@@ -56,11 +56,13 @@ impl Worst {
         let diff = (ours - theirs).abs();
         let ratio = if ours == theirs {
             0.0
+        } else if diff.is_nan() {
+            f64::INFINITY // a NaN on either side is a failure
         } else {
             diff / theirs.abs().max(floor)
         };
-        if !(ratio <= self.ratio) {
-            self.ratio = if ratio.is_nan() { f64::INFINITY } else { ratio };
+        if ratio > self.ratio || (ratio == 0.0 && self.at.is_empty()) {
+            self.ratio = ratio;
             self.abs = diff;
             self.at = at();
         }
