@@ -21,7 +21,7 @@
 
 use super::{MaterialDamage, UniaxialMaterial};
 
-/// Trial or committed state of [`Concrete01`].
+/// Trial or committed state of `Concrete01`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct State {
     strain: f64,

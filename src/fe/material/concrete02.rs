@@ -1,6 +1,6 @@
 //! Concrete with linear tension softening, OpenSees
 //! `uniaxialMaterial Concrete02 $tag $fpc $epsc0 $fpcu $epscU <$lambda $ft $Ets>`
-//! (class `Concrete02`, Yassin 1994 after Mohd Hisham Mohd Yassin's thesis, UC Berkeley).
+//! (class `Concrete02`; Yassin 1994).
 //!
 //! Compression envelope (Kent & Park 1971 modified by Scott, Park & Priestley 1982),
 //! compression negative, η = ε/ε_c0, E_c0 = 2 f'c/ε_c0 (so the initial tangent is
@@ -31,22 +31,22 @@
 use super::concrete01::check_compression_envelope;
 use super::{MaterialDamage, UniaxialMaterial};
 
-/// Parameters of [`Concrete02`] (OpenSees names in brackets).
+/// Parameters of `Concrete02` (OpenSees parameter names in code font).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Concrete02Params {
-    /// Compressive strength [`fpc`] (Pa, < 0).
+    /// Compressive strength `fpc` (Pa, < 0).
     pub fpc: f64,
-    /// Strain at compressive strength [`epsc0`] (–, < 0).
+    /// Strain at compressive strength `epsc0` (–, < 0).
     pub epsc0: f64,
-    /// Crushing (residual) strength [`fpcu`] (Pa, ≤ 0).
+    /// Crushing (residual) strength `fpcu` (Pa, ≤ 0).
     pub fpcu: f64,
-    /// Strain at crushing strength [`epscU`] (–, ≤ epsc0).
+    /// Strain at crushing strength `epscU` (–, ≤ epsc0).
     pub epscu: f64,
-    /// Ratio of unloading slope at epscu to the initial slope [`lambda`] (–, 0 ≤ λ < 1).
+    /// Ratio of unloading slope at epscu to the initial slope `lambda` (–, 0 ≤ λ < 1).
     pub lambda: f64,
-    /// Tensile strength [`ft`] (Pa, ≥ 0).
+    /// Tensile strength `ft` (Pa, ≥ 0).
     pub ft: f64,
-    /// Tension softening stiffness [`Ets`] (Pa, > 0; the magnitude of the slope).
+    /// Tension softening stiffness `Ets` (Pa, > 0; the magnitude of the slope).
     pub ets: f64,
 }
 
@@ -66,7 +66,7 @@ impl Concrete02Params {
     }
 }
 
-/// Trial or committed state of [`Concrete02`].
+/// Trial or committed state of `Concrete02`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct State {
     eps: f64,
@@ -102,6 +102,14 @@ impl Concrete02 {
         }
         if !(p.ets.is_finite() && p.ets > 0.0) {
             return Err(format!("Concrete02: Ets must be > 0 (Pa), got {}", p.ets));
+        }
+        if p.fpcu == 0.0 && p.lambda == 0.0 {
+            return Err(
+                "Concrete02: fpcu = 0 together with lambda = 0 puts the common \
+                        reloading point R at the origin (undefined reloading slope); \
+                        give fpcu < 0 or lambda > 0"
+                    .to_string(),
+            );
         }
         let s = Self::virgin(&p);
         Ok(Self {

@@ -25,22 +25,22 @@
 
 use super::{MaterialDamage, UniaxialMaterial};
 
-/// Parameters of [`Steel01`] (OpenSees names in brackets).
+/// Parameters of `Steel01` (OpenSees parameter names in code font).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Steel01Params {
-    /// Yield strength [`Fy`] (Pa, > 0).
+    /// Yield strength `Fy` (Pa, > 0).
     pub fy: f64,
-    /// Initial elastic modulus [`E0`] (Pa, > 0).
+    /// Initial elastic modulus `E0` (Pa, > 0).
     pub e0: f64,
-    /// Strain-hardening ratio [`b`] = E_sh/E0 (–, 0 ≤ b < 1).
+    /// Strain-hardening ratio `b` = E_sh/E0 (–, 0 ≤ b < 1).
     pub b: f64,
-    /// Isotropic hardening, compression envelope growth [`a1`] (–, default 0).
+    /// Isotropic hardening, compression envelope growth `a1` (–, default 0).
     pub a1: f64,
-    /// Isotropic hardening, compression reference range in εy [`a2`] (> 0, default 55).
+    /// Isotropic hardening, compression reference range in εy `a2` (> 0, default 55).
     pub a2: f64,
-    /// Isotropic hardening, tension envelope growth [`a3`] (–, default 0).
+    /// Isotropic hardening, tension envelope growth `a3` (–, default 0).
     pub a3: f64,
-    /// Isotropic hardening, tension reference range in εy [`a4`] (> 0, default 55).
+    /// Isotropic hardening, tension reference range in εy `a4` (> 0, default 55).
     pub a4: f64,
     /// Tensile rupture strain (–, > Fy/E0); `None` (default) = never ruptures.
     pub eps_rupture: Option<f64>,
@@ -63,7 +63,7 @@ impl Steel01Params {
     }
 }
 
-/// Trial or committed state of [`Steel01`].
+/// Trial or committed state of `Steel01`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct State {
     strain: f64,

@@ -18,7 +18,8 @@
 //! `1 + a1·((ε_max − ε_min)/(2·a2·εy))^0.8` towards compression and by
 //! `1 + a3·((ε_max − ε_min)/(2·a4·εy))^0.8` towards tension. εy = Fy/E0.
 //!
-//! `sigInit` is an initial stress (Pa): the material works internally on ε + sigInit/E0.
+//! `sigInit` is an initial stress (Pa): the material works internally on ε + sigInit/E0
+//! (as OpenSees); [`UniaxialMaterial::strain`] returns the strain as given, without it.
 //!
 //! Units: Fy, E0, sigInit and stresses in Pa; strains, b, R0, cR1, cR2, a1, a3
 //! dimensionless; a2, a4 in multiples of εy.
@@ -29,30 +30,30 @@
 
 use super::{MaterialDamage, UniaxialMaterial};
 
-/// Parameters of [`Steel02`] (OpenSees names in brackets).
+/// Parameters of `Steel02` (OpenSees parameter names in code font).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Steel02Params {
-    /// Yield strength [`Fy`] (Pa, > 0).
+    /// Yield strength `Fy` (Pa, > 0).
     pub fy: f64,
-    /// Initial elastic modulus [`E0`] (Pa, > 0).
+    /// Initial elastic modulus `E0` (Pa, > 0).
     pub e0: f64,
-    /// Strain-hardening ratio [`b`] (–, 0 ≤ b < 1).
+    /// Strain-hardening ratio `b` (–, 0 ≤ b < 1).
     pub b: f64,
-    /// Initial curvature parameter [`R0`] (–, > 0; OpenSees default 15, usually 10–20).
+    /// Initial curvature parameter `R0` (–, > 0; OpenSees default 15, usually 10–20).
     pub r0: f64,
-    /// Curvature degradation [`cR1`] (–, 0 ≤ cR1 < 1; default 0.925).
+    /// Curvature degradation `cR1` (–, 0 ≤ cR1 < 1; default 0.925).
     pub c_r1: f64,
-    /// Curvature degradation [`cR2`] (–, > 0; default 0.15).
+    /// Curvature degradation `cR2` (–, > 0; default 0.15).
     pub c_r2: f64,
-    /// Isotropic hardening in compression [`a1`] (–, default 0).
+    /// Isotropic hardening in compression `a1` (–, default 0).
     pub a1: f64,
-    /// Reference range for a1 in multiples of εy [`a2`] (> 0, default 1).
+    /// Reference range for a1 in multiples of εy `a2` (> 0, default 1).
     pub a2: f64,
-    /// Isotropic hardening in tension [`a3`] (–, default 0).
+    /// Isotropic hardening in tension `a3` (–, default 0).
     pub a3: f64,
-    /// Reference range for a3 in multiples of εy [`a4`] (> 0, default 1).
+    /// Reference range for a3 in multiples of εy `a4` (> 0, default 1).
     pub a4: f64,
-    /// Initial stress [`sigInit`] (Pa, default 0).
+    /// Initial stress `sigInit` (Pa, default 0).
     pub sig_init: f64,
     /// Tensile rupture strain (–, > Fy/E0); `None` (default) = never ruptures.
     pub eps_rupture: Option<f64>,
@@ -90,7 +91,7 @@ enum Branch {
     Down,
 }
 
-/// Trial or committed state of [`Steel02`].
+/// Trial or committed state of `Steel02`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct State {
     /// Strain as given by the caller (–).
