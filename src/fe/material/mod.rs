@@ -183,7 +183,7 @@ impl<'a> ParamReader<'a> {
     /// The value under the first of `names` (a canonical name and its aliases) present.
     fn opt(&mut self, names: &[&str]) -> Result<Option<f64>, String> {
         let mut found: Option<(&'a str, f64)> = None;
-        for (k, v) in self.map.range::<str, _>(..) {
+        for (k, v) in self.map {
             if names.contains(&k.as_str()) {
                 if let Some((prev, _)) = found {
                     return Err(format!(
