@@ -295,3 +295,72 @@ fn exact_overlap_volumes() {
     let half_space = cube([0.0, 5.0 * s, 5.0 * s], [10.0, 5.0, 10.0], rx); // local y = (0, s, s)
     assert!((overlap_volume(&half_space, &a) - 0.5).abs() < 1e-12);
 }
+
+/// The exact overlap against a Monte Carlo estimate for random oriented box pairs.
+#[test]
+fn overlap_volume_matches_monte_carlo() {
+    let mut rng = Rng(7);
+    let mut checked = 0;
+    for _ in 0..40 {
+        let qa = UnitQuaternion::from_euler_angles(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+        );
+        let qb = UnitQuaternion::from_euler_angles(
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+            rng.range(-3.0, 3.0),
+        );
+        let a = cube(
+            rng.vec(0.3),
+            [
+                rng.range(0.1, 0.6),
+                rng.range(0.1, 0.6),
+                rng.range(0.1, 0.6),
+            ],
+            qa,
+        );
+        let b = cube(
+            rng.vec(0.3),
+            [
+                rng.range(0.1, 0.6),
+                rng.range(0.1, 0.6),
+                rng.range(0.1, 0.6),
+            ],
+            qb,
+        );
+        let exact = overlap_volume(&a, &b);
+        assert!((exact - overlap_volume(&b, &a)).abs() < 1e-12);
+        // Sample B uniformly, count points inside A.
+        let n = 100_000;
+        let (ra, rb) = (
+            a.rotation.to_rotation_matrix(),
+            b.rotation.to_rotation_matrix(),
+        );
+        let mut inside = 0usize;
+        for _ in 0..n {
+            let s = Vector3::new(
+                rng.range(-1.0, 1.0) * b.half_extents[0],
+                rng.range(-1.0, 1.0) * b.half_extents[1],
+                rng.range(-1.0, 1.0) * b.half_extents[2],
+            );
+            let p = rb * s + Vector3::from(b.centre) - Vector3::from(a.centre);
+            let l = ra.inverse() * p;
+            if (0..3).all(|k| l[k].abs() <= a.half_extents[k]) {
+                inside += 1;
+            }
+        }
+        let frac = inside as f64 / n as f64;
+        let est = b.volume_m3() * frac;
+        let sigma = b.volume_m3() * (frac * (1.0 - frac) / n as f64).sqrt();
+        assert!(
+            (exact - est).abs() <= 4.0 * sigma + 1e-12,
+            "exact {exact} vs MC {est} ± {sigma}"
+        );
+        if exact > 0.0 {
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "{checked}");
+}
