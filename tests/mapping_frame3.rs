@@ -296,3 +296,50 @@ fn mass_mapping_on_frame3() {
     let col = m2.bodies.iter().find(|x| x.name == "Column:1:2").unwrap();
     assert_eq!(col.mass_kg, 12.5);
 }
+
+#[test]
+fn body_table() {
+    use fem2rbd::mapping::table::{bodies_csv, HEADER};
+    let m = map_to_boxes(&frame3(), &MapOptions::default()).unwrap();
+    let csv = bodies_csv(&m.bodies);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 61);
+    assert_eq!(lines[0], HEADER);
+    assert!(
+        lines[1].starts_with("Column:1:1,1,Column,1,1,Column,0,0,0.25,"),
+        "{}",
+        lines[1]
+    );
+    // Every row parses back to the body's numbers; the quaternion is a unit one.
+    for (line, b) in lines[1..].iter().zip(&m.bodies) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f.len(), 20);
+        assert_eq!(f[0], b.name);
+        let x: Vec<f64> = f[6..].iter().map(|s| s.parse().unwrap()).collect();
+        assert_eq!(x[..3], b.centre);
+        assert!((x[3..7].iter().map(|q| q * q).sum::<f64>() - 1.0).abs() < 1e-15);
+        assert_eq!(x[7..10], b.half_extents);
+        assert_eq!(x[10], b.mass_kg);
+    }
+    assert_eq!(bodies_csv(&m.bodies), csv);
+}
+
+#[test]
+fn bad_nodal_mass_is_named() {
+    let mut inp = frame3();
+    inp.nodal_masses[2].mass_kg = f64::NAN;
+    assert_eq!(
+        map_to_boxes(&inp, &MapOptions::default())
+            .unwrap_err()
+            .to_string(),
+        "nodal mass 2 at (0, 1.5, 1): mass must be finite and ≥ 0 kg, got NaN"
+    );
+    let mut inp = frame3();
+    inp.nodal_masses[0].position = [0.3, 0.0, 1.0];
+    assert_eq!(
+        map_to_boxes(&inp, &MapOptions::default())
+            .unwrap_err()
+            .to_string(),
+        "nodal mass 0 of 168.734375 kg at (0.3, 0, 1) is at no element node"
+    );
+}

@@ -198,3 +198,36 @@ fn bad_files_name_file_and_line() {
     let missing = fixture("does_not_exist.at2");
     assert!(err(&missing, Format::Auto).contains("does_not_exist.at2"));
 }
+
+#[test]
+fn ground_motion_from_files_and_csv() {
+    let gm = GroundMotion::from_files(
+        [
+            Some(&gm_dir().join(EL_CENTRO[0].0)),
+            None,
+            Some(&gm_dir().join(EL_CENTRO[2].0)),
+        ],
+        Format::Auto,
+    )
+    .unwrap();
+    assert!(gm.components[1].is_none());
+    assert!((gm.duration_s() - 53.71).abs() < 1e-9);
+    assert_eq!(gm.accel_at(2.18)[0], -0.2807955 * G);
+    assert_eq!(gm.accel_at(2.18)[1], 0.0);
+    let c = GroundMotion::from_csv(&fixture("bcb_motion.csv")).unwrap();
+    assert!((c.duration_s() - 0.16).abs() < 1e-12);
+    // Halfway between rows 2 and 3 (t = 0.10): (3.0 + −1.0)/2, (−4 + 2)/2, (0.5 + 0)/2.
+    let a = c.accel_at(0.10);
+    assert!(
+        (a[0] - 1.0).abs() < 1e-12 && (a[1] + 1.0).abs() < 1e-12 && (a[2] - 0.25).abs() < 1e-12
+    );
+    let e = GroundMotion::from_files([Some(&fixture("bcb_motion.csv")), None, None], Format::Auto)
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: holds 3 components; give it as a three-component CSV instead",
+            fixture("bcb_motion.csv").display()
+        )
+    );
+}

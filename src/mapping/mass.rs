@@ -47,7 +47,8 @@ pub fn distribute_nodal_masses(
     let mut shares = Vec::with_capacity(masses.len());
     for (k, m) in masses.iter().enumerate() {
         let p = m.position;
-        if !(m.mass_kg >= 0.0 && m.mass_kg.is_finite()) || !p.iter().all(|x| x.is_finite()) {
+        let valid = m.mass_kg >= 0.0 && m.mass_kg.is_finite() && p.iter().all(|x| x.is_finite());
+        if !valid {
             bail!(
                 "nodal mass {k} at ({}, {}, {}): mass must be finite and ≥ 0 kg, got {}",
                 p[0],

@@ -10,11 +10,15 @@
 //!    tolerance;
 //! 3. [`mass`]: element self-weight plus nodal masses onto the boxes.
 
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod geometry;
 pub mod input;
 pub mod mass;
 pub mod overlap;
 pub mod polytope;
+pub mod table;
 
 pub use geometry::{BodyKind, RigidBox};
 pub use input::{LineMember, MappingInput, NodalMass, Quad};

@@ -12,6 +12,9 @@
 //!   displacement on a fixed step with a documented baseline correction, queried with
 //!   [`GroundHistory::ground_state_at`] for the moving ground after the collapse moment.
 
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod integrate;
 mod read;
 
@@ -164,6 +167,33 @@ impl GroundMotion {
         Self {
             components: [x, y, z],
         }
+    }
+
+    /// Reads X, Y, Z from one file each (`None`: no such component), each file holding
+    /// one component (AT2 or two-column; see [`read_record`]).
+    pub fn from_files(paths: [Option<&std::path::Path>; 3], format: Format) -> Result<Self> {
+        let mut gm = Self::default();
+        for (k, p) in paths.iter().enumerate() {
+            if let Some(p) = p {
+                let mut v = read_record(p, format)?;
+                if v.len() != 1 {
+                    bail!(
+                        "{}: holds {} components; give it as a three-component CSV instead",
+                        p.display(),
+                        v.len()
+                    );
+                }
+                gm.components[k] = v.pop();
+            }
+        }
+        Ok(gm)
+    }
+
+    /// Reads a BCB-style `t, ax, ay, az` CSV (m/s²) as the X, Y, Z components.
+    pub fn from_csv(path: &std::path::Path) -> Result<Self> {
+        let v = read_record(path, Format::Csv)?;
+        let mut it = v.into_iter();
+        Ok(Self::new(it.next(), it.next(), it.next()))
     }
 
     /// Duration (s): the smallest end time of the present components; 0 if none.
