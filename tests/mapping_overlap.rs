@@ -246,3 +246,106 @@ fn a_body_inside_another_is_an_error() {
         "two elements map to the same body name Beam:1:5"
     );
 }
+
+/// A regular 5 × 5-bay, 7-story frame (3 m spans, 3 m stories; 300 × 300 mm columns,
+/// 200 × 400 mm beams, 100 mm slab as 2 × 2 quads per bay; members split in two): 2044
+/// bodies. Every beam element stops at its column face, every slab quad keeps the clear
+/// area with one column-corner strip, no pair overlaps, and the mass is conserved.
+#[test]
+fn seven_story_frame_scales() {
+    let (nb, ns, span, h) = (5usize, 7usize, 3.0, 3.0);
+    let mut inp = MappingInput::default();
+    let mut tag = 0;
+    let mut next = || {
+        tag += 1;
+        tag
+    };
+    for s in 0..ns {
+        for i in 0..=nb {
+            for j in 0..=nb {
+                let (x, y, z) = (i as f64 * span, j as f64 * span, s as f64 * h);
+                for k in 0..2 {
+                    let mut m = member(
+                        next(),
+                        "Column",
+                        [x, y, z + 0.5 * h * k as f64],
+                        [x, y, z + 0.5 * h * (k + 1) as f64],
+                        [1.0, 0.0, 0.0],
+                        0.3,
+                        0.3,
+                    );
+                    m.mass_kg = 2500.0 * 0.09 * 1.5;
+                    inp.members.push(m);
+                }
+            }
+        }
+        let z = (s + 1) as f64 * h;
+        for line in 0..=nb {
+            for bay in 0..nb {
+                for k in 0..2 {
+                    let a = bay as f64 * span + 0.5 * span * k as f64;
+                    let b = a + 0.5 * span;
+                    let c = line as f64 * span;
+                    for (p, q) in [([a, c, z], [b, c, z]), ([c, a, z], [c, b, z])] {
+                        let mut m = member(next(), "Beam", p, q, [0.0, 0.0, 1.0], 0.2, 0.4);
+                        m.mass_kg = 2500.0 * 0.08 * 1.5;
+                        inp.members.push(m);
+                    }
+                }
+            }
+        }
+        for i in 0..2 * nb {
+            for j in 0..2 * nb {
+                let (x0, y0) = (i as f64 * 0.5 * span, j as f64 * 0.5 * span);
+                let d = 0.5 * span;
+                inp.quads.push(Quad {
+                    element: next(),
+                    type_name: "Slab".into(),
+                    material: "1".into(),
+                    nodes: [
+                        [x0, y0, z],
+                        [x0 + d, y0, z],
+                        [x0 + d, y0 + d, z],
+                        [x0, y0 + d, z],
+                    ],
+                    thickness_m: 0.1,
+                    mass_kg: 2500.0 * 0.1 * d * d,
+                });
+                inp.nodal_masses.push(fem2rbd::mapping::NodalMass {
+                    position: [x0, y0, z],
+                    mass_kg: 500.0,
+                });
+            }
+        }
+    }
+    let n = inp.members.len() + inp.quads.len();
+    assert_eq!(n, 2044);
+    let m = map_to_boxes(&inp, &MapOptions::default()).unwrap();
+    let (v, pair) = max_pairwise_overlap(&m.bodies);
+    assert!(v <= 1e-9, "{v} {pair:?}");
+    for b in &m.bodies {
+        match b.kind {
+            BodyKind::Column => assert_eq!(b.half_extents, b.untrimmed_half_extents),
+            BodyKind::Beam => assert!((2.0 * b.half_extents[0] - 1.35).abs() < 1e-12, "{}", b.name),
+            BodyKind::Slab => {
+                let mut s = [2.0 * b.half_extents[0], 2.0 * b.half_extents[1]];
+                s.sort_by(f64::total_cmp);
+                assert!(
+                    (s[0] - 1.35).abs() < 1e-12 && (s[1] - 1.4).abs() < 1e-12,
+                    "{}: {s:?}",
+                    b.name
+                );
+            }
+            BodyKind::Wall => unreachable!(),
+        }
+    }
+    let fe: f64 = inp.members.iter().map(|m| m.mass_kg).sum::<f64>()
+        + inp.quads.iter().map(|q| q.mass_kg).sum::<f64>()
+        + inp.nodal_masses.iter().map(|m| m.mass_kg).sum::<f64>();
+    let rb: f64 = m.bodies.iter().map(|b| b.mass_kg).sum();
+    assert!(((rb - fe) / fe).abs() < 1e-9);
+    eprintln!(
+        "7-story frame: {n} bodies, {} cuts, FE mass {fe} kg",
+        m.trim.cuts
+    );
+}

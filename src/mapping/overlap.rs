@@ -47,19 +47,34 @@ pub fn overlap_volume(a: &RigidBox, b: &RigidBox) -> f64 {
     obb_overlap(&obb(a), &obb(b))
 }
 
+/// Pairs (i < j) whose axis-aligned bounds overlap, by sort and sweep along X
+/// (O(n log n + pairs)); sorted, so the result is deterministic.
+pub fn candidate_pairs(aabbs: &[([f64; 3], [f64; 3])]) -> Vec<(usize, usize)> {
+    let mut order: Vec<usize> = (0..aabbs.len()).collect();
+    order.sort_by(|&i, &j| aabbs[i].0[0].total_cmp(&aabbs[j].0[0]).then(i.cmp(&j)));
+    let mut pairs = Vec::new();
+    for (p, &i) in order.iter().enumerate() {
+        for &j in &order[p + 1..] {
+            if aabbs[j].0[0] >= aabbs[i].1[0] {
+                break;
+            }
+            if aabb_overlap(&aabbs[i], &aabbs[j]) {
+                pairs.push((i.min(j), i.max(j)));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}
+
 /// The largest pairwise overlap volume (m³) and the pair (indices) where it occurs.
 pub fn max_pairwise_overlap(boxes: &[RigidBox]) -> (f64, Option<(usize, usize)>) {
     let aabbs: Vec<_> = boxes.iter().map(|b| obb(b).aabb()).collect();
     let mut best = (0.0, None);
-    for i in 0..boxes.len() {
-        for j in i + 1..boxes.len() {
-            if !aabb_overlap(&aabbs[i], &aabbs[j]) {
-                continue;
-            }
-            let v = overlap_volume(&boxes[i], &boxes[j]);
-            if v > best.0 {
-                best = (v, Some((i, j)));
-            }
+    for (i, j) in candidate_pairs(&aabbs) {
+        let v = overlap_volume(&boxes[i], &boxes[j]);
+        if v > best.0 {
+            best = (v, Some((i, j)));
         }
     }
     best
@@ -120,8 +135,23 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
         bail!("overlap tolerance must be ≥ 0 m³, got {tolerance_m3}");
     }
     let order = precedence(boxes);
+    let mut rank = vec![0usize; boxes.len()];
+    for (r, &i) in order.iter().enumerate() {
+        rank[i] = r;
+    }
+    // Boxes only shrink, so pairs of the untrimmed bounds are a superset of all overlaps.
+    // Each box is trimmed against its neighbours earlier in the precedence order.
+    let aabbs: Vec<Aabb> = boxes.iter().map(|b| obb(b).aabb()).collect();
+    let mut earlier: Vec<Vec<usize>> = vec![Vec::new(); boxes.len()];
+    for (i, j) in candidate_pairs(&aabbs) {
+        let (a, b) = if rank[i] < rank[j] { (i, j) } else { (j, i) };
+        earlier[b].push(a);
+    }
+    for list in &mut earlier {
+        list.sort_by_key(|&a| rank[a]);
+    }
     let mut report = TrimReport::default();
-    let mut done: Vec<(usize, Obb, Aabb)> = Vec::with_capacity(boxes.len());
+    let mut fin: Vec<Option<(Obb, Aabb)>> = vec![None; boxes.len()];
     for &bi in &order {
         let mut cut_here = false;
         for iteration in 0.. {
@@ -135,7 +165,10 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
             let bb = ob.aabb();
             let mut best: Option<Cut> = None;
             let mut best_other = 0usize;
-            for (ai, oa, ab) in &done {
+            for &ai in &earlier[bi] {
+                let Some((oa, ab)) = &fin[ai] else {
+                    unreachable!("earlier boxes are final")
+                };
                 if !aabb_overlap(ab, &bb) {
                     continue;
                 }
@@ -170,7 +203,7 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
                             .is_none_or(|b| cut.removed_fraction < b.removed_fraction)
                         {
                             best = Some(cut);
-                            best_other = *ai;
+                            best_other = ai;
                         }
                     }
                 }
@@ -199,7 +232,7 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
             report.trimmed_boxes += 1;
         }
         let ob = obb(&boxes[bi]);
-        done.push((bi, ob, ob.aabb()));
+        fin[bi] = Some((ob, ob.aabb()));
     }
     Ok(report)
 }
