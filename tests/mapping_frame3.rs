@@ -185,6 +185,11 @@ fn overlap_removal_on_frame3() {
         let mid_dist = |c: [f64; 3]| ((c[0] - 0.75).abs()).min((c[1] - 0.75).abs());
         assert!(mid_dist(be.centre) < mid_dist(be.untrimmed_centre));
     }
+    // Beam 25 runs from the corner (0, 0, 1) to mid-span: cut at its node-i end, so its
+    // centre moved +0.025 m along its own axis.
+    let b25 = b.iter().find(|x| x.name == "Beam:1:25").unwrap();
+    let off = b25.trim_offset_local();
+    assert!((off[0] - 0.025).abs() < 1e-12 && off[1].abs() < 1e-12 && off[2].abs() < 1e-12);
     // Slabs: reduced to the clear area inside the beams' faces (0.0375 m strip along each
     // edge on a beam line), plus the column corner: one in-plane side is cut back to the
     // column face (0.05 m) instead. Each quad keeps 0.7125 × 0.70 × 0.03 m.

@@ -195,6 +195,15 @@ fn bad_files_name_file_and_line() {
             f.display()
         )
     );
+    let f = fixture("cm_units.at2");
+    assert_eq!(
+        err(&f, Format::Auto),
+        format!(
+            "{}:3: AT2 values must be in g, the header says \
+             `ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC`",
+            f.display()
+        )
+    );
     let missing = fixture("does_not_exist.at2");
     assert!(err(&missing, Format::Auto).contains("does_not_exist.at2"));
 }

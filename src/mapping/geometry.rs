@@ -86,6 +86,15 @@ impl RigidBox {
         ]
     }
 
+    /// Offset of the (trimmed) box centre from the element's own centre, in the box's
+    /// local axes (m). Constant while the element moves rigidly, so a later stage can place
+    /// the box from the element's deformed end nodes: centre = element centre + R·offset.
+    pub fn trim_offset_local(&self) -> [f64; 3] {
+        let d = Vector3::from(self.centre) - Vector3::from(self.untrimmed_centre);
+        let l = self.rotation.inverse() * d;
+        [l.x, l.y, l.z]
+    }
+
     /// Box volume (m³).
     pub fn volume_m3(&self) -> f64 {
         8.0 * self.half_extents.iter().product::<f64>()

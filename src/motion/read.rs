@@ -149,6 +149,16 @@ fn parse_at2(text: &str, file: &str, stem: &str) -> Result<Record> {
         if up.contains("VELOCITY") || up.contains("DISPLACEMENT") {
             bail!("{file}:{}: not an acceleration record: {}", i + 1, l.trim());
         }
+        if let Some(u) = up.find("UNITS OF") {
+            let unit = up[u + 8..].split_whitespace().next().unwrap_or("");
+            if unit != "G" {
+                bail!(
+                    "{file}:{}: AT2 values must be in g, the header says `{}`",
+                    i + 1,
+                    l.trim()
+                );
+            }
+        }
     }
     let (npts, dt) = parse_at2_header(lines[hdr]).ok_or_else(|| {
         anyhow!(
