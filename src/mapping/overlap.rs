@@ -25,6 +25,9 @@
 //! A box that would vanish entirely is an error naming both elements (BCB would delete it
 //! and lose its mass).
 //!
+//! Candidate pairs come from a sort and sweep of the untrimmed axis-aligned bounds along X
+//! (boxes only shrink), so a 2044-body seven-story frame trims in well under a second.
+//!
 //! Subdivided members: each FE element's box spans its own nodes, so consecutive boxes of
 //! one straight member touch without overlapping and are not cut.
 
