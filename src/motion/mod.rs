@@ -1,1 +1,248 @@
-//! Ground motions: PEER AT2 / two-column / BCB CSV readers, scaling, integration. (Issue 3.)
+//! Ground motions: PEER AT2 / two-column / BCB CSV readers, scaling, time scaling,
+//! interpolation and integration to ground velocity and displacement. (Issue 3, item 3.)
+//!
+//! Units: time in s, acceleration in m/s² inside the program. Records given in g are
+//! converted with [`G`] = 9.81 m/s², the value the reference OpenSees runs of frame3 use
+//! (`frame3.json`: `gravity = 9.81`), so that a PGA target in g means the same here and there.
+//!
+//! - [`read_record`] reads one file ([`Format`]) into one or three [`Record`]s.
+//! - [`GroundMotion`] holds the X, Y and Z components (each optional), scales them to a
+//!   target PGA, scales time (scale-model similitude) and interpolates `accel_at(t)`.
+//! - [`GroundMotion::integrate`] gives a [`GroundHistory`]: acceleration, velocity and
+//!   displacement on a fixed step with a documented baseline correction, queried with
+//!   [`GroundHistory::ground_state_at`] for the moving ground after the collapse moment.
+
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod integrate;
+mod read;
+
+pub use integrate::{Baseline, GroundHistory};
+pub use read::{read_record, Format};
+
+use anyhow::{bail, Result};
+
+/// Standard gravity used to convert records in g to m/s² (m/s²). Equal to the `gravity`
+/// of the reference OpenSees model `frame3.json` (not 9.80665), so PGA targets agree.
+pub const G: f64 = 9.81;
+
+/// One component of a ground acceleration record on a uniform time grid.
+///
+/// Sample `i` is at time `t0_s + i·dt_s`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// Name of the component (file stem, or `stem:x` for one column of a CSV file).
+    pub name: String,
+    /// Time step (s), > 0.
+    pub dt_s: f64,
+    /// Time of the first sample (s), ≥ 0; 0 for AT2 files.
+    pub t0_s: f64,
+    /// Accelerations (m/s²).
+    pub accel_mps2: Vec<f64>,
+}
+
+impl Record {
+    /// Builds a record, checking `dt > 0`, `t0 ≥ 0`, at least one sample, all finite.
+    pub fn new(
+        name: impl Into<String>,
+        dt_s: f64,
+        t0_s: f64,
+        accel_mps2: Vec<f64>,
+    ) -> Result<Self> {
+        let name = name.into();
+        if !(dt_s.is_finite() && dt_s > 0.0) {
+            bail!("record {name}: time step must be positive, got {dt_s}");
+        }
+        if !(t0_s.is_finite() && t0_s >= 0.0) {
+            bail!("record {name}: start time must be finite and non-negative, got {t0_s}");
+        }
+        if accel_mps2.is_empty() {
+            bail!("record {name}: no samples");
+        }
+        if let Some(i) = accel_mps2.iter().position(|a| !a.is_finite()) {
+            bail!("record {name}: sample {i} is not finite");
+        }
+        Ok(Self {
+            name,
+            dt_s,
+            t0_s,
+            accel_mps2,
+        })
+    }
+
+    /// Time of the last sample (s): `t0 + (n − 1)·dt`. For El Centro 270 this is 53.45 s.
+    pub fn end_time_s(&self) -> f64 {
+        self.t0_s + (self.accel_mps2.len() - 1) as f64 * self.dt_s
+    }
+
+    /// Peak ground acceleration: the largest |a| (m/s², positive) and the time of that
+    /// sample (s). The first sample wins on a tie.
+    pub fn pga(&self) -> (f64, f64) {
+        let mut best = (0.0, self.t0_s);
+        for (i, a) in self.accel_mps2.iter().enumerate() {
+            if a.abs() > best.0 {
+                best = (a.abs(), self.t0_s + i as f64 * self.dt_s);
+            }
+        }
+        best
+    }
+
+    /// Multiplies every sample by `factor`.
+    pub fn scale(&mut self, factor: f64) {
+        for a in &mut self.accel_mps2 {
+            *a *= factor;
+        }
+    }
+
+    /// Scales the record so that its PGA becomes `target_g · G` (m/s²). Errors if the
+    /// record is all zeros or the target is negative / not finite.
+    pub fn scale_to_pga(&mut self, target_g: f64) -> Result<()> {
+        if !(target_g.is_finite() && target_g >= 0.0) {
+            bail!(
+                "record {}: target PGA must be ≥ 0 g, got {target_g}",
+                self.name
+            );
+        }
+        let (pga, _) = self.pga();
+        if pga == 0.0 {
+            bail!(
+                "record {}: all samples are zero, cannot scale to a PGA",
+                self.name
+            );
+        }
+        let target = target_g * G;
+        for a in &mut self.accel_mps2 {
+            // Divide then multiply so that the peak sample becomes exactly ±target.
+            *a = *a / pga * target;
+        }
+        Ok(())
+    }
+
+    /// Scale-model similitude in time: t' = f·t (dt and t0 multiplied by `f`). Only time
+    /// is scaled; scale accelerations separately (e.g. with [`Record::scale_to_pga`]).
+    pub fn time_scale(&mut self, f: f64) -> Result<()> {
+        if !(f.is_finite() && f > 0.0) {
+            bail!(
+                "record {}: time-scale factor must be positive, got {f}",
+                self.name
+            );
+        }
+        self.dt_s *= f;
+        self.t0_s *= f;
+        Ok(())
+    }
+
+    /// Acceleration at time `t` (m/s²) by linear interpolation between samples; 0 before
+    /// `t0` and after the last sample.
+    pub fn accel_at(&self, t: f64) -> f64 {
+        let s = (t - self.t0_s) / self.dt_s;
+        let n = self.accel_mps2.len();
+        if !(s >= 0.0) || s > (n - 1) as f64 {
+            return 0.0;
+        }
+        let i = (s.floor() as usize).min(n - 1);
+        if i == n - 1 {
+            return self.accel_mps2[i];
+        }
+        let w = s - i as f64;
+        self.accel_mps2[i] * (1.0 - w) + self.accel_mps2[i + 1] * w
+    }
+}
+
+/// A three-component ground motion: X, Y (horizontal) and Z (vertical), each optional.
+///
+/// Its length is that of the **shortest** present component (as in the reference OpenSees
+/// runs, where El Centro is cut to the 270 component's 53.45 s); [`GroundMotion::accel_at`]
+/// is zero outside `[0, duration]`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GroundMotion {
+    /// Components X, Y, Z.
+    pub components: [Option<Record>; 3],
+}
+
+impl GroundMotion {
+    /// A ground motion from its X, Y, Z components.
+    pub fn new(x: Option<Record>, y: Option<Record>, z: Option<Record>) -> Self {
+        Self {
+            components: [x, y, z],
+        }
+    }
+
+    /// Reads X, Y, Z from one file each (`None`: no such component), each file holding
+    /// one component (AT2 or two-column; see [`read_record`]).
+    pub fn from_files(paths: [Option<&std::path::Path>; 3], format: Format) -> Result<Self> {
+        let mut gm = Self::default();
+        for (k, p) in paths.iter().enumerate() {
+            if let Some(p) = p {
+                let mut v = read_record(p, format)?;
+                if v.len() != 1 {
+                    bail!(
+                        "{}: holds {} components; give it as a three-component CSV instead",
+                        p.display(),
+                        v.len()
+                    );
+                }
+                gm.components[k] = v.pop();
+            }
+        }
+        Ok(gm)
+    }
+
+    /// Reads a BCB-style `t, ax, ay, az` CSV (m/s²) as the X, Y, Z components.
+    pub fn from_csv(path: &std::path::Path) -> Result<Self> {
+        let v = read_record(path, Format::Csv)?;
+        let mut it = v.into_iter();
+        Ok(Self::new(it.next(), it.next(), it.next()))
+    }
+
+    /// Duration (s): the smallest end time of the present components; 0 if none.
+    pub fn duration_s(&self) -> f64 {
+        self.components
+            .iter()
+            .flatten()
+            .map(Record::end_time_s)
+            .reduce(f64::min)
+            .unwrap_or(0.0)
+    }
+
+    /// Scales each present component to its own target PGA in g (`None` leaves it as is).
+    /// A target given for an absent component is an error.
+    pub fn scale_to_pga(&mut self, targets_g: [Option<f64>; 3]) -> Result<()> {
+        for (axis, (c, t)) in self.components.iter_mut().zip(targets_g).enumerate() {
+            match (c, t) {
+                (Some(r), Some(t)) => r.scale_to_pga(t)?,
+                (None, Some(_)) => bail!("no {} component to scale", AXES[axis]),
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Time-scales every component: t' = f·t.
+    pub fn time_scale(&mut self, f: f64) -> Result<()> {
+        for r in self.components.iter_mut().flatten() {
+            r.time_scale(f)?;
+        }
+        Ok(())
+    }
+
+    /// Ground acceleration (m/s²) along X, Y, Z at time `t` (s): linear interpolation of
+    /// each component; zero for an absent component, for `t < 0` and for `t` beyond
+    /// [`GroundMotion::duration_s`] (the ground stops shaking at the end of the record).
+    pub fn accel_at(&self, t: f64) -> [f64; 3] {
+        let mut a = [0.0; 3];
+        if !(t >= 0.0) || t > self.duration_s() {
+            return a;
+        }
+        for (k, c) in self.components.iter().enumerate() {
+            if let Some(r) = c {
+                a[k] = r.accel_at(t);
+            }
+        }
+        a
+    }
+}
+
+/// Axis names for messages.
+pub(crate) const AXES: [&str; 3] = ["X", "Y", "Z"];

@@ -1,0 +1,55 @@
+//! The rigid-body table (issue 3, item 8): one CSV line per body, for `fem2rbd map`.
+//! Building the text is here; writing it is the caller's (through `output::atomic`).
+//!
+//! Columns: `name, group, type, material, element, kind, cx, cy, cz, qw, qx, qy, qz,
+//! hx, hy, hz, mass_kg, ixx, iyy, izz` — centre (m), unit quaternion (w, x, y, z) of the
+//! box axes, half extents along local x, y, z (m), mass (kg), principal inertia about the
+//! centre along the local axes (kg·m², uniform box). Numbers use Rust's shortest
+//! round-trip form, so the same bodies give the same bytes.
+
+use super::geometry::RigidBox;
+use std::fmt::Write;
+
+/// The CSV header line (without newline).
+pub const HEADER: &str =
+    "name,group,type,material,element,kind,cx,cy,cz,qw,qx,qy,qz,hx,hy,hz,mass_kg,ixx,iyy,izz";
+
+fn field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The whole table, header first, one line per body in the given order.
+pub fn bodies_csv(bodies: &[RigidBox]) -> String {
+    let mut out = String::from(HEADER);
+    out.push('\n');
+    for b in bodies {
+        let q = b.quaternion_wxyz();
+        let i = b.principal_inertia_kgm2();
+        let _ = write!(
+            out,
+            "{},{},{},{},{},{:?}",
+            field(&b.name),
+            field(&b.group),
+            field(&b.type_name),
+            field(&b.material),
+            b.element,
+            b.kind
+        );
+        for v in b
+            .centre
+            .iter()
+            .chain(&q)
+            .chain(&b.half_extents)
+            .chain(std::iter::once(&b.mass_kg))
+            .chain(&i)
+        {
+            let _ = write!(out, ",{v}");
+        }
+        out.push('\n');
+    }
+    out
+}
