@@ -189,7 +189,7 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
             track.animate(node, time_accessor, &mut bin, &mut samplers, &mut channels);
         }
     }
-    let half = std::f32::consts::FRAC_1_SQRT_2;
+    let half = std::f64::consts::FRAC_1_SQRT_2;
     let mut root = json!({
         "name": ROOT_NODE_NAME,
         "rotation": [-half, 0.0, 0.0, half],
@@ -356,6 +356,8 @@ fn check_times(times_s: &[f64]) -> Result<Vec<f32>> {
 struct Track {
     translations: Vec<[f32; 3]>,
     rotations: Vec<[f32; 4]>,
+    /// The first pose in full precision (glTF order, normalised) for the node's own TRS.
+    first: ([f64; 3], [f64; 4]),
 }
 
 impl Track {
@@ -364,6 +366,7 @@ impl Track {
         let mut translations = Vec::with_capacity(poses.len());
         let mut rotations = Vec::with_capacity(poses.len());
         let mut previous = None;
+        let mut first = None;
         for (k, (p, q)) in poses.iter().enumerate() {
             let at = || format!("{label} at keyframe {k} (t = {} s)", times_s[k]);
             let p32 = p.map(|c| c as f32);
@@ -375,12 +378,14 @@ impl Track {
             let r = gltf_rotation(*q, previous)
                 .with_context(|| format!("{}: quaternion {q:?} is zero or not finite", at()))?;
             previous = Some(r);
+            first.get_or_insert((*p, r));
             translations.push(p32);
             rotations.push(r.map(|c| c as f32));
         }
         Ok(Self {
             translations,
             rotations,
+            first: first.expect("at least one pose"),
         })
     }
 
@@ -416,17 +421,19 @@ fn box_node(
     track: &Track,
     label: &str,
 ) -> Result<Value> {
-    let scale = half_extents.map(|h| h as f32);
     ensure!(
-        scale.iter().all(|h| h.is_finite() && *h > 0.0),
+        half_extents
+            .iter()
+            .all(|&h| h > 0.0 && (h as f32).is_finite() && (h as f32) > 0.0),
         "{label}: half_extents {half_extents:?} m must be finite and > 0"
     );
+    // The node's own numbers are JSON doubles: written in full precision.
     Ok(json!({
         "name": name,
         "mesh": mesh,
-        "translation": track.translations[0],
-        "rotation": track.rotations[0],
-        "scale": scale,
+        "translation": track.first.0,
+        "rotation": track.first.1,
+        "scale": half_extents,
     }))
 }
 
