@@ -67,10 +67,10 @@ impl Throw {
     }
 }
 
-/// `n` times evenly spaced over [0, `duration_s`].
+/// `n` times evenly spaced over [0, `duration_s`] (just 0 when `n` is 1).
 pub fn times(n: usize, duration_s: f64) -> Vec<f64> {
     (0..n)
-        .map(|k| duration_s * k as f64 / (n - 1) as f64)
+        .map(|k| duration_s * k as f64 / (n.max(2) - 1) as f64)
         .collect()
 }
 
