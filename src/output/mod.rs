@@ -2,5 +2,6 @@
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
 pub mod gltf;
+pub mod vtk;
 
 pub use atomic::{write_atomic, AtomicFile};
