@@ -77,6 +77,7 @@ fn assert_clean(scene: &fem2rbd::output::gltf::AnimatedScene, what: &str) -> Val
 fn thirty_tumbling_boxes_on_a_moving_ground_validate_cleanly() {
     let scene = falling_scene(30, 100, true);
     let report = assert_clean(&scene, "30 boxes, 100 keyframes, moving ground");
+    eprintln!("full report: {report:#}");
     let info = &report["info"];
     assert_eq!(info["version"], "2.0");
     assert_eq!(info["animationCount"], 1);
