@@ -380,4 +380,10 @@ fn bad_input_is_a_clear_error_and_no_file() {
 
     let s = AnimatedScene::default();
     assert!(error_of(&s).contains("no keyframe times"));
+
+    let s = AnimatedScene {
+        times_s: vec![0.0],
+        ..Default::default()
+    };
+    assert!(error_of(&s).contains("no bodies and no ground"));
 }

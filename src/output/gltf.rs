@@ -101,6 +101,10 @@ pub fn write_glb(scene: &AnimatedScene, path: impl AsRef<Path>) -> Result<()> {
 /// The bytes of the `.glb` file [`write_glb`] writes.
 pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
     let times = check_times(&scene.times_s)?;
+    ensure!(
+        !scene.bodies.is_empty() || scene.ground.is_some(),
+        "the scene has no bodies and no ground: nothing to draw"
+    );
     let mut bin = BinBuilder::default();
 
     // Shared box geometry.
