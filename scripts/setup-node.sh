@@ -10,6 +10,11 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 prefix="$here/tests/gltf"
 
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  if command -v apt-get >/dev/null && [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && apt-get install -y -qq nodejs npm
+  fi
+fi
 command -v node >/dev/null || { echo "setup-node.sh: node not found; install Node.js >= 18" >&2; exit 1; }
 command -v npm >/dev/null || { echo "setup-node.sh: npm not found; install npm" >&2; exit 1; }
 
