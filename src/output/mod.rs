@@ -1,5 +1,7 @@
 //! Everything the program writes. Files are written atomically: to a temporary name in
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
+pub mod gltf;
+pub mod vtk;
 
 pub use atomic::{write_atomic, AtomicFile};
