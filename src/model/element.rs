@@ -4,6 +4,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 /// Geometric transformation (OpenSees `geomTransf Linear|PDelta|Corotational tag vecxz`).
 /// Local x runs from node i to node j; local y = vecxz × x, local z = x × y.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Transformation {
     /// Unique transformation tag.
     pub tag: u32,

@@ -28,6 +28,7 @@ use std::path::Path;
 
 /// A node: tag and global coordinates (m).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Node {
     /// Unique node tag.
     pub tag: u32,
@@ -48,6 +49,7 @@ impl Node {
 
 /// A support: the fixed DOFs of a node (1 = fixed, 0 = free), order ux uy uz rx ry rz.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Support {
     /// Node tag.
     pub node: u32,
@@ -58,6 +60,7 @@ pub struct Support {
 /// A lumped nodal mass: `m` (kg) on the three translations, optional rotational
 /// inertias (kg·m²). Several entries on one node add up.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct NodalMass {
     /// Node tag.
     pub node: u32,
@@ -71,6 +74,7 @@ pub struct NodalMass {
 /// Gravity: acceleration g (m/s²) acting in −Z on every mass (nodal masses and lumped
 /// self-weight), applied in `load_steps` load-control steps and then held constant.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Gravity {
     /// Acceleration of gravity (m/s²); default 9.81.
     #[serde(default = "default_g")]
@@ -102,6 +106,7 @@ impl Default for Gravity {
 /// Rayleigh damping C = a0·M + a1·K_initial, given either as damping ratio `xi` at two
 /// periods `periods = [Ti, Tj]` (s) or explicitly as `a0` (1/s) and `a1` (s).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Damping {
     /// Damping ratio ξ at both anchor periods.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -135,6 +140,7 @@ impl Damping {
 
 /// The whole model. File keys are singular (`[[node]]`, `[[element]]`, ...).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Model {
     /// Model name.
     #[serde(default)]
