@@ -277,3 +277,11 @@ fn reference_json_import_matches_generator() {
     let gi = imp.gravity_loads();
     assert_eq!(gi.len(), gen.gravity_loads().len());
 }
+
+#[test]
+fn model_load_accepts_the_reference_layout() {
+    let m = Model::load(REF).unwrap();
+    assert_eq!(m.nodes.len(), 43);
+    assert_eq!(m.elements.len(), 60);
+    assert_eq!(m.elements[59].body_name(), "Slab:3:60");
+}

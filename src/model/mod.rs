@@ -183,6 +183,8 @@ pub struct Model {
 
 impl Model {
     /// Reads, parses and validates a model file (`.json` → JSON, anything else → TOML).
+    /// A `.json` file in the reference layout of `frame3.json` (it has a top-level
+    /// `uniaxial_materials` key) goes through [`import_reference_json`].
     pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Model> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path)
@@ -190,6 +192,9 @@ impl Model {
         let is_json = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        if is_json && reference_json::is_reference_layout(&text) {
+            return import_reference_json(path);
+        }
         Ok(Self::parse(&text, &path.display().to_string(), is_json)?)
     }
 

@@ -33,6 +33,13 @@ fn arr<'a>(v: &'a Value, key: &str) -> Result<&'a Vec<Value>> {
         .with_context(|| format!("missing array `{key}`"))
 }
 
+/// Whether JSON text is in the reference layout (a root object with `uniaxial_materials`).
+pub fn is_reference_layout(text: &str) -> bool {
+    serde_json::from_str::<Value>(text)
+        .ok()
+        .is_some_and(|v| v.get("uniaxial_materials").is_some())
+}
+
 /// Reads a reference-layout JSON file into a validated [`Model`].
 pub fn import_reference_json(path: impl AsRef<Path>) -> Result<Model> {
     let path = path.as_ref();
