@@ -179,3 +179,37 @@ fn exported_frame3_lc1_history_matches_reference_samples() {
         }
     }
 }
+
+#[test]
+fn bad_export_options_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.py");
+    for (args, msg) in [
+        (
+            vec!["--gm", "W=x.AT2,0.1"],
+            "direction \"W\" must be X, Y or Z",
+        ),
+        (vec!["--gm", "X=x.AT2"], "expected DIR=PATH,PGA_G"),
+        (vec!["--gm", "X=x.AT2,abc"], "PGA \"abc\" is not a number"),
+        (
+            vec!["--gm", "X=/nonexistent/x.AT2,0.1"],
+            "ground-motion file /nonexistent/x.AT2",
+        ),
+        (
+            vec!["--variant", "fiber"],
+            "--variant \"fiber\": use force, disp or elastic",
+        ),
+        (vec!["--dt", "0"], "--dt 0 must be positive"),
+    ] {
+        let st = Command::new(BIN)
+            .args(["export", "opensees", MODEL, "-o"])
+            .arg(&out)
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(!st.status.success(), "{args:?} should fail");
+        let err = String::from_utf8_lossy(&st.stderr);
+        assert!(err.contains(msg), "{args:?}: {err}");
+        assert!(!out.exists());
+    }
+}
