@@ -285,3 +285,21 @@ fn model_load_accepts_the_reference_layout() {
     assert_eq!(m.elements.len(), 60);
     assert_eq!(m.elements[59].body_name(), "Slab:3:60");
 }
+
+#[test]
+fn local_axes_follow_the_opensees_convention() {
+    let m = generate::frame(&generate::FrameParams::default()).unwrap();
+    // column 1 (node 1 -> 51, vecxz = X): x = Z, y = X x Z = -Y, z = x × y = X
+    let ax = m.local_axes(&m.elements[0]).unwrap();
+    assert_eq!(ax, [[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]]);
+    // beam 25 (101 -> 111 along X, vecxz = Z): y = Z x X = Y, z = X x Y = Z (depth vertical)
+    let ax = m.local_axes(&m.elements[24]).unwrap();
+    assert_eq!(ax, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    // beam 29 (101 -> 102 along Y): y = Z x Y = -X, z = Y x -X = Z
+    let ax = m.local_axes(&m.elements[28]).unwrap();
+    assert_eq!(ax, [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+    // section outlines for the rigid-body boxes: columns 0.1 x 0.1, beams 0.075 x 0.15
+    let secs = m.section_map();
+    assert_eq!(secs[&1].outline(), Some((0.1, 0.1)));
+    assert_eq!(secs[&2].outline(), Some((0.075, 0.15)));
+}

@@ -242,6 +242,31 @@ impl Model {
         }
     }
 
+    /// Local axes `[x, y, z]` (unit vectors, global components) of a line element, by the
+    /// OpenSees `geomTransf` convention: x from node i to node j, y = vecxz × x / |…|,
+    /// z = x × y. `None` for shells, unknown nodes/transformations or a degenerate axis.
+    pub fn local_axes(&self, e: &Element) -> Option<[[f64; 3]; 3]> {
+        let nodes = self.node_map();
+        let [i, j] = e.nodes() else { return None };
+        let (a, b) = (nodes.get(i)?.xyz(), nodes.get(j)?.xyz());
+        let v = self.transformation_map().get(&e.transf()?)?.vecxz;
+        let cross = |p: [f64; 3], q: [f64; 3]| {
+            [
+                p[1] * q[2] - p[2] * q[1],
+                p[2] * q[0] - p[0] * q[2],
+                p[0] * q[1] - p[1] * q[0],
+            ]
+        };
+        let unit = |p: [f64; 3]| {
+            let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            (n > 0.0).then(|| [p[0] / n, p[1] / n, p[2] / n])
+        };
+        let x = unit([b[0] - a[0], b[1] - a[1], b[2] - a[2]])?;
+        let y = unit(cross(v, x))?;
+        let z = cross(x, y);
+        Some([x, y, z])
+    }
+
     /// Area (m²) of a shell's quadrilateral (half the norm of the diagonals' cross product).
     pub fn shell_area(&self, e: &Element) -> Option<f64> {
         let nodes = self.node_map();
