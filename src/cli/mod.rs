@@ -2,6 +2,9 @@
 //! into the library; only subcommands that work are listed.
 use clap::{Parser, Subcommand};
 
+pub mod export;
+pub mod generate;
+
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
 #[command(name = "fem2rbd", version, about, long_about = None)]
@@ -15,7 +18,14 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Write a building model file (e.g. a regular RC frame).
+    #[command(subcommand)]
+    Generate(generate::GenerateCommand),
+    /// Export a model to another program (openseespy script).
+    #[command(subcommand)]
+    Export(export::ExportCommand),
+}
 
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn main() -> anyhow::Result<()> {
@@ -26,5 +36,8 @@ pub fn main() -> anyhow::Result<()> {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     let _ = cli.quiet;
-    match cli.command {}
+    match &cli.command {
+        Command::Generate(cmd) => generate::run(cmd),
+        Command::Export(cmd) => export::run(cmd),
+    }
 }

@@ -1,0 +1,205 @@
+//! `fem2rbd generate frame`: write a regular RC frame model (defaults = frame3).
+use crate::model::generate::{frame, FrameParams};
+use crate::model::{Formulation, TransfKind};
+use anyhow::{bail, Context, Result};
+use clap::{Args, Subcommand};
+use std::path::PathBuf;
+
+/// What to generate.
+#[derive(Debug, Subcommand)]
+pub enum GenerateCommand {
+    /// A regular RC frame: bays in X and Y, stories, fiber columns and beams, slab as mass
+    /// plus diagonal elastic strips. The defaults reproduce the reference frame3.
+    Frame(FrameArgs),
+}
+
+fn list(s: &str) -> Result<Vec<f64>> {
+    s.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .with_context(|| format!("{x:?} is not a number"))
+        })
+        .collect()
+}
+
+fn pair<T: std::str::FromStr>(s: &str) -> Result<[T; 2]> {
+    let v: Vec<&str> = s.split('x').collect();
+    if v.len() != 2 {
+        bail!("{s:?}: expected AxB");
+    }
+    let p = |x: &str| {
+        x.trim()
+            .parse::<T>()
+            .ok()
+            .with_context(|| format!("{x:?} is not a number"))
+    };
+    Ok([p(v[0])?, p(v[1])?])
+}
+
+/// Options of `generate frame` (SI units; lists are comma-separated).
+#[derive(Debug, Args)]
+pub struct FrameArgs {
+    /// Output model file (.toml, or .json).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Model name.
+    #[arg(long, default_value = "frame3-quarter-scale-stand-in")]
+    pub name: String,
+    /// Bay spans in X (m), e.g. 1.5,1.5.
+    #[arg(long, default_value = "1.5")]
+    pub spans_x: String,
+    /// Bay spans in Y (m).
+    #[arg(long, default_value = "1.5")]
+    pub spans_y: String,
+    /// Story heights bottom up (m).
+    #[arg(long, default_value = "1.0,1.0,1.0")]
+    pub stories: String,
+    /// Column section b x h (m).
+    #[arg(long, default_value = "0.1x0.1")]
+    pub column: String,
+    /// Beam section b x h (m).
+    #[arg(long, default_value = "0.075x0.15")]
+    pub beam: String,
+    /// Slab thickness (m).
+    #[arg(long, default_value_t = 0.03)]
+    pub slab_thickness: f64,
+    /// Face to core boundary (m).
+    #[arg(long, default_value_t = 0.012)]
+    pub cover: f64,
+    /// Face to bar centre (m).
+    #[arg(long, default_value_t = 0.013)]
+    pub bar_offset: f64,
+    /// Bar diameter (m).
+    #[arg(long, default_value_t = 0.0035)]
+    pub bar_diameter: f64,
+    /// Column bars per face.
+    #[arg(long, default_value_t = 3)]
+    pub column_bars_per_face: u32,
+    /// Beam bars per layer (top and bottom).
+    #[arg(long, default_value_t = 3)]
+    pub beam_bars: u32,
+    /// Concrete E per story (Pa), one value or one per story.
+    #[arg(long, default_value = "25e9,27e9,23e9")]
+    pub ec: String,
+    /// Concrete f'c per story (Pa, positive), one value or one per story.
+    #[arg(long, default_value = "22.5e6,23.9e6,15.6e6")]
+    pub fc: String,
+    /// Core confinement factor.
+    #[arg(long, default_value_t = 1.1)]
+    pub confinement: f64,
+    /// Bar yield strength (Pa).
+    #[arg(long, default_value_t = 457.7e6)]
+    pub fy: f64,
+    /// Bar Young's modulus (Pa).
+    #[arg(long, default_value_t = 200e9)]
+    pub es: f64,
+    /// Concrete density (kg/m3).
+    #[arg(long, default_value_t = 2500.0)]
+    pub concrete_density: f64,
+    /// Bar density (kg/m3); 0 leaves bar mass out, as frame3.
+    #[arg(long, default_value_t = 0.0)]
+    pub steel_density: f64,
+    /// Added mass per floor (kg), one value or one per floor.
+    #[arg(long, default_value = "2699.75")]
+    pub added_mass: String,
+    /// Elements per column per story.
+    #[arg(long, default_value_t = 2)]
+    pub column_elements: u32,
+    /// Elements per half beam span.
+    #[arg(long, default_value_t = 1)]
+    pub beam_elements: u32,
+    /// Column core fibers ny x nz.
+    #[arg(long, default_value = "8x8")]
+    pub column_fibers: String,
+    /// Beam core fibers ny x nz.
+    #[arg(long, default_value = "4x10")]
+    pub beam_fibers: String,
+    /// Geometric transformation: linear, pdelta or corotational.
+    #[arg(long, default_value = "corotational")]
+    pub transformation: String,
+    /// Beam-column formulation: force or disp.
+    #[arg(long, default_value = "force")]
+    pub formulation: String,
+    /// Integration points per beam-column.
+    #[arg(long, default_value_t = 5)]
+    pub points: u32,
+    /// Model scale (collapse threshold scale).
+    #[arg(long, default_value_t = 0.25)]
+    pub scale: f64,
+    /// Rayleigh damping ratio.
+    #[arg(long, default_value_t = 0.05)]
+    pub xi: f64,
+    /// First Rayleigh anchor period (s); the second is T1/3.
+    #[arg(long, default_value_t = 0.316)]
+    pub t1: f64,
+}
+
+impl FrameArgs {
+    /// Converts the options to generator parameters.
+    pub fn params(&self) -> Result<FrameParams> {
+        Ok(FrameParams {
+            name: self.name.clone(),
+            spans_x: list(&self.spans_x).context("--spans-x")?,
+            spans_y: list(&self.spans_y).context("--spans-y")?,
+            story_heights: list(&self.stories).context("--stories")?,
+            column: pair(&self.column).context("--column")?,
+            beam: pair(&self.beam).context("--beam")?,
+            slab_thickness: self.slab_thickness,
+            cover: self.cover,
+            bar_offset: self.bar_offset,
+            bar_diameter: self.bar_diameter,
+            column_bars_per_face: self.column_bars_per_face,
+            beam_bars: self.beam_bars,
+            ec: list(&self.ec).context("--ec")?,
+            fc: list(&self.fc).context("--fc")?,
+            confinement: self.confinement,
+            nu: 0.2,
+            fy: self.fy,
+            es: self.es,
+            concrete_density: self.concrete_density,
+            steel_density: self.steel_density,
+            added_mass: list(&self.added_mass).context("--added-mass")?,
+            column_elements: self.column_elements,
+            beam_elements: self.beam_elements,
+            column_fibers: pair(&self.column_fibers).context("--column-fibers")?,
+            beam_fibers: pair(&self.beam_fibers).context("--beam-fibers")?,
+            transformation: match self.transformation.as_str() {
+                "linear" => TransfKind::Linear,
+                "pdelta" => TransfKind::Pdelta,
+                "corotational" => TransfKind::Corotational,
+                o => bail!("--transformation {o:?}: use linear, pdelta or corotational"),
+            },
+            formulation: match self.formulation.as_str() {
+                "force" => Formulation::Force,
+                "disp" => Formulation::Disp,
+                o => bail!("--formulation {o:?}: use force or disp"),
+            },
+            points: self.points,
+            scale: self.scale,
+            g: 9.81,
+            xi: self.xi,
+            t1: self.t1,
+        })
+    }
+}
+
+/// Runs `generate`.
+pub fn run(cmd: &GenerateCommand) -> Result<()> {
+    match cmd {
+        GenerateCommand::Frame(args) => {
+            let model = frame(&args.params()?)?;
+            let is_json = args
+                .output
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+            let text = if is_json {
+                serde_json::to_string_pretty(&model)? + "\n"
+            } else {
+                model.to_toml()?
+            };
+            crate::output::write_atomic(&args.output, text.as_bytes())
+                .with_context(|| format!("cannot write {}", args.output.display()))
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! The frame generator beyond frame3: multi-bay plans, mesh refinement, mass totals.
+use fem2rbd::model::generate::{frame, FrameParams};
+use fem2rbd::model::ElementKind;
+
+/// Total mass in closed form: concrete of every column and beam (full b×h over the
+/// centre-line lengths, as the reference lumps it), slab ρ t A and the added mass.
+fn closed_total(p: &FrameParams) -> f64 {
+    let (lx, ly): (f64, f64) = (p.spans_x.iter().sum(), p.spans_y.iter().sum());
+    let (nx, ny) = (p.spans_x.len() as f64, p.spans_y.len() as f64);
+    let h: f64 = p.story_heights.iter().sum();
+    let ns = p.story_heights.len() as f64;
+    let rho = p.concrete_density;
+    let cols = (nx + 1.0) * (ny + 1.0) * h * p.column[0] * p.column[1] * rho;
+    let beam_len = (ny + 1.0) * lx + (nx + 1.0) * ly;
+    let beams = ns * beam_len * p.beam[0] * p.beam[1] * rho;
+    let slab = ns * rho * p.slab_thickness * lx * ly;
+    cols + beams
+        + slab
+        + p.added_mass.iter().sum::<f64>() * if p.added_mass.len() == 1 { ns } else { 1.0 }
+}
+
+#[test]
+fn multi_bay_frame_counts_masses_and_names() {
+    let p = FrameParams {
+        spans_x: vec![4.0, 5.0, 4.0],
+        spans_y: vec![6.0, 5.0],
+        story_heights: vec![3.6, 3.0],
+        column: [0.4, 0.5],
+        beam: [0.25, 0.6],
+        slab_thickness: 0.12,
+        ec: vec![30e9],
+        fc: vec![30e6, 25e6],
+        added_mass: vec![50_000.0, 40_000.0],
+        column_elements: 3,
+        beam_elements: 2,
+        ..FrameParams::default()
+    };
+    let m = frame(&p).unwrap();
+    let total = m.total_mass();
+    let want = closed_total(&p);
+    assert!((total / want - 1.0).abs() < 1e-12, "{total} vs {want}");
+    // counts: 12 columns x 2 stories x 3 elements; beams per floor: (3 lines x 3 spans
+    // + 4 lines x 2 spans) x 2 halves x 2 elements; 6 panels x 4 strips per floor
+    let count = |name: &str| m.elements.iter().filter(|e| e.type_name == name).count();
+    assert_eq!(count("Column"), 12 * 2 * 3);
+    assert_eq!(count("Beam"), 2 * (3 * 3 + 4 * 2) * 2 * 2);
+    assert_eq!(count("Slab"), 2 * 6 * 4);
+    // every element's length is positive and every group is its story
+    for e in &m.elements {
+        assert!(m.element_length(e).unwrap() > 0.1);
+        assert!(["1", "2"].contains(&e.group.0.as_str()));
+    }
+    // the core concrete of story 2 is 25 MPa x 1.1
+    let core2 = m.materials.iter().find(|x| x.name == "core_F2").unwrap();
+    assert!((core2.parameters()[0].1 + 1.1 * 25e6).abs() < 1e-6);
+    // a rectangular panel's strips: A = G t d³ / (2 E Lx Ly)
+    let strip = m
+        .elements
+        .iter()
+        .find_map(|e| match &e.kind {
+            ElementKind::ElasticStrip {
+                e,
+                g,
+                width,
+                thickness,
+                nodes,
+                ..
+            } => Some((*e, *g, *width, *thickness, *nodes)),
+            _ => None,
+        })
+        .unwrap();
+    let (e, g, w, t, _) = strip;
+    let d = (16.0f64 + 36.0).sqrt();
+    assert!((w * t - g * t * d.powi(3) / (2.0 * e * 4.0 * 6.0)).abs() < 1e-12);
+    // node tags unique (validated) and deterministic
+    assert_eq!(frame(&p).unwrap(), m);
+}
+
+#[test]
+fn refined_frame3_mesh_keeps_mass_and_geometry() {
+    let base = frame(&FrameParams::default()).unwrap();
+    let fine = frame(&FrameParams {
+        column_elements: 4,
+        beam_elements: 2,
+        ..FrameParams::default()
+    })
+    .unwrap();
+    assert_eq!(fine.elements.len(), 4 * 3 * 4 + 3 * 4 * 2 * 2 + 12);
+    assert!((fine.total_mass() / base.total_mass() - 1.0).abs() < 1e-12);
+    let want = closed_total(&FrameParams::default());
+    assert!((base.total_mass() / want - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn bad_generator_parameters_are_errors() {
+    let e = frame(&FrameParams {
+        fc: vec![20e6, 25e6],
+        ..FrameParams::default()
+    })
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("fc: give 1 value or one per story (3), not 2"),
+        "{e}"
+    );
+    let e = frame(&FrameParams {
+        spans_x: vec![],
+        ..FrameParams::default()
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("at least one story"), "{e}");
+    let e = frame(&FrameParams {
+        cover: 0.06,
+        ..FrameParams::default()
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("leaves no core"), "{e}");
+}
