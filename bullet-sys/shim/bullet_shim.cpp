@@ -61,14 +61,14 @@ void put_quat(const btQuaternion &q, double out[4]) {
     out[3] = q.z();
 }
 
-// A quaternion is accepted when finite and of unit length to 1e-6; it is then normalised.
+// A quaternion is accepted when finite and of unit length to 1e-6. It is passed on as given:
+// btMatrix3x3::setRotation scales by 2/|q|², as pybullet's path does.
 int check_quat(const double q[4], btQuaternion &out, const char *what) {
     if (!finite4(q)) return fail(BS_ERR_BAD_ARG, std::string(what) + " has a non-finite component");
     double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(std::fabs(n - 1.0) <= 1e-6))
         return fail(BS_ERR_BAD_ARG, std::string(what) + " is not a unit quaternion (|q| = " + std::to_string(n) + ")");
     out = quat(q);
-    out.normalize();
     return BS_OK;
 }
 

@@ -2,6 +2,8 @@
 //! into the library; only subcommands that work are listed.
 use clap::{Parser, Subcommand};
 
+pub mod scene;
+
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
 #[command(name = "fem2rbd", version, about, long_about = None)]
@@ -15,7 +17,10 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Run a JSON rigid-body scene in Bullet and write body poses as CSV.
+    Scene(scene::SceneArgs),
+}
 
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn main() -> anyhow::Result<()> {
@@ -26,5 +31,7 @@ pub fn main() -> anyhow::Result<()> {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     let _ = cli.quiet;
-    match cli.command {}
+    match cli.command {
+        Command::Scene(args) => scene::run(args),
+    }
 }
