@@ -4,9 +4,17 @@ use clap::{Parser, Subcommand};
 
 pub mod scene;
 
+/// `fem2rbd --version`: the crate version and the Bullet library linked.
+const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (Bullet ",
+    env!("FEM2RBD_BULLET_VERSION"),
+    ", double precision, Debian libbullet)"
+);
+
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
-#[command(name = "fem2rbd", version, about, long_about = None)]
+#[command(name = "fem2rbd", version, long_version = LONG_VERSION, about, long_about = None)]
 pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]

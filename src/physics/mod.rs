@@ -26,7 +26,7 @@ pub use types::{
 pub use world::{
     abi_self_check, bullet_default_solver_settings, bullet_version,
     global_contact_breaking_threshold, global_dbvt_margin, set_global_contact_breaking_threshold,
-    set_global_dbvt_margin, whole_substeps, World,
+    set_global_dbvt_margin, whole_substeps, World, LINKED_BULLET_PKG_VERSION,
 };
 
 #[cfg(test)]
@@ -37,6 +37,9 @@ mod tests {
     fn abi_check_passes_and_defaults_match_bullet() {
         abi_self_check().unwrap();
         assert_eq!(bullet_version(), 324);
+        // pkg-config's "3.24" (build time) is btGetVersion()'s 324 (run time).
+        let digits: String = LINKED_BULLET_PKG_VERSION.split('.').take(2).collect();
+        assert_eq!(digits, bullet_version().to_string());
         assert_eq!(
             bullet_default_solver_settings().unwrap(),
             SolverSettings::default()

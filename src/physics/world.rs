@@ -61,6 +61,9 @@ pub fn abi_self_check() -> Result<(), PhysicsError> {
     Ok(())
 }
 
+/// The pkg-config version of the Bullet library linked at build time (e.g. "3.24").
+pub const LINKED_BULLET_PKG_VERSION: &str = env!("FEM2RBD_BULLET_VERSION");
+
 /// The Bullet version linked (`btGetVersion()`, e.g. 324).
 pub fn bullet_version() -> i32 {
     // SAFETY: argument-free.

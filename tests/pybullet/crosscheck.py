@@ -81,6 +81,24 @@ def pile_bodies():
     return bodies
 
 
+def welded_pair():
+    """Two boxes welded by a fixed constraint (pybullet's JOINT_FIXED between two maximal
+    rigid bodies is a btGeneric6DofSpring2Constraint with all six limits 0 and identity
+    frame orientations, added with collisions between the bodies on — the same object
+    as btFixedConstraint in Bullet 3.24), thrown tumbling onto the ground."""
+    a_pos, b_pos, pivot = (0.0, 0.0, 2.0), (0.65, 0.0, 2.2), (0.425, 0.0, 2.1)
+    bodies = [dict(GROUND),
+              box("a", (0.4, 0.2, 0.2), 2.0, a_pos, v=(1.0, 0.5, 0.0), w=(0.5, 1.0, 2.0)),
+              box("b", (0.2, 0.2, 0.4), 1.0, b_pos, v=(1.0, 0.5, 0.0), w=(0.5, 1.0, 2.0))]
+    sc = scene(bodies)
+    sc["constraints"] = [{
+        "kind": "fixed", "body_a": "a", "body_b": "b",
+        "frame_a": {"position": [pc - p for pc, p in zip(pivot, a_pos)]},
+        "frame_b": {"position": [pc - p for pc, p in zip(pivot, b_pos)]},
+        "disable_collisions_between": False}]
+    return sc
+
+
 SCENARIOS = [
     # name, scene, bound on position difference [m], bound on orientation difference [rad]
     ("freefall", scene([box("box", (0.5, 0.5, 0.5), 1.0, (0.0, 0.0, 10.0))]), 1e-9, 1e-9),
@@ -99,7 +117,21 @@ SCENARIOS = [
     # fem2rbd's JSON parser was not correctly rounded). Measured with both sides reading
     # the same bits: 0 m and 0 rad at every substep; the bound is set a little above that.
     ("pile", scene(pile_bodies()), 1e-9, 1e-9),
+    ("welded", welded_pair(), 1e-9, 1e-9),
 ]
+
+
+def tumble_without_two_friction_directions():
+    """Negative control: the tumble with fem2rbd's solver mode 260 (Bullet's default)
+    instead of pybullet's 276. bullet-ffi.md §3.4 measured 0.18-0.20 m of difference; the
+    comparison must see it, or it could not detect a settings mismatch."""
+    sc = json.loads(json.dumps(SCENARIOS[3][1]))
+    sc["world"]["solver"] = {"solver_mode": 260}
+    return sc
+
+
+# name, scene, smallest position difference [m] the comparison must report
+CONTROLS = [("control_tumble_mode260", tumble_without_two_friction_directions(), 0.05)]
 
 
 def run_fem2rbd(binary, sc, workdir, name):
@@ -146,6 +178,13 @@ def run_pybullet(sc):
                                     b.get("angular_velocity", [0.0, 0.0, 0.0]),
                                     physicsClientId=cid)
             ids.append((b["name"], bid, b["mass"] > 0))
+        index = {name: bid for name, bid, _ in ids}
+        for c in sc.get("constraints", []):
+            if c["kind"] != "fixed" or c.get("disable_collisions_between", True):
+                raise ValueError("pybullet can only mirror fixed constraints with collisions on")
+            p.createConstraint(index[c["body_a"]], -1, index[c["body_b"]], -1, p.JOINT_FIXED,
+                               [0.0, 0.0, 0.0], c["frame_a"]["position"],
+                               c["frame_b"]["position"], physicsClientId=cid)
         n = int(round(sc["duration"] * sc["substeps_per_second"]))
         steps = {}
         for k in range(0, n + 1):
@@ -217,6 +256,18 @@ def main():
                   "max angle = %.3e rad (bound %.0e)  final %s = (%.6f, %.6f, %.6f)  %s"
                   % (name, len(sc["bodies"]), max(theirs), dpos, kpeak, pos_bound, dang,
                      ang_bound, sample[0], *sample[1], "ok" if ok else "FAIL"))
+            if not ok:
+                failures.append(name)
+        for name, sc, min_diff in CONTROLS:
+            if args.only and name != args.only:
+                continue
+            ours = run_fem2rbd(args.bin, sc, tmp, name)
+            theirs = run_pybullet(sc)
+            dpos, dang, kpeak = compare(ours, theirs)
+            ok = dpos >= min_diff
+            print("%s  max|dx| = %.3e m (step %d, must be >= %.2f: a settings mismatch is "
+                  "detected)  max angle = %.3e rad  %s"
+                  % (name, dpos, kpeak, min_diff, dang, "ok" if ok else "FAIL"))
             if not ok:
                 failures.append(name)
     if failures:
