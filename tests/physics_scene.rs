@@ -99,7 +99,7 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         (
             "NaN mass",
             scene_with(&BOX.replace("\"mass\": 1", "\"mass\": NaN"), FIXED_OK),
-            vec!["line 6", "NaN"],
+            vec!["line 6", "in body 1", "NaN"],
         ),
         (
             "zero half extent",
@@ -109,7 +109,7 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         (
             "NaN pose",
             scene_with(&BOX.replace("[0, 0, 2]", "[0, NaN, 2]"), FIXED_OK),
-            vec!["line 6", "NaN"],
+            vec!["line 6", "in body 1", "NaN"],
         ),
         (
             "non-unit orientation",
@@ -135,7 +135,7 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
                 &BOX.replace("\"mass\"", "\"colour\": 3, \"mass\""),
                 FIXED_OK,
             ),
-            vec!["line 6", "unknown field `colour`"],
+            vec!["line 6", "in body 1", "unknown field `colour`"],
         ),
         (
             "duplicate name",

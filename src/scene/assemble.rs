@@ -1,7 +1,7 @@
 //! Validates a parsed scene file and turns it into a [`Scene`] (physics descriptions with
 //! every default filled in), then into a [`World`].
 use super::format::*;
-use super::locate::array_element_lines;
+use super::locate::{array_element_lines, ArrayLines};
 use crate::physics::{
     BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, Pose,
     SolverSettings, Spring, Velocity, World, WorldSettings,
@@ -47,19 +47,29 @@ pub struct BuiltScene {
 
 /// Where an item sits, for error messages: `body "box3" (line 14)`.
 struct Locator {
-    body_lines: Vec<usize>,
-    constraint_lines: Vec<usize>,
+    bodies: ArrayLines,
+    constraints: ArrayLines,
 }
 
 impl Locator {
     fn body(&self, i: usize, name: &str) -> String {
-        match self.body_lines.get(i) {
+        match self.bodies.starts.get(i) {
             Some(l) => format!("body {i} \"{name}\" (line {l})"),
             None => format!("body {i} \"{name}\""),
         }
     }
+    /// ` (in body 2, which starts on line 14)` for a line inside an array element.
+    fn enclosing(&self, line: usize) -> String {
+        for (what, lines) in [("body", &self.bodies), ("constraint", &self.constraints)] {
+            if let Some(i) = lines.element_at(line) {
+                return format!(" (in {what} {i}, which starts on line {})", lines.starts[i]);
+            }
+        }
+        String::new()
+    }
+
     fn constraint(&self, i: usize) -> String {
-        match self.constraint_lines.get(i) {
+        match self.constraints.starts.get(i) {
             Some(l) => format!("constraint {i} (line {l})"),
             None => format!("constraint {i}"),
         }
@@ -77,14 +87,15 @@ impl Scene {
     /// Parses and validates scene JSON. Errors name the line (syntax, unknown fields) or
     /// the item (body name / constraint index and its line).
     pub fn from_json(text: &str) -> Result<Scene> {
+        let loc = Locator {
+            bodies: array_element_lines(text, "bodies"),
+            constraints: array_element_lines(text, "constraints"),
+        };
         let file: SceneFile = serde_json::from_str(text).map_err(|e| {
             let hint = non_finite_hint(text, &e);
-            anyhow!("line {}, column {}: {e}{hint}", e.line(), e.column())
+            let within = loc.enclosing(e.line());
+            anyhow!("{e}{within}{hint}")
         })?;
-        let loc = Locator {
-            body_lines: array_element_lines(text, "bodies"),
-            constraint_lines: array_element_lines(text, "constraints"),
-        };
         validate(&file, &loc)
     }
 
