@@ -365,6 +365,46 @@ int bs_world_contact_pairs(const bs_world *w, bs_contact_pair *out, int capacity
     });
 }
 
+int bs_world_get_poses(const bs_world *w, int n, double *positions, double *orientations) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (n != static_cast<int>(w->bodies.size()))
+            return fail(BS_ERR_BAD_ARG, "bulk pose read: n = " + std::to_string(n) + " but the world has " + std::to_string(w->bodies.size()) + " bodies");
+        if (n > 0 && (!positions || !orientations)) return fail(BS_ERR_NULL, "null output");
+        for (int i = 0; i < n; ++i) {
+            const btTransform &t = w->bodies[i].body->getWorldTransform();
+            put(t.getOrigin(), positions + 3 * i);
+            put_quat(t.getRotation(), orientations + 4 * i);
+        }
+        return BS_OK;
+    });
+}
+
+int bs_world_get_velocities(const bs_world *w, int n, double *linear, double *angular) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (n != static_cast<int>(w->bodies.size()))
+            return fail(BS_ERR_BAD_ARG, "bulk velocity read: n = " + std::to_string(n) + " but the world has " + std::to_string(w->bodies.size()) + " bodies");
+        if (n > 0 && (!linear || !angular)) return fail(BS_ERR_NULL, "null output");
+        for (int i = 0; i < n; ++i) {
+            put(w->bodies[i].body->getLinearVelocity(), linear + 3 * i);
+            put(w->bodies[i].body->getAngularVelocity(), angular + 3 * i);
+        }
+        return BS_OK;
+    });
+}
+
+int bs_world_get_enabled(const bs_world *w, int n, int *enabled) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (n != static_cast<int>(w->constraints.size()))
+            return fail(BS_ERR_BAD_ARG, "bulk enabled read: n = " + std::to_string(n) + " but the world has " + std::to_string(w->constraints.size()) + " constraints");
+        if (n > 0 && !enabled) return fail(BS_ERR_NULL, "null output");
+        for (int i = 0; i < n; ++i) enabled[i] = w->constraints[i]->constraint->isEnabled() ? 1 : 0;
+        return BS_OK;
+    });
+}
+
 int bs_body_add_box(bs_world *w, const bs_body_desc *d, int *out_index) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;

@@ -127,6 +127,12 @@ int bs_world_num_constraints(const bs_world *w);
 /* Fills up to `capacity` pairs in manifold order; *total receives the number available. */
 int bs_world_contact_pairs(const bs_world *w, bs_contact_pair *out, int capacity, int *total);
 
+/* Bulk reads: `n` must equal the number of bodies / constraints; arrays hold n entries of
+ * 3 (positions, velocities) or 4 (quaternions) doubles, or n ints. */
+int bs_world_get_poses(const bs_world *w, int n, double *positions, double *orientations);
+int bs_world_get_velocities(const bs_world *w, int n, double *linear, double *angular);
+int bs_world_get_enabled(const bs_world *w, int n, int *enabled);
+
 /* ---- bodies -------------------------------------------------------------------------- */
 int bs_body_add_box(bs_world *w, const bs_body_desc *d, int *out_index);
 int bs_body_get_pose(const bs_world *w, int body, double position[3], double orientation[4]);

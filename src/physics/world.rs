@@ -667,6 +667,56 @@ impl World {
         })
     }
 
+    /// The poses of all bodies in creation order (one call into Bullet).
+    pub fn poses(&self) -> Result<Vec<Pose>, PhysicsError> {
+        let n = self.kinds.len();
+        let mut pos = vec![0.0; 3 * n];
+        let mut quat = vec![0.0; 4 * n];
+        // SAFETY: live world; the buffers hold n entries of 3 and 4 doubles.
+        check("get_poses", unsafe {
+            sys::bs_world_get_poses(self.w(), n as i32, pos.as_mut_ptr(), quat.as_mut_ptr())
+        })?;
+        Ok((0..n)
+            .map(|i| Pose {
+                position: [pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]],
+                orientation: [
+                    quat[4 * i],
+                    quat[4 * i + 1],
+                    quat[4 * i + 2],
+                    quat[4 * i + 3],
+                ],
+            })
+            .collect())
+    }
+
+    /// The velocities of all bodies in creation order (one call into Bullet).
+    pub fn velocities(&self) -> Result<Vec<Velocity>, PhysicsError> {
+        let n = self.kinds.len();
+        let mut lin = vec![0.0; 3 * n];
+        let mut ang = vec![0.0; 3 * n];
+        // SAFETY: live world; the buffers hold n entries of 3 doubles.
+        check("get_velocities", unsafe {
+            sys::bs_world_get_velocities(self.w(), n as i32, lin.as_mut_ptr(), ang.as_mut_ptr())
+        })?;
+        Ok((0..n)
+            .map(|i| Velocity {
+                linear: [lin[3 * i], lin[3 * i + 1], lin[3 * i + 2]],
+                angular: [ang[3 * i], ang[3 * i + 1], ang[3 * i + 2]],
+            })
+            .collect())
+    }
+
+    /// Whether each constraint is enabled, in creation order (one call into Bullet).
+    pub fn constraints_enabled(&self) -> Result<Vec<bool>, PhysicsError> {
+        let n = self.constraint_kinds.len();
+        let mut on = vec![0; n];
+        // SAFETY: live world; the buffer holds n ints.
+        check("get_enabled", unsafe {
+            sys::bs_world_get_enabled(self.w(), n as i32, on.as_mut_ptr())
+        })?;
+        Ok(on.into_iter().map(|x| x != 0).collect())
+    }
+
     /// Every pair of bodies with contact points after the last substep, one entry per
     /// persistent manifold, in Bullet's (deterministic) manifold order.
     pub fn contact_pairs(&self) -> Result<Vec<ContactPair>, PhysicsError> {

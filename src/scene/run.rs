@@ -21,9 +21,9 @@ pub fn run_scene(scene: &Scene, every: Option<u64>, out: &mut dyn Write) -> Resu
     let n = scene.num_substeps;
     let write_rows = |built: &super::BuiltScene, step: u64, out: &mut dyn Write| -> Result<()> {
         let t = step as f64 * h;
-        for ((name, _), &b) in scene.bodies.iter().zip(&built.bodies) {
-            let p = built.world.pose(b)?;
-            let v = built.world.velocity(b)?;
+        let poses = built.world.poses()?;
+        let vels = built.world.velocities()?;
+        for (((name, _), p), v) in scene.bodies.iter().zip(&poses).zip(&vels) {
             write!(out, "{step},{t:.17e},{}", csv_field(name))?;
             for x in p
                 .position
