@@ -43,13 +43,10 @@ fn free_fall_is_symplectic_euler_at_every_step() {
     assert_eq!(w.substeps(), 480);
 }
 
-/// A 1 kg box hangs from a static anchor on a Spring2 constraint whose z axis is a spring
-/// k = 1000 N/m (damping 20 N·s/m, ζ ≈ 0.32) and whose other five axes are locked. At rest
-/// the spring carries the weight: sag = m·g/k = 9.81 mm below the equilibrium point.
-#[test]
-fn spring2_hanging_box_sags_m_g_over_k() {
+/// Sag [m] of a box of mass `m` hanging on a Spring2 constraint whose z axis is a spring
+/// (k, c) and whose other five axes are locked, after `t` seconds of substeps `h`.
+fn spring2_sag(m: f64, k: f64, c: f64, h: f64, t: f64) -> (f64, f64) {
     let mut w = world();
-    let (m, k, c) = (1.0, 1000.0, 20.0);
     let anchor = w
         .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
         .unwrap();
@@ -81,13 +78,38 @@ fn spring2_hanging_box_sags_m_g_over_k() {
     ];
     d.disable_collisions_between = true;
     w.add_constraint(&d).unwrap();
-    w.advance(5.0, 1.0 / 240.0).unwrap();
-    let sag = z0 - w.pose(b).unwrap().position[2];
+    w.advance(t, h).unwrap();
+    (
+        z0 - w.pose(b).unwrap().position[2],
+        w.velocity(b).unwrap().linear[2],
+    )
+}
+
+/// A 1 kg box hangs from a static anchor on a Spring2 constraint whose z axis is a spring
+/// k = 1000 N/m (damping 20 N·s/m, ζ ≈ 0.32) and whose other five axes are locked. At rest
+/// the spring carries the weight: sag = m·g/k = 9.81 mm below the equilibrium point.
+#[test]
+fn spring2_hanging_box_sags_m_g_over_k() {
+    let (m, k) = (1.0, 1000.0);
     let expected = m * G / k;
+    let (sag, vz) = spring2_sag(m, k, 20.0, 1.0 / 240.0, 5.0);
     let rel = (sag - expected).abs() / expected;
     println!("spring2 sag = {sag:.12} m, m·g/k = {expected:.12} m, relative error {rel:e}");
     assert!(rel < 1e-6, "sag {sag} vs {expected}");
-    assert!(w.velocity(b).unwrap().linear[2].abs() < 1e-9);
+    assert!(vz.abs() < 1e-9);
+}
+
+/// At h = 1/60 s, k·h²/m = 0.28 > 1/4, where Bullet's `setStiffness(i, k)` (limitIfNeeded =
+/// true) would silently soften the spring to m/(16·h²) = 225 N/m (sag 43.6 mm, measured in
+/// bullet-ffi.md §2.5). The layer passes `false`, so the sag is still m·g/k.
+#[test]
+fn spring2_stiffness_is_not_auto_limited_at_coarse_steps() {
+    let (m, k) = (1.0, 1000.0);
+    let expected = m * G / k;
+    let (sag, _) = spring2_sag(m, k, 20.0, 1.0 / 60.0, 10.0);
+    let rel = (sag - expected).abs() / expected;
+    println!("spring2 sag at h = 1/60: {sag:.12} m (relative error {rel:e})");
+    assert!(rel < 1e-6, "sag {sag} vs {expected}: stiffness was limited");
 }
 
 /// A 2 kg box is held at its centre by a fixed constraint to a static anchor while gravity

@@ -177,8 +177,10 @@ pub struct ConstraintDesc {
     /// the class default. lo > hi frees the axis; lo == hi locks it. Ignored for `Fixed`.
     pub limits: [Option<(f64, f64)>; 6],
     /// `setBreakingImpulseThreshold` [N·s]: the constraint is disabled at the end of the
-    /// substep in which any one of its rows' impulse reaches it (so it scales with the
-    /// substep). `f64::INFINITY` = unbreakable.
+    /// substep in which any one of its rows' impulse |λ| reaches it (so it scales with the
+    /// substep: a force F breaks it when F·h ≥ threshold). Bullet also clamps every row's
+    /// impulse to ±threshold, so in its last substep the joint transmits at most the
+    /// threshold (`tests/physics_world.rs` checks both). `f64::INFINITY` = unbreakable.
     pub breaking_impulse_threshold: f64,
     /// `addConstraint(c, true)`: no contacts between the two bodies.
     pub disable_collisions_between: bool,
