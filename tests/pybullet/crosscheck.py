@@ -81,6 +81,18 @@ def pile_bodies():
     return bodies
 
 
+def bouncing_box():
+    """Restitution (0.6 on the box, 0.8 on the ground: Bullet combines them as the product
+    0.48), linear and angular damping, and rolling and spinning friction, on a box thrown
+    with spin."""
+    ground = dict(GROUND, restitution=0.8)
+    b = box("box", (0.3, 0.2, 0.25), 1.5, (0.0, 0.0, 2.0),
+            q=quat_axis_angle((0.3, 1.0, 0.2), 0.4), v=(1.0, -0.5, 0.0), w=(1.0, 2.0, 4.0))
+    b.update(restitution=0.6, linear_damping=0.1, angular_damping=0.2,
+             rolling_friction=0.01, spinning_friction=0.02)
+    return scene([ground, b])
+
+
 def welded_pair():
     """Two boxes welded by a fixed constraint (pybullet's JOINT_FIXED between two maximal
     rigid bodies is a btGeneric6DofSpring2Constraint with all six limits 0 and identity
@@ -118,6 +130,7 @@ SCENARIOS = [
     # the same bits: 0 m and 0 rad at every substep; the bound is set a little above that.
     ("pile", scene(pile_bodies()), 1e-9, 1e-9),
     ("welded", welded_pair(), 1e-9, 1e-9),
+    ("bounce", bouncing_box(), 1e-9, 1e-9),
 ]
 
 
@@ -170,8 +183,11 @@ def run_pybullet(sc):
                                     baseOrientation=[qx, qy, qz, qw],
                                     useMaximalCoordinates=True, physicsClientId=cid)
             p.changeDynamics(bid, -1, lateralFriction=b.get("friction", 0.5),
-                             restitution=b.get("restitution", 0.0), rollingFriction=0.0,
-                             spinningFriction=0.0, linearDamping=0.0, angularDamping=0.0,
+                             restitution=b.get("restitution", 0.0),
+                             rollingFriction=b.get("rolling_friction", 0.0),
+                             spinningFriction=b.get("spinning_friction", 0.0),
+                             linearDamping=b.get("linear_damping", 0.0),
+                             angularDamping=b.get("angular_damping", 0.0),
                              physicsClientId=cid)
             if b["mass"] > 0:
                 p.resetBaseVelocity(bid, b.get("linear_velocity", [0.0, 0.0, 0.0]),
