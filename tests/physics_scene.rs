@@ -24,7 +24,14 @@ fn run(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 #[test]
 fn shipped_scenes_run_and_two_runs_are_bit_identical() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["drop.json", "hanging_spring.json", "pile.json"] {
+    for name in [
+        "drop.json",
+        "slide.json",
+        "tumble.json",
+        "hanging_spring.json",
+        "pile.json",
+        "conveyor.json",
+    ] {
         let scene = root().join("data/scenes").join(name);
         let a = dir.path().join(format!("{name}.a.csv"));
         let b = dir.path().join(format!("{name}.b.csv"));
@@ -67,6 +74,36 @@ fn hanging_spring_scene_sags_m_g_over_k_and_the_generic_holds() {
     // 5 kg held rigidly: its per-substep impulse at rest is 5·9.81/240 = 0.204 N·s, below
     // the 0.5 N·s threshold also during the start-up transient of the soft limit rows.
     assert!((z("held") - 3.9).abs() < 1e-6, "{}", z("held"));
+}
+
+/// data/scenes/conveyor.json: a kinematic belt moving at v = 0.3 m/s under a resting box.
+/// The belt is where its motion puts it (x = v·t); the box, dragged by friction at
+/// μ·g = 0.25·9.81 m/s² until it moves with the belt, is at v·t − v²/(2μg) = 0.43165 m.
+#[test]
+fn conveyor_scene_drags_the_box_by_coulomb_friction() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.csv");
+    let o = run(&root().join("data/scenes/conveyor.json"), &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let row = |name: &str| -> Vec<f64> {
+        let l = text
+            .lines()
+            .find(|l| l.split(',').nth(2) == Some(name))
+            .unwrap();
+        l.split(',').skip(3).map(|x| x.parse().unwrap()).collect()
+    };
+    let (v, t, mu_g) = (0.3, 1.5, 0.25 * 9.81);
+    let belt = row("belt");
+    assert!((belt[0] - v * t).abs() < 1e-12, "belt x = {}", belt[0]);
+    let bx = row("box");
+    let expected = v * t - v * v / (2.0 * mu_g);
+    assert!(
+        (bx[0] - expected).abs() < 2e-3,
+        "box x = {} vs {expected}",
+        bx[0]
+    );
+    assert!((bx[7] - v).abs() < 1e-5, "box vx = {}", bx[7]);
 }
 
 fn write_scene(dir: &Path, body: &str) -> PathBuf {
@@ -141,6 +178,17 @@ fn bad_cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
             "duplicate name",
             scene_with(&BOX.replace("\"box\"", "\"ground\""), ""),
             vec!["body 1 \"ground\"", "already used"],
+        ),
+        (
+            "motion on a dynamic body",
+            scene_with(
+                &BOX.replace(
+                    "\"mass\": 1",
+                    "\"mass\": 1, \"motion\": {\"linear_velocity\": [1, 0, 0]}",
+                ),
+                FIXED_OK,
+            ),
+            vec!["body 1 \"box\"", "motion is only for kinematic bodies"],
         ),
         (
             "duration not whole substeps",

@@ -25,6 +25,49 @@ pub struct SceneConstraint {
     pub override_solver_iterations: Option<u32>,
 }
 
+/// A kinematic body moving at constant velocity (see [`KinematicMotion::pose_at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KinematicMotion {
+    /// Index into [`Scene::bodies`].
+    pub body: usize,
+    /// Its pose at t = 0.
+    pub start: Pose,
+    pub velocity: Velocity,
+}
+
+impl KinematicMotion {
+    /// The pose at time t [s]: position p0 + v·t; orientation q(ω·t)·q0, where q(θ) is the
+    /// rotation by |θ| about θ/|θ| (exact for constant ω).
+    pub fn pose_at(&self, t: f64) -> Pose {
+        let p0 = self.start.position;
+        let v = self.velocity.linear;
+        let th = self.velocity.angular.map(|w| w * t);
+        let angle = (th[0] * th[0] + th[1] * th[1] + th[2] * th[2]).sqrt();
+        let q0 = self.start.orientation;
+        let orientation = if angle == 0.0 {
+            q0
+        } else {
+            let (s, c) = (0.5 * angle).sin_cos();
+            let r = [c, s * th[0] / angle, s * th[1] / angle, s * th[2] / angle];
+            quat_mul(r, q0)
+        };
+        Pose {
+            position: [p0[0] + v[0] * t, p0[1] + v[1] * t, p0[2] + v[2] * t],
+            orientation,
+        }
+    }
+}
+
+/// Hamilton product a·b of quaternions (w, x, y, z).
+fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    [
+        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
+    ]
+}
+
 /// A validated scene, ready to build.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -36,6 +79,8 @@ pub struct Scene {
     /// (name, description), in creation order.
     pub bodies: Vec<(String, BoxDesc)>,
     pub constraints: Vec<SceneConstraint>,
+    /// Kinematic bodies that move, in body order.
+    pub kinematic_motions: Vec<KinematicMotion>,
 }
 
 /// A world built from a scene, with the handles in scene order.
@@ -270,6 +315,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
     // Bodies.
     let mut names: BTreeMap<&str, usize> = BTreeMap::new();
     let mut bodies = Vec::with_capacity(f.bodies.len());
+    let mut kinematic_motions = Vec::new();
     for (i, b) in f.bodies.iter().enumerate() {
         let item = || loc.body(i, &b.name);
         if b.name.is_empty() {
@@ -353,6 +399,25 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
             angular_damping: damping(b.angular_damping, "angular_damping")?,
             disable_deactivation: b.disable_deactivation.unwrap_or(true),
         };
+        if let Some(m) = &b.motion {
+            if kind != BodyKind::Kinematic {
+                bail!(
+                    "{}: motion is only for kinematic bodies (\"kinematic\": true)",
+                    item()
+                );
+            }
+            let velocity = Velocity {
+                linear: m.linear_velocity.unwrap_or([0.0; 3]),
+                angular: m.angular_velocity.unwrap_or([0.0; 3]),
+            };
+            finite(&velocity.linear, "motion.linear_velocity", &item)?;
+            finite(&velocity.angular, "motion.angular_velocity", &item)?;
+            kinematic_motions.push(KinematicMotion {
+                body: i,
+                start: desc.pose,
+                velocity,
+            });
+        }
         bodies.push((b.name.clone(), desc));
     }
 
@@ -477,5 +542,45 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         num_substeps,
         bodies,
         constraints,
+        kinematic_motions,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinematic_motion_pose_is_linear_plus_constant_rotation() {
+        let m = KinematicMotion {
+            body: 0,
+            start: Pose {
+                position: [1.0, 2.0, 3.0],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            },
+            velocity: Velocity {
+                linear: [0.5, 0.0, -1.0],
+                angular: [0.0, 0.0, std::f64::consts::FRAC_PI_2],
+            },
+        };
+        let p = m.pose_at(2.0);
+        assert_eq!(p.position, [2.0, 2.0, 1.0]);
+        // 90°/s for 2 s about z: 180° about z = (0, 0, 0, 1).
+        let q = p.orientation;
+        assert!(q[0].abs() < 1e-15 && q[1] == 0.0 && q[2] == 0.0 && (q[3] - 1.0).abs() < 1e-15);
+        // Composition with a start rotation: 90° about x then 180° about z.
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let m2 = KinematicMotion {
+            start: Pose {
+                position: [0.0; 3],
+                orientation: [s, s, 0.0, 0.0],
+            },
+            ..m
+        };
+        let q = m2.pose_at(2.0).orientation;
+        let expected = [0.0, 0.0, s, s]; // (0,0,0,1)·(s,s,0,0)
+        for (a, b) in q.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-15, "{q:?}");
+        }
+    }
 }

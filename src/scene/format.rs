@@ -113,6 +113,22 @@ pub struct BodySpec {
     /// Never sleep (default true).
     #[serde(default)]
     pub disable_deactivation: Option<bool>,
+    /// Kinematic bodies only: move at constant velocity (pose set before every substep).
+    #[serde(default)]
+    pub motion: Option<MotionSpec>,
+}
+
+/// Constant-velocity motion of a kinematic body: at time t its pose is
+/// (p0 + v·t, rot(ω·t)·q0), with ω in the world frame.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// [m/s]
+    #[serde(default)]
+    pub linear_velocity: Option<[f64; 3]>,
+    /// [rad/s], world frame
+    #[serde(default)]
+    pub angular_velocity: Option<[f64; 3]>,
 }
 
 /// A joint frame in a body's local frame.

@@ -54,7 +54,9 @@
 //!   `angular_velocity` [rad/s] (dynamic bodies only), `friction` (0.5), `rolling_friction`
 //!   (0), `spinning_friction` (0), `restitution` (0), `linear_damping`, `angular_damping`
 //!   (0, in [0, 1]), `margin`, `disable_deactivation` (true). Bullet combines friction of
-//!   two bodies as the product.
+//!   two bodies as the product. A kinematic body may have `"motion": {"linear_velocity",
+//!   "angular_velocity"}`: its pose is set before every substep to (p0 + v·t, rot(ω·t)·q0)
+//!   and Bullet derives its velocity from the change, which its contacts feel.
 //! * **constraints** (optional), created after the bodies: `kind` `"generic6dof"`
 //!   (btGeneric6DofConstraint; `use_linear_reference_frame_a`, default true), `"spring2"`
 //!   (btGeneric6DofSpring2Constraint; `springs`: six entries `null` or
@@ -80,5 +82,5 @@ pub mod format;
 pub mod locate;
 pub mod run;
 
-pub use assemble::{BuiltScene, Scene, SceneConstraint};
+pub use assemble::{BuiltScene, KinematicMotion, Scene, SceneConstraint};
 pub use run::{run_scene, run_scene_file, CSV_HEADER};

@@ -38,21 +38,33 @@ pub fn run_scene(scene: &Scene, every: Option<u64>, out: &mut dyn Write) -> Resu
         }
         Ok(())
     };
-    match every {
-        None => {
-            built.world.advance(n as f64 * h, h)?;
-            write_rows(&built, n, out)?;
-        }
-        Some(k) => {
-            write_rows(&built, 0, out)?;
-            let mut done = 0u64;
-            while done < n {
-                let chunk = k.min(n - done);
-                built.world.step(h, chunk as u32)?;
-                done += chunk;
-                write_rows(&built, done, out)?;
+    // Substep by substep when kinematic bodies move (their targets are set before each
+    // substep); otherwise in chunks up to the next frame.
+    let moving = !scene.kinematic_motions.is_empty();
+    let frame = every.unwrap_or(n.max(1));
+    if every.is_some() {
+        write_rows(&built, 0, out)?;
+    }
+    let mut done = 0u64;
+    while done < n {
+        let chunk = if moving { 1 } else { frame.min(n - done) };
+        if moving {
+            let t_next = (done + 1) as f64 * h;
+            for m in &scene.kinematic_motions {
+                built
+                    .world
+                    .set_kinematic_target(built.bodies[m.body], m.pose_at(t_next), None)?;
             }
         }
+        let chunk32 = u32::try_from(chunk).unwrap_or(u32::MAX);
+        built.world.step(h, chunk32)?;
+        done += u64::from(chunk32);
+        if every.is_some_and(|k| done % k == 0) || done == n {
+            write_rows(&built, done, out)?;
+        }
+    }
+    if n == 0 && every.is_none() {
+        write_rows(&built, 0, out)?;
     }
     Ok(())
 }
