@@ -29,8 +29,7 @@ fn main() {
     {
         Ok(lib) => lib,
         Err(e) => {
-            eprintln!("pkg-config could not find `{pc_name}`: {e}\n{DEBIAN_HINT}");
-            panic!("pkg-config could not find `{pc_name}` (Bullet 3.24+, double precision): {e}\n{DEBIAN_HINT}");
+            panic!("pkg-config could not find `{pc_name}` (Bullet 3.24+, double precision): {e}\n{DEBIAN_HINT}")
         }
     };
     if !lib.defines.keys().any(|k| k == "BT_USE_DOUBLE_PRECISION") {
