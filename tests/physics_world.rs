@@ -395,3 +395,51 @@ fn kinematic_platform_drags_a_box_by_friction() {
     // Friction ERP leaves a residual of a few µm/s (measured 2.5e-6 m/s).
     assert!((vx - v).abs() < 1e-5, "vx = {vx}");
 }
+
+/// A box hangs on a slider: the joint's z axis (axis 2) is limited to [−0.3, 0.2] m and the
+/// other five axes are locked. Gravity pulls it down until the lower limit holds it, 0.3 m
+/// below where it started, for both 6-DoF classes; the locked axes keep x, y and the
+/// orientation. (Axis order 0..5 = x, y, z, rx, ry, rz of the joint frame.)
+#[test]
+fn six_dof_linear_limit_stops_the_fall_at_the_limit() {
+    let kinds = [
+        ConstraintKind::Generic6Dof {
+            use_linear_reference_frame_a: true,
+        },
+        ConstraintKind::Spring2 {
+            springs: [None; 6],
+            set_equilibrium_point: false,
+        },
+    ];
+    for kind in kinds {
+        let mut w = world();
+        let anchor = w
+            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
+            .unwrap();
+        let b = w
+            .add_box(&BoxDesc::dynamic([0.1; 3], 2.0, Pose::at([0.0, 0.0, 4.0])))
+            .unwrap();
+        let mut d =
+            ConstraintDesc::new(kind, anchor, b, Pose::at([0.0, 0.0, -1.0]), Pose::IDENTITY);
+        d.limits = [
+            Some((0.0, 0.0)),
+            Some((0.0, 0.0)),
+            Some((-0.3, 0.2)),
+            Some((0.0, 0.0)),
+            Some((0.0, 0.0)),
+            Some((0.0, 0.0)),
+        ];
+        d.disable_collisions_between = true;
+        w.add_constraint(&d).unwrap();
+        w.advance(2.0, 1.0 / 240.0).unwrap();
+        let p = w.pose(b).unwrap();
+        println!("{kind:?}: z = {:.9}", p.position[2]);
+        assert!(
+            (p.position[2] - 3.7).abs() < 1e-6,
+            "{kind:?}: z = {}",
+            p.position[2]
+        );
+        assert!(p.position[0].abs() < 1e-9 && p.position[1].abs() < 1e-9);
+        assert!((p.orientation[0] - 1.0).abs() < 1e-9, "{:?}", p.orientation);
+    }
+}
