@@ -25,11 +25,11 @@ pub struct SolverSettings {
     pub friction_erp: f64,
     /// `m_globalCfm`: constraint force mixing.
     pub global_cfm: f64,
-    /// `m_linearSlop` [m]: penetration allowed before the contact pushes back.
+    /// `m_linearSlop` \[m\]: penetration allowed before the contact pushes back.
     pub linear_slop: f64,
     /// `m_splitImpulse`: position correction of deep contacts through pseudo-velocities.
     pub split_impulse: bool,
-    /// `m_splitImpulsePenetrationThreshold` [m] (negative): deeper contacts use split impulse.
+    /// `m_splitImpulsePenetrationThreshold` \[m\] (negative): deeper contacts use split impulse.
     pub split_impulse_penetration_threshold: f64,
     /// `m_splitImpulseTurnErp`.
     pub split_impulse_turn_erp: f64,
@@ -103,10 +103,10 @@ pub struct WorldSettings {
     pub gravity: [f64; 3],
     /// Solver settings.
     pub solver: SolverSettings,
-    /// `gDbvtMargin` [m] (Bullet default 0.05, pybullet 0). **Process-global**: it is a
+    /// `gDbvtMargin` \[m\] (Bullet default 0.05, pybullet 0). **Process-global**: it is a
     /// variable in libBulletCollision shared by every world in the process; `None` leaves it.
     pub dbvt_margin: Option<f64>,
-    /// `gContactBreakingThreshold` [m] (default 0.02 in both). **Process-global**, like
+    /// `gContactBreakingThreshold` \[m\] (default 0.02 in both). **Process-global**, like
     /// `dbvt_margin`; it is read when a contact manifold is created.
     pub contact_breaking_threshold: Option<f64>,
 }

@@ -31,7 +31,7 @@ impl ConstraintHandle {
     }
 }
 
-/// A rigid transform: position [m] and unit quaternion (w, x, y, z).
+/// A rigid transform: position \[m\] and unit quaternion (w, x, y, z).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
     pub position: [f64; 3],
@@ -77,11 +77,11 @@ pub enum BodyKind {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoxDesc {
     pub kind: BodyKind,
-    /// Outer half extents [m], margin included (Bullet keeps them when the margin changes).
+    /// Outer half extents \[m\], margin included (Bullet keeps them when the margin changes).
     pub half_extents: [f64; 3],
-    /// Collision margin [m] (Bullet default 0.04, pybullet 0.001).
+    /// Collision margin \[m\] (Bullet default 0.04, pybullet 0.001).
     pub margin: f64,
-    /// Mass [kg]: > 0 for dynamic bodies, 0 otherwise. Inertia comes from the box:
+    /// Mass \[kg\]: > 0 for dynamic bodies, 0 otherwise. Inertia comes from the box:
     /// I_x = m (l_y² + l_z²)/12 with full lengths l (`btBoxShape::calculateLocalInertia`).
     pub mass: f64,
     pub pose: Pose,
@@ -173,7 +173,7 @@ pub struct ConstraintDesc {
     pub frame_a: Pose,
     /// The joint frame in body B's local frame.
     pub frame_b: Pose,
-    /// `setLimit(i, lo, hi)` per axis (0..2 linear [m], 3..5 angular [rad]); `None` keeps
+    /// `setLimit(i, lo, hi)` per axis (0..2 linear \[m\], 3..5 angular \[rad\]); `None` keeps
     /// the class default. lo > hi frees the axis; lo == hi locks it. Ignored for `Fixed`.
     pub limits: [Option<(f64, f64)>; 6],
     /// `setBreakingImpulseThreshold` [N·s]: the constraint is disabled at the end of the
@@ -214,7 +214,7 @@ impl ConstraintDesc {
     }
 }
 
-/// `btJointFeedback` of the last substep: the constraint's force [N] and torque [N·m] on
+/// `btJointFeedback` of the last substep: the constraint's force \[N\] and torque [N·m] on
 /// each body (Bullet sums the rows' impulse / h; the shim zeroes it before each substep).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct JointFeedback {
@@ -229,7 +229,7 @@ pub struct JointFeedback {
 pub struct ContactSummary {
     /// Contact points (including those up to the contact breaking threshold apart).
     pub num_points: usize,
-    /// Smallest signed distance [m]; negative = penetration. +inf with no points.
+    /// Smallest signed distance \[m\]; negative = penetration. +inf with no points.
     pub min_distance: f64,
     /// Sum of the points' normal impulses of the last substep [N·s].
     pub total_normal_impulse: f64,

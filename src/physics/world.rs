@@ -70,7 +70,7 @@ pub fn bullet_version() -> i32 {
     unsafe { sys::bs_bullet_version() }
 }
 
-/// Sets the **process-global** `gDbvtMargin` [m] (broadphase AABB enlargement), shared by
+/// Sets the **process-global** `gDbvtMargin` \[m\] (broadphase AABB enlargement), shared by
 /// every world in the process.
 pub fn set_global_dbvt_margin(margin: f64) -> Result<(), PhysicsError> {
     // SAFETY: plain value argument; the shim validates it.
@@ -79,13 +79,13 @@ pub fn set_global_dbvt_margin(margin: f64) -> Result<(), PhysicsError> {
     })
 }
 
-/// The process-global `gDbvtMargin` [m].
+/// The process-global `gDbvtMargin` \[m\].
 pub fn global_dbvt_margin() -> f64 {
     // SAFETY: reads a global double.
     unsafe { sys::bs_get_global_dbvt_margin() }
 }
 
-/// Sets the **process-global** `gContactBreakingThreshold` [m]: how far apart two contact
+/// Sets the **process-global** `gContactBreakingThreshold` \[m\]: how far apart two contact
 /// points may drift before the manifold drops them. Read when manifolds are created.
 pub fn set_global_contact_breaking_threshold(value: f64) -> Result<(), PhysicsError> {
     // SAFETY: plain value argument; the shim validates it.
@@ -94,7 +94,7 @@ pub fn set_global_contact_breaking_threshold(value: f64) -> Result<(), PhysicsEr
     })
 }
 
-/// The process-global `gContactBreakingThreshold` [m].
+/// The process-global `gContactBreakingThreshold` \[m\].
 pub fn global_contact_breaking_threshold() -> f64 {
     // SAFETY: reads a global double.
     unsafe { sys::bs_get_global_contact_breaking_threshold() }
@@ -406,7 +406,7 @@ impl World {
         self.substeps
     }
 
-    /// Simulated time so far [s] (sum of the substeps).
+    /// Simulated time so far \[s\] (sum of the substeps).
     pub fn time(&self) -> f64 {
         self.time
     }
@@ -567,7 +567,7 @@ impl World {
         })
     }
 
-    /// Mass [kg] (0 for static/kinematic) and principal inertia [kg·m²] in the body frame.
+    /// Mass \[kg\] (0 for static/kinematic) and principal inertia [kg·m²] in the body frame.
     pub fn mass_inertia(&self, b: BodyHandle) -> Result<(f64, [f64; 3]), PhysicsError> {
         let i = self.body(b)?;
         let mut m = 0.0;

@@ -36,7 +36,7 @@ pub struct KinematicMotion {
 }
 
 impl KinematicMotion {
-    /// The pose at time t [s]: position p0 + v·t; orientation q(ω·t)·q0, where q(θ) is the
+    /// The pose at time t \[s\]: position p0 + v·t; orientation q(ω·t)·q0, where q(θ) is the
     /// rotation by |θ| about θ/|θ| (exact for constant ω).
     pub fn pose_at(&self, t: f64) -> Pose {
         let p0 = self.start.position;
@@ -72,7 +72,7 @@ fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     pub world: WorldSettings,
-    /// The fixed substep h [s].
+    /// The fixed substep h \[s\].
     pub substep: f64,
     /// duration / h, whole.
     pub num_substeps: u64,

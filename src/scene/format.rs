@@ -1,5 +1,5 @@
 //! The JSON scene file, as parsed (serde). Validation and defaults are in
-//! [`super::build`]; see the module docs of [`crate::scene`] for the format.
+//! [`super::assemble`]; see the module docs of [`crate::scene`] for the format.
 use serde::Deserialize;
 
 /// A whole scene file.
@@ -9,9 +9,9 @@ pub struct SceneFile {
     /// World settings (preset and overrides); all optional.
     #[serde(default)]
     pub world: WorldSpec,
-    /// Simulated time [s]; must be a whole number of substeps.
+    /// Simulated time \[s\]; must be a whole number of substeps.
     pub duration: f64,
-    /// The fixed substep h [s]. Exactly one of `substep` and `substeps_per_second`.
+    /// The fixed substep h \[s\]. Exactly one of `substep` and `substeps_per_second`.
     #[serde(default)]
     pub substep: Option<f64>,
     /// h = 1 / substeps_per_second.
@@ -34,16 +34,16 @@ pub struct WorldSpec {
     /// Gravity [m/s²]; default (0, 0, −9.81).
     #[serde(default)]
     pub gravity: Option<[f64; 3]>,
-    /// Process-global `gDbvtMargin` [m].
+    /// Process-global `gDbvtMargin` \[m\].
     #[serde(default)]
     pub dbvt_margin: Option<f64>,
-    /// Process-global `gContactBreakingThreshold` [m].
+    /// Process-global `gContactBreakingThreshold` \[m\].
     #[serde(default)]
     pub contact_breaking_threshold: Option<f64>,
     /// Solver overrides on top of the preset.
     #[serde(default)]
     pub solver: SolverSpec,
-    /// Default collision margin of every body [m] (bullet 0.04, pybullet 0.001).
+    /// Default collision margin of every body \[m\] (bullet 0.04, pybullet 0.001).
     #[serde(default)]
     pub default_margin: Option<f64>,
 }
@@ -78,14 +78,14 @@ pub struct SolverSpec {
 pub struct BodySpec {
     /// Unique name; constraints refer to bodies by it.
     pub name: String,
-    /// Outer half extents [m].
+    /// Outer half extents \[m\].
     pub half_extents: [f64; 3],
-    /// Mass [kg]; 0 = static (or kinematic with `"kinematic": true`).
+    /// Mass \[kg\]; 0 = static (or kinematic with `"kinematic": true`).
     pub mass: f64,
     /// A kinematic body (mass must be 0); it stays where it is unless moved by a program.
     #[serde(default)]
     pub kinematic: bool,
-    /// Centre [m].
+    /// Centre \[m\].
     pub position: [f64; 3],
     /// Unit quaternion (w, x, y, z); default identity.
     #[serde(default)]
@@ -107,7 +107,7 @@ pub struct BodySpec {
     pub linear_damping: Option<f64>,
     #[serde(default)]
     pub angular_damping: Option<f64>,
-    /// Collision margin [m]; default the world's `default_margin`.
+    /// Collision margin \[m\]; default the world's `default_margin`.
     #[serde(default)]
     pub margin: Option<f64>,
     /// Never sleep (default true).

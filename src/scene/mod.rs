@@ -43,13 +43,13 @@
 //!   276 = warm starting | SIMD | two friction directions, gDbvtMargin 0, box margin 0.001).
 //!   `gravity` [m/s²] defaults to (0, 0, −9.81) (z up). `solver` overrides any field of
 //!   [`crate::physics::SolverSettings`] by name. `dbvt_margin` and
-//!   `contact_breaking_threshold` [m] are Bullet's **process-global** variables.
-//!   `default_margin` [m] is every body's collision margin unless it gives its own.
-//! * **duration** [s] and exactly one of **substep** [s] or **substeps_per_second**: the
+//!   `contact_breaking_threshold` \[m\] are Bullet's **process-global** variables.
+//!   `default_margin` \[m\] is every body's collision margin unless it gives its own.
+//! * **duration** \[s\] and exactly one of **substep** \[s\] or **substeps_per_second**: the
 //!   world is stepped by `stepSimulation(h, 0)` per substep; the duration must be a whole
 //!   number of substeps (to 1e-9) — time is never dropped.
-//! * **bodies**: boxes, created in order. `name` (unique), `half_extents` [m] (outer, > 0),
-//!   `mass` [kg] (0 = static; with `"kinematic": true` a kinematic body), `position` [m],
+//! * **bodies**: boxes, created in order. `name` (unique), `half_extents` \[m\] (outer, > 0),
+//!   `mass` \[kg\] (0 = static; with `"kinematic": true` a kinematic body), `position` \[m\],
 //!   optional `orientation` (unit quaternion w, x, y, z), `linear_velocity` [m/s],
 //!   `angular_velocity` [rad/s] (dynamic bodies only), `friction` (0.5), `rolling_friction`
 //!   (0), `spinning_friction` (0), `restitution` (0), `linear_damping`, `angular_damping`
@@ -63,7 +63,7 @@
 //!   `{"stiffness", "damping"}` set with Bullet's auto-limiting off; `set_equilibrium_point`
 //!   default true) or `"fixed"` (btFixedConstraint). `body_a`, `body_b`: body names.
 //!   `frame_a`, `frame_b`: the joint frame in each body's local frame (`position`, optional
-//!   `orientation`). `limits`: six entries (x, y, z [m], rx, ry, rz [rad]) `null` (class
+//!   `orientation`). `limits`: six entries (x, y, z \[m\], rx, ry, rz \[rad\]) `null` (class
 //!   default) or `[lower, upper]` (lower > upper frees the axis, equal locks it).
 //!   `breaking_impulse_threshold` [N·s per substep] (absent = unbreakable),
 //!   `disable_collisions_between` (true), `enabled` (true), `override_solver_iterations`.
@@ -74,7 +74,7 @@
 //! # Output
 //!
 //! CSV with header [`CSV_HEADER`]: one row per body (scene order) with the substep index,
-//! time [s], name, position [m], quaternion (w, x, y, z), linear [m/s] and angular [rad/s]
+//! time \[s\], name, position \[m\], quaternion (w, x, y, z), linear [m/s] and angular [rad/s]
 //! velocity — for the final substep, or with `--frames N` for substeps 0, N, 2N, … and the
 //! last. Reals are printed as `{:.17e}`, exact for every f64: same input, same bytes.
 pub mod assemble;
