@@ -3,7 +3,8 @@
 # only installs what is missing, so a second run takes a second or two.
 #
 #   apt: libbullet-dev (Bullet 3.24, double-precision libs + bullet-float64.pc),
-#        pkg-config, libclang-dev and clang (bindgen at build time), python3 + pip,
+#        pkg-config, libclang-dev and clang (bindgen at build time), g++ (the C++
+#        shim; gcc links Rust binaries), python3 + pip,
 #        curl + ca-certificates (only when Rust must be installed)
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
 #        cross-checks of the FE stages)
@@ -31,7 +32,8 @@ apt_missing() {
     done
 }
 
-APT_PACKAGES=(libbullet-dev libclang-dev clang pkg-config)
+# g++ compiles the C++ shim (the cc crate calls `c++`) and gcc links Rust binaries.
+APT_PACKAGES=(libbullet-dev libclang-dev clang pkg-config g++)
 # A python3 with pip from elsewhere (pyenv, venv) is fine; otherwise take Debian's.
 if ! { command -v python3 >/dev/null 2>&1 && python3 -m pip --version >/dev/null 2>&1; }; then
     APT_PACKAGES+=(python3 python3-pip)
@@ -50,7 +52,7 @@ else
     need_rust=1
 fi
 if [ "$need_rust" -eq 1 ]; then
-    mapfile -t more < <(apt_missing curl ca-certificates build-essential)
+    mapfile -t more < <(apt_missing curl ca-certificates)
     missing+=("${more[@]}")
 fi
 if [ "${#missing[@]}" -gt 0 ]; then
