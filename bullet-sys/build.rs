@@ -1,1 +1,79 @@
-fn main() {}
+//! Builds the C++ shim against Debian's double-precision Bullet and generates its Rust
+//! declarations with bindgen (from the shim header only — never from Bullet's C++ headers).
+//!
+//! Override variables:
+//! - `BULLET_SYS_PKG_CONFIG_NAME`: the pkg-config package to probe (default `bullet-float64`).
+//!   Only a double-precision package works: the ABI self-check rejects anything else at run time.
+//!
+//! Emits `cargo:version=<modversion>` and `cargo:include=<dir>` so that dependents can read
+//! `DEP_BULLET_VERSION` / `DEP_BULLET_INCLUDE`.
+use std::{env, path::PathBuf};
+
+const DEBIAN_HINT: &str = "install Debian's Bullet development files and pkg-config:\n    \
+     apt-get install libbullet-dev pkg-config libclang-dev clang\n\
+     (libbullet-dev ships bullet-float64.pc, the double-precision build this crate needs)";
+
+fn main() {
+    println!("cargo:rerun-if-changed=shim/bullet_shim.h");
+    println!("cargo:rerun-if-changed=shim/bullet_shim.cpp");
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-env-changed=BULLET_SYS_PKG_CONFIG_NAME");
+    println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
+    println!("cargo:rerun-if-env-changed=LIBCLANG_PATH");
+
+    let pc_name =
+        env::var("BULLET_SYS_PKG_CONFIG_NAME").unwrap_or_else(|_| "bullet-float64".to_string());
+    let lib = match pkg_config::Config::new()
+        .atleast_version("3.24")
+        .probe(&pc_name)
+    {
+        Ok(lib) => lib,
+        Err(e) => {
+            panic!("pkg-config could not find `{pc_name}` (Bullet 3.24+, double precision): {e}\n{DEBIAN_HINT}")
+        }
+    };
+    if !lib.defines.keys().any(|k| k == "BT_USE_DOUBLE_PRECISION") {
+        panic!(
+            "pkg-config package `{pc_name}` does not define BT_USE_DOUBLE_PRECISION: \
+             fem2rbd needs the double-precision Bullet (`bullet-float64`)\n{DEBIAN_HINT}"
+        );
+    }
+
+    let mut build = cc::Build::new();
+    build
+        .cpp(true)
+        .file("shim/bullet_shim.cpp")
+        .include("shim")
+        .flag("-std=c++14");
+    for p in &lib.include_paths {
+        build.include(p);
+    }
+    // Forward the package's defines (BT_USE_DOUBLE_PRECISION) so the shim's btScalar
+    // matches the library it links against.
+    for (k, v) in &lib.defines {
+        build.define(k, v.as_deref());
+    }
+    build.compile("bullet_shim");
+
+    let bindings = bindgen::Builder::default()
+        .header("shim/bullet_shim.h")
+        .allowlist_function("bs_.*")
+        .allowlist_type("bs_.*")
+        .allowlist_var("BS_.*")
+        .prepend_enum_name(false)
+        .derive_default(true)
+        .parse_callbacks(Box::new(bindgen::CargoCallbacks::new()))
+        .generate()
+        .unwrap_or_else(|e| {
+            panic!("bindgen failed on shim/bullet_shim.h: {e}\n(it needs libclang: apt-get install libclang-dev clang)")
+        });
+    let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR set by cargo"));
+    bindings
+        .write_to_file(out.join("bindings.rs"))
+        .expect("cannot write bindings.rs");
+
+    println!("cargo:version={}", lib.version);
+    if let Some(inc) = lib.include_paths.first() {
+        println!("cargo:include={}", inc.display());
+    }
+}

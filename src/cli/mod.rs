@@ -4,10 +4,19 @@ use clap::{Parser, Subcommand};
 
 pub mod export;
 pub mod generate;
+pub mod scene;
+
+/// `fem2rbd --version`: the crate version and the Bullet library linked.
+const LONG_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (Bullet ",
+    env!("FEM2RBD_BULLET_VERSION"),
+    ", double precision, Debian libbullet)"
+);
 
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
-#[command(name = "fem2rbd", version, about, long_about = None)]
+#[command(name = "fem2rbd", version, long_version = LONG_VERSION, about, long_about = None)]
 pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]
@@ -19,6 +28,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Run a JSON rigid-body scene in Bullet and write body poses as CSV.
+    Scene(scene::SceneArgs),
     /// Write a building model file (e.g. a regular RC frame).
     #[command(subcommand)]
     Generate(generate::GenerateCommand),
@@ -36,8 +47,9 @@ pub fn main() -> anyhow::Result<()> {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     let _ = cli.quiet;
-    match &cli.command {
-        Command::Generate(cmd) => generate::run(cmd),
-        Command::Export(cmd) => export::run(cmd),
+    match cli.command {
+        Command::Scene(args) => scene::run(args),
+        Command::Generate(cmd) => generate::run(&cmd),
+        Command::Export(cmd) => export::run(&cmd),
     }
 }

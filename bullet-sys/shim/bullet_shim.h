@@ -1,0 +1,167 @@
+/*
+ * bullet_shim.h — a small C API over Bullet 3.24 (double precision) for Rust.
+ *
+ * Design: one opaque world handle owns every Bullet object (collision configuration,
+ * dispatcher, Dbvt broadphase, sequential-impulse solver, discrete dynamics world, box
+ * shapes, rigid bodies, constraints and their joint feedback). Bodies and constraints are
+ * addressed by dense indices (0, 1, 2, ... in creation order) and are never removed before
+ * the world is freed. Every entry point catches all C++ exceptions and returns a status code
+ * (BS_OK = 0, negative = error); bs_last_error() gives a message for the last failure on the
+ * calling thread. All reals are double (btScalar must be double: see bs_abi_self_check).
+ * Quaternions are (w, x, y, z). Units are SI.
+ */
+#ifndef BULLET_SHIM_H
+#define BULLET_SHIM_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct bs_world bs_world;
+
+enum bs_status {
+    BS_OK = 0,
+    BS_ERR_EXCEPTION = -1,  /* a C++ exception was caught */
+    BS_ERR_NULL = -2,       /* a null pointer argument */
+    BS_ERR_BAD_INDEX = -3,  /* body or constraint index out of range */
+    BS_ERR_BAD_ARG = -4,    /* an argument out of its domain (NaN, negative mass, ...) */
+    BS_ERR_ABI = -5,        /* the linked libBullet disagrees with our btScalar */
+    BS_ERR_WRONG_KIND = -6  /* operation not valid for this body / constraint kind */
+};
+
+enum bs_body_kind { BS_STATIC = 0, BS_KINEMATIC = 1, BS_DYNAMIC = 2 };
+
+enum bs_constraint_kind { BS_GENERIC6DOF = 0, BS_SPRING2 = 1, BS_FIXED = 2 };
+
+/* Solver and world settings: btContactSolverInfo fields (names follow Bullet's m_*). */
+typedef struct bs_solver_params {
+    int num_iterations;                         /* m_numIterations */
+    double erp;                                 /* m_erp: joint error reduction */
+    double erp2;                                /* m_erp2: contact error reduction */
+    double friction_erp;                        /* m_frictionERP */
+    double global_cfm;                          /* m_globalCfm */
+    double linear_slop;                         /* m_linearSlop [m] */
+    int split_impulse;                          /* m_splitImpulse (0/1) */
+    double split_impulse_penetration_threshold; /* m_splitImpulsePenetrationThreshold [m] */
+    double split_impulse_turn_erp;              /* m_splitImpulseTurnErp */
+    int solver_mode;                            /* m_solverMode (btSolverMode flags) */
+    double warmstarting_factor;                 /* m_warmstartingFactor */
+    double least_squares_residual_threshold;    /* m_leastSquaresResidualThreshold */
+    int minimum_solver_batch_size;              /* m_minimumSolverBatchSize (island size) */
+    double restitution_velocity_threshold;      /* m_restitutionVelocityThreshold [m/s] */
+    double max_error_reduction;                 /* m_maxErrorReduction [m/s] */
+    double sor;                                 /* m_sor */
+    double damping;                             /* m_damping (non-contact constraints) */
+} bs_solver_params;
+
+typedef struct bs_body_desc {
+    int kind;                    /* bs_body_kind */
+    double half_extents[3];      /* outer half extents [m] (margin included) */
+    double margin;               /* collision margin [m], 0 <= margin <= min half extent */
+    double mass;                 /* [kg]; must be 0 for static/kinematic, > 0 for dynamic */
+    double position[3];          /* centre [m] */
+    double orientation[4];       /* unit quaternion (w, x, y, z) */
+    double linear_velocity[3];   /* [m/s] */
+    double angular_velocity[3];  /* [rad/s], world frame */
+    double friction;
+    double rolling_friction;
+    double spinning_friction;
+    double restitution;
+    double linear_damping;       /* btRigidBody::setDamping, [0, 1] */
+    double angular_damping;
+    int disable_deactivation;    /* 1: DISABLE_DEACTIVATION, 0: ACTIVE_TAG (may sleep) */
+} bs_body_desc;
+
+typedef struct bs_constraint_desc {
+    int kind;                    /* bs_constraint_kind */
+    int body_a, body_b;          /* body indices (must differ) */
+    double frame_a_position[3];  /* joint frame in body A's local frame */
+    double frame_a_orientation[4];
+    double frame_b_position[3];  /* joint frame in body B's local frame */
+    double frame_b_orientation[4];
+    int use_linear_reference_frame_a; /* generic6dof only */
+    int has_limit[6];            /* 1: setLimit(i, lower[i], upper[i]); 0: leave the default */
+    double lower[6], upper[6];   /* axes 0..2 linear [m], 3..5 angular [rad] */
+    int spring_enabled[6];       /* spring2 only: enableSpring(i, true) */
+    double stiffness[6];         /* spring2: setStiffness(i, k, false) [N/m, N·m/rad] */
+    double damping[6];           /* spring2: setDamping(i, d, false) [N·s/m, N·m·s/rad] */
+    int set_equilibrium_point;   /* spring2: setEquilibriumPoint() after creation */
+    double breaking_impulse_threshold; /* [N·s] per substep per row; +inf = unbreakable */
+    int disable_collisions_between;    /* addConstraint(c, disable) */
+    int enabled;                 /* initial setEnabled */
+    int override_solver_iterations;    /* < 0: use the world's */
+} bs_constraint_desc;
+
+/* One persistent manifold (a pair of bodies in contact or near contact). */
+typedef struct bs_contact_pair {
+    int body_a, body_b;          /* body indices, body_a < body_b */
+    int num_points;              /* manifold points (distance <= contact breaking threshold) */
+    double min_distance;         /* most negative distance [m] (penetration < 0) */
+    double total_normal_impulse; /* sum of the points' applied normal impulses [N·s] */
+} bs_contact_pair;
+
+/* ---- library facts ---------------------------------------------------------------- */
+int bs_sizeof_scalar(void);         /* sizeof(btScalar) as compiled into the shim */
+int bs_bullet_version(void);        /* btGetVersion() */
+int bs_abi_self_check(void);        /* 1 if libBullet agrees with our btScalar, else 0 */
+const char *bs_last_error(void);    /* message of the last failure on this thread */
+
+/* ---- process-global Bullet variables (shared by every world in the process) -------- */
+int bs_set_global_dbvt_margin(double margin);               /* gDbvtMargin */
+double bs_get_global_dbvt_margin(void);
+int bs_set_global_contact_breaking_threshold(double value); /* gContactBreakingThreshold */
+double bs_get_global_contact_breaking_threshold(void);
+
+/* ---- world --------------------------------------------------------------------------- */
+int bs_world_new(const double gravity[3], bs_world **out);
+void bs_world_free(bs_world *w);
+int bs_world_set_gravity(bs_world *w, const double gravity[3]);
+int bs_world_get_gravity(const bs_world *w, double gravity[3]);
+int bs_world_default_solver_params(bs_solver_params *out); /* Bullet 3.24's own defaults */
+int bs_world_set_solver_params(bs_world *w, const bs_solver_params *p);
+int bs_world_get_solver_params(const bs_world *w, bs_solver_params *out);
+/* Runs `count` steps of stepSimulation(h, 0): each advances exactly h seconds. */
+int bs_world_step(bs_world *w, double h, int count);
+int bs_world_num_bodies(const bs_world *w);
+int bs_world_num_constraints(const bs_world *w);
+/* Fills up to `capacity` pairs in manifold order; *total receives the number available. */
+int bs_world_contact_pairs(const bs_world *w, bs_contact_pair *out, int capacity, int *total);
+
+/* Bulk reads: `n` must equal the number of bodies / constraints; arrays hold n entries of
+ * 3 (positions, velocities) or 4 (quaternions) doubles, or n ints. */
+int bs_world_get_poses(const bs_world *w, int n, double *positions, double *orientations);
+int bs_world_get_velocities(const bs_world *w, int n, double *linear, double *angular);
+int bs_world_get_enabled(const bs_world *w, int n, int *enabled);
+
+/* ---- bodies -------------------------------------------------------------------------- */
+int bs_body_add_box(bs_world *w, const bs_body_desc *d, int *out_index);
+int bs_body_get_pose(const bs_world *w, int body, double position[3], double orientation[4]);
+/* Dynamic/static: teleports (world and interpolation transform). Kinematic: sets the
+ * target for the next substep; Bullet derives the body's velocity from the change. */
+int bs_body_set_pose(bs_world *w, int body, const double position[3], const double orientation[4]);
+int bs_body_get_velocity(const bs_world *w, int body, double linear[3], double angular[3]);
+int bs_body_set_velocity(bs_world *w, int body, const double linear[3], const double angular[3]);
+/* Kinematic only: velocity imposed during the next substep instead of the derived one. */
+int bs_body_set_kinematic_velocity(bs_world *w, int body, const double linear[3], const double angular[3]);
+int bs_body_apply_central_impulse(bs_world *w, int body, const double impulse[3]);
+int bs_body_set_activation_state(bs_world *w, int body, int state); /* Bullet's 1..5 */
+int bs_body_get_activation_state(const bs_world *w, int body, int *state);
+int bs_body_get_mass_inertia(const bs_world *w, int body, double *mass, double inertia[3]);
+
+/* ---- constraints --------------------------------------------------------------------- */
+int bs_constraint_add(bs_world *w, const bs_constraint_desc *d, int *out_index);
+int bs_constraint_set_enabled(bs_world *w, int c, int enabled);
+int bs_constraint_is_enabled(const bs_world *w, int c, int *enabled);
+int bs_constraint_applied_impulse(const bs_world *w, int c, double *impulse); /* last row */
+int bs_constraint_set_breaking_threshold(bs_world *w, int c, double threshold);
+int bs_constraint_get_breaking_threshold(const bs_world *w, int c, double *threshold);
+/* btJointFeedback, zeroed before every substep: forces [N] and torques [N·m] on A and B. */
+int bs_constraint_feedback(const bs_world *w, int c, double force_a[3], double torque_a[3],
+                           double force_b[3], double torque_b[3]);
+/* spring2/fixed: setEquilibriumPoint() at the current relative pose. */
+int bs_constraint_set_equilibrium_point(bs_world *w, int c);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* BULLET_SHIM_H */

@@ -1,0 +1,188 @@
+//! The JSON scene file, as parsed (serde). Validation and defaults are in
+//! [`super::assemble`]; see the module docs of [`crate::scene`] for the format.
+use serde::Deserialize;
+
+/// A whole scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// World settings (preset and overrides); all optional.
+    #[serde(default)]
+    pub world: WorldSpec,
+    /// Simulated time \[s\]; must be a whole number of substeps.
+    pub duration: f64,
+    /// The fixed substep h \[s\]. Exactly one of `substep` and `substeps_per_second`.
+    #[serde(default)]
+    pub substep: Option<f64>,
+    /// h = 1 / substeps_per_second.
+    #[serde(default)]
+    pub substeps_per_second: Option<f64>,
+    /// Box bodies, created in this order.
+    pub bodies: Vec<BodySpec>,
+    /// Constraints, created in this order after the bodies.
+    #[serde(default)]
+    pub constraints: Vec<ConstraintSpec>,
+}
+
+/// `"world"`: a preset plus overrides.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSpec {
+    /// `"bullet"` (default) or `"pybullet"`.
+    #[serde(default)]
+    pub preset: Option<String>,
+    /// Gravity [m/s²]; default (0, 0, −9.81).
+    #[serde(default)]
+    pub gravity: Option<[f64; 3]>,
+    /// Process-global `gDbvtMargin` \[m\].
+    #[serde(default)]
+    pub dbvt_margin: Option<f64>,
+    /// Process-global `gContactBreakingThreshold` \[m\].
+    #[serde(default)]
+    pub contact_breaking_threshold: Option<f64>,
+    /// Solver overrides on top of the preset.
+    #[serde(default)]
+    pub solver: SolverSpec,
+    /// Default collision margin of every body \[m\] (bullet 0.04, pybullet 0.001).
+    #[serde(default)]
+    pub default_margin: Option<f64>,
+}
+
+/// `"world.solver"`: each field overrides the preset's value (see
+/// [`crate::physics::SolverSettings`] for meanings).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    pub num_iterations: Option<u32>,
+    pub erp: Option<f64>,
+    pub erp2: Option<f64>,
+    pub friction_erp: Option<f64>,
+    pub global_cfm: Option<f64>,
+    pub linear_slop: Option<f64>,
+    pub split_impulse: Option<bool>,
+    pub split_impulse_penetration_threshold: Option<f64>,
+    pub split_impulse_turn_erp: Option<f64>,
+    pub solver_mode: Option<i32>,
+    pub warmstarting_factor: Option<f64>,
+    pub least_squares_residual_threshold: Option<f64>,
+    pub minimum_solver_batch_size: Option<u32>,
+    pub restitution_velocity_threshold: Option<f64>,
+    pub max_error_reduction: Option<f64>,
+    pub sor: Option<f64>,
+    pub damping: Option<f64>,
+}
+
+/// One box body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Unique name; constraints refer to bodies by it.
+    pub name: String,
+    /// Outer half extents \[m\].
+    pub half_extents: [f64; 3],
+    /// Mass \[kg\]; 0 = static (or kinematic with `"kinematic": true`).
+    pub mass: f64,
+    /// A kinematic body (mass must be 0); it stays where it is unless moved by a program.
+    #[serde(default)]
+    pub kinematic: bool,
+    /// Centre \[m\].
+    pub position: [f64; 3],
+    /// Unit quaternion (w, x, y, z); default identity.
+    #[serde(default)]
+    pub orientation: Option<[f64; 4]>,
+    #[serde(default)]
+    pub linear_velocity: Option<[f64; 3]>,
+    #[serde(default)]
+    pub angular_velocity: Option<[f64; 3]>,
+    /// Default 0.5.
+    #[serde(default)]
+    pub friction: Option<f64>,
+    #[serde(default)]
+    pub rolling_friction: Option<f64>,
+    #[serde(default)]
+    pub spinning_friction: Option<f64>,
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    #[serde(default)]
+    pub linear_damping: Option<f64>,
+    #[serde(default)]
+    pub angular_damping: Option<f64>,
+    /// Collision margin \[m\]; default the world's `default_margin`.
+    #[serde(default)]
+    pub margin: Option<f64>,
+    /// Never sleep (default true).
+    #[serde(default)]
+    pub disable_deactivation: Option<bool>,
+    /// Kinematic bodies only: move at constant velocity (pose set before every substep).
+    #[serde(default)]
+    pub motion: Option<MotionSpec>,
+}
+
+/// Constant-velocity motion of a kinematic body: at time t its pose is
+/// (p0 + v·t, rot(ω·t)·q0), with ω in the world frame.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSpec {
+    /// [m/s]
+    #[serde(default)]
+    pub linear_velocity: Option<[f64; 3]>,
+    /// [rad/s], world frame
+    #[serde(default)]
+    pub angular_velocity: Option<[f64; 3]>,
+}
+
+/// A joint frame in a body's local frame.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub orientation: Option<[f64; 4]>,
+}
+
+/// A spring on one axis.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// [N/m] or [N·m/rad].
+    pub stiffness: f64,
+    /// [N·s/m] or [N·m·s/rad]; default 0.
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// One constraint.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSpec {
+    /// `"generic6dof"`, `"spring2"` or `"fixed"`.
+    pub kind: String,
+    /// Body names.
+    pub body_a: String,
+    pub body_b: String,
+    pub frame_a: FrameSpec,
+    pub frame_b: FrameSpec,
+    /// generic6dof only (default true).
+    #[serde(default)]
+    pub use_linear_reference_frame_a: Option<bool>,
+    /// Six entries (axes x, y, z, rx, ry, rz): `null` or `[lower, upper]`.
+    #[serde(default)]
+    pub limits: Option<[Option<[f64; 2]>; 6]>,
+    /// spring2 only: six entries, `null` or `{"stiffness": k, "damping": d}`.
+    #[serde(default)]
+    pub springs: Option<[Option<SpringSpec>; 6]>,
+    /// spring2 only (default true): the initial relative pose is the springs' rest pose.
+    #[serde(default)]
+    pub set_equilibrium_point: Option<bool>,
+    /// [N·s] per substep; absent or null = unbreakable.
+    #[serde(default)]
+    pub breaking_impulse_threshold: Option<f64>,
+    /// Default true.
+    #[serde(default)]
+    pub disable_collisions_between: Option<bool>,
+    /// Default true.
+    #[serde(default)]
+    pub enabled: Option<bool>,
+    #[serde(default)]
+    pub override_solver_iterations: Option<u32>,
+}
