@@ -33,7 +33,9 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The value of π that BCB's Formula Assistant uses (`global_vars.py`: `pi = 3.1416`).
+/// The value of π that BCB's Formula Assistant uses (`global_vars.py`: `pi = 3.1416`),
+/// deliberately not `std::f64::consts::PI`.
+#[allow(clippy::approx_constant)]
 pub const FA_PI: f64 = 3.1416;
 
 /// Which Formula Assistant: beams & columns (`con_rei_beam`) or walls & slabs
