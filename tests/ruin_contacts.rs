@@ -246,3 +246,27 @@ fn frame3_like_connections() {
     let d = (2.0 * 0.75f64.powi(2) + 0.265f64.powi(2)).sqrt();
     assert!(close(c.centre_distance, d));
 }
+
+/// A 20 × 20 × 20 grid of unit cubes: exactly the 3·19·400 = 22 800 face contacts, each
+/// 1 m², no edge or corner pair (the sweep handles 8 000 bodies quickly).
+#[test]
+fn cube_grid_face_contacts_only() {
+    let n = 20;
+    let mut bodies = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let (x, y, z) = (i as f64, j as f64, k as f64);
+                bodies.push(cuboid(
+                    &format!("c{i}.{j}.{k}"),
+                    "g",
+                    [x, y, z],
+                    [x + 1.0, y + 1.0, z + 1.0],
+                ));
+            }
+        }
+    }
+    let c = find_contacts(&bodies, &SearchSettings::default()).unwrap();
+    assert_eq!(c.len(), 3 * (n - 1) * n * n);
+    assert!(c.iter().all(|c| close(c.area, 1.0)));
+}

@@ -317,3 +317,73 @@ fn unknown_group_is_an_error_naming_the_body() {
         "{err}"
     );
 }
+
+/// Frames from deformed start poses (the hand-off at Tc): every constraint's two frames
+/// coincide in the world at Tc, the generics' X axis follows the bodies, and the spring's
+/// frame is the world-aligned one carried along.
+#[test]
+fn frames_from_start_poses_coincide() {
+    use nalgebra::{Translation3, Vector3};
+    let bodies = stacked("beams", "beams", false);
+    let s = RuinSettings::default();
+    let contacts = find_contacts(&bodies, &s.search).unwrap();
+    // Tc: the whole pair tilted by 0.3 rad about y and shifted; B slightly more tilted.
+    let tilt = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.3);
+    let extra = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.02);
+    let shift = Translation3::new(0.5, -0.1, 0.05);
+    let a_tc = Isometry3::from_parts(shift, tilt) * bodies[0].pose();
+    let b_tc = Isometry3::from_parts(shift, tilt) * bodies[1].pose();
+    let b_tc = Isometry3::from_parts(b_tc.translation, extra * b_tc.rotation);
+    let poses = vec![a_tc, b_tc];
+    let c = build_connections(&bodies, &[beam_group("beams")], &contacts, &poses, &s)
+        .unwrap()
+        .remove(0);
+    for k in &c.constraints {
+        let wa = a_tc * k.frame_a;
+        let wb = b_tc * k.frame_b;
+        assert!((wa.translation.vector - wb.translation.vector).norm() < 1e-12);
+        assert!(wa.rotation.angle_to(&wb.rotation) < 1e-12);
+    }
+    // Generic X ≈ the tilted normal (+Z turned by 0.3 about y, half of B's extra turn).
+    let x = (a_tc * c.constraints[0].frame_a).rotation * Vector3::x();
+    let expect = tilt * Vector3::z();
+    assert!((x - expect).norm() < 0.011, "{x:?} vs {expect:?}");
+    // Spring frame: identity carried by the tilt.
+    let r = (a_tc * c.constraints[6].frame_a).rotation;
+    assert!((r.angle_to(&tilt) - 0.01).abs() < 1e-3);
+}
+
+/// Group strengths read from TOML as a scenario would give them; partial formula inputs
+/// take BCB's defaults.
+#[test]
+fn group_strength_from_toml() {
+    let g: GroupStrength = toml::from_str(
+        r#"
+name = "columns"
+plastic_length = 0.0
+[strength.formula]
+kind = "beam_column"
+h_mm = 100.0
+w_mm = 100.0
+fc = 22.5
+[tolerances]
+rot1 = 0.4
+"#,
+    )
+    .unwrap();
+    assert_eq!(g.threshold_multiplier, 1.0);
+    assert_eq!(g.tolerances.dist1, 0.1);
+    assert_eq!(g.tolerances.rot1, 0.4);
+    match g.strength {
+        StrengthSource::Formula(f) => {
+            assert_eq!(
+                (f.h_mm, f.w_mm, f.fc, f.fs, f.n),
+                (100.0, 100.0, 22.5, 500.0, 5.0)
+            );
+        }
+        _ => panic!("expected a formula"),
+    }
+    let bad: Result<GroupStrength, _> =
+        toml::from_str("name = \"x\"\n[strength.formula]\nfcc = 3.0\n");
+    assert!(bad.unwrap_err().to_string().contains("fcc"));
+}
