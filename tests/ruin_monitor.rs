@@ -8,7 +8,9 @@
 use fem2rbd::ruin::connection::{
     build_connections, ConnectionSpec, ConnectionState, GroupStrength, RuinSettings,
 };
-use fem2rbd::ruin::monitor::{start_state_from_damage, Action, AngleRule, FeDamage, Monitor};
+use fem2rbd::ruin::monitor::{
+    start_state_from_damage, Action, AngleRule, FeDamage, Monitor, StateChange,
+};
 use fem2rbd::ruin::search::find_contacts;
 use fem2rbd::ruin::strength::{FormulaInputs, StrengthPerArea, StrengthSource};
 use fem2rbd::ruin::BodyGeom;
@@ -270,9 +272,27 @@ fn impulse_breaking_feedback() {
         constraint: 6,
         enable: true
     }));
-    // Spring broken by impulse next frame.
+    assert_eq!(
+        m.last_changes(),
+        &[StateChange {
+            connection: 0,
+            from: ConnectionState::Elastic,
+            to: ConnectionState::Plastic
+        }]
+    );
+    // Spring broken by impulse next frame: no action, but a recorded change.
     assert!(m.check(&pulled, |_, _| false).unwrap().is_empty());
     assert_eq!(m.state(0), ConnectionState::Broken);
+    assert_eq!(
+        m.last_changes(),
+        &[StateChange {
+            connection: 0,
+            from: ConnectionState::Plastic,
+            to: ConnectionState::Broken
+        }]
+    );
+    assert!(m.check(&pulled, |_, _| false).unwrap().is_empty());
+    assert!(m.last_changes().is_empty());
 }
 
 /// Hand-off: FE damage at Tc sets the starting state; the reference is the pose at Tc.

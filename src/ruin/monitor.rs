@@ -86,6 +86,17 @@ pub struct Action {
     pub enable: bool,
 }
 
+/// A state change seen in one [`Monitor::check`] frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct StateChange {
+    /// Index of the connection.
+    pub connection: usize,
+    /// State before the frame.
+    pub from: ConnectionState,
+    /// State after the frame.
+    pub to: ConnectionState,
+}
+
 /// Counts of connections per state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub struct StateCounts {
@@ -113,6 +124,7 @@ struct Entry {
 pub struct Monitor {
     entries: Vec<Entry>,
     rule: AngleRule,
+    changes: Vec<StateChange>,
 }
 
 /// The deformation measures of one connection (module docs).
@@ -173,7 +185,11 @@ impl Monitor {
                 state,
             });
         }
-        Ok(Monitor { entries, rule })
+        Ok(Monitor {
+            entries,
+            rule,
+            changes: Vec::new(),
+        })
     }
 
     /// The current state of every connection.
@@ -184,6 +200,12 @@ impl Monitor {
     /// The state of connection `i`.
     pub fn state(&self, i: usize) -> ConnectionState {
         self.entries[i].state
+    }
+
+    /// The state changes of the last [`Self::check`] call, in connection order (including
+    /// those caused by Bullet's impulse breaking, which need no action).
+    pub fn last_changes(&self) -> &[StateChange] {
+        &self.changes
     }
 
     /// Counts per state.
@@ -229,57 +251,78 @@ impl Monitor {
         }
         let mut actions = Vec::new();
         let rule = self.rule;
+        self.changes.clear();
         for (ci, e) in self.entries.iter_mut().enumerate() {
-            match e.state {
-                ConnectionState::Broken => {}
-                ConnectionState::Elastic => {
-                    let any_generic = (0..GENERIC_COUNT).any(|k| is_enabled(ci, k));
-                    if !any_generic {
-                        e.state = ConnectionState::Broken;
-                        continue;
-                    }
-                    let m = measure(e, &poses[e.a], &poses[e.b], rule);
-                    if exceeds(m, e.tol.dist1, e.tol.rot1) {
-                        for k in 0..GENERIC_COUNT {
-                            if is_enabled(ci, k) {
-                                actions.push(Action {
-                                    connection: ci,
-                                    constraint: k,
-                                    enable: false,
-                                });
-                            }
-                        }
-                        if e.has_spring {
-                            actions.push(Action {
-                                connection: ci,
-                                constraint: GENERIC_COUNT,
-                                enable: true,
-                            });
-                            e.d0 = m.dist;
-                            e.state = ConnectionState::Plastic;
-                        } else {
-                            e.state = ConnectionState::Broken;
-                        }
-                    }
-                }
-                ConnectionState::Plastic => {
-                    if !is_enabled(ci, GENERIC_COUNT) {
-                        e.state = ConnectionState::Broken;
-                        continue;
-                    }
-                    let m = measure(e, &poses[e.a], &poses[e.b], rule);
-                    if exceeds(m, e.tol.dist2, e.tol.rot2) {
-                        actions.push(Action {
-                            connection: ci,
-                            constraint: GENERIC_COUNT,
-                            enable: false,
-                        });
-                        e.state = ConnectionState::Broken;
-                    }
-                }
+            let before = e.state;
+            step_entry(ci, e, poses, &is_enabled, rule, &mut actions);
+            if e.state != before {
+                self.changes.push(StateChange {
+                    connection: ci,
+                    from: before,
+                    to: e.state,
+                });
             }
         }
         Ok(actions)
+    }
+}
+
+/// One connection's monitor step (module docs); pushes its actions.
+fn step_entry(
+    ci: usize,
+    e: &mut Entry,
+    poses: &[Isometry3<f64>],
+    is_enabled: &impl Fn(usize, usize) -> bool,
+    rule: AngleRule,
+    actions: &mut Vec<Action>,
+) {
+    match e.state {
+        ConnectionState::Broken => {}
+        ConnectionState::Elastic => {
+            let any_generic = (0..GENERIC_COUNT).any(|k| is_enabled(ci, k));
+            if !any_generic {
+                e.state = ConnectionState::Broken;
+                return;
+            }
+            let m = measure(e, &poses[e.a], &poses[e.b], rule);
+            if exceeds(m, e.tol.dist1, e.tol.rot1) {
+                for k in 0..GENERIC_COUNT {
+                    if is_enabled(ci, k) {
+                        actions.push(Action {
+                            connection: ci,
+                            constraint: k,
+                            enable: false,
+                        });
+                    }
+                }
+                if e.has_spring {
+                    actions.push(Action {
+                        connection: ci,
+                        constraint: GENERIC_COUNT,
+                        enable: true,
+                    });
+                    e.d0 = m.dist;
+                    e.state = ConnectionState::Plastic;
+                } else {
+                    e.state = ConnectionState::Broken;
+                }
+            }
+        }
+        ConnectionState::Plastic => {
+            if !is_enabled(ci, GENERIC_COUNT) {
+                e.state = ConnectionState::Broken;
+                return;
+            }
+            let m = measure(e, &poses[e.a], &poses[e.b], rule);
+            if exceeds(m, e.tol.dist2, e.tol.rot2) {
+                actions.push(Action {
+                    connection: ci,
+                    constraint: GENERIC_COUNT,
+                    enable: false,
+                });
+                e.state = ConnectionState::Broken;
+            }
+        }
     }
 }
 
