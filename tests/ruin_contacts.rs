@@ -270,3 +270,72 @@ fn cube_grid_face_contacts_only() {
     assert_eq!(c.len(), 3 * (n - 1) * n * n);
     assert!(c.iter().all(|c| close(c.area, 1.0)));
 }
+
+/// The frame3-like model through `build_connections`: column bases on the passive
+/// foundation get doubled thresholds; a column–foundation connection checked by hand.
+#[test]
+fn frame3_like_connection_thresholds() {
+    use fem2rbd::ruin::connection::{build_connections, GroupStrength, RuinSettings};
+    use fem2rbd::ruin::strength::{FormulaInputs, FormulaKind};
+    let bodies = frame3_like();
+    let s = RuinSettings::default();
+    let contacts = find_contacts(&bodies, &s.search).unwrap();
+    // Sections "0 = contact dims" for columns and beams, walls/slabs formula for slabs;
+    // the foundation group needs no strengths (passive).
+    let sym = FormulaInputs {
+        h_mm: 0.0,
+        w_mm: 0.0,
+        ..FormulaInputs::default()
+    };
+    let groups = [
+        GroupStrength::formula("columns", sym),
+        GroupStrength::formula("beams", sym),
+        GroupStrength::formula(
+            "slabs",
+            FormulaInputs {
+                kind: FormulaKind::WallSlab,
+                ..sym
+            },
+        ),
+    ];
+    let poses: Vec<_> = bodies.iter().map(BodyGeom::pose).collect();
+    let conns = build_connections(&bodies, &groups, &contacts, &poses, &s).unwrap();
+    assert_eq!(conns.len(), 96);
+    let found: Vec<_> = conns.iter().filter(|c| bodies[c.a].passive).collect();
+    assert_eq!(found.len(), 4);
+    // By hand: 100 × 100 mm contact, ρ = 5·3.1416·25/10⁴ = 0.03927;
+    // C = (30(1 − ρ) + 500ρ)·10⁴ N, ×2 to the foundation, ×2.2/200.
+    let rho = 5.0 * 3.1416 * 25.0 / 1.0e4;
+    let c_n = (30.0 * (1.0 - rho) + 500.0 * rho) * 1.0e4 * 2.0;
+    for c in &found {
+        assert_eq!(c.group, "columns");
+        assert!((c.forces.compression_n - c_n).abs() < 1e-6 * c_n);
+        assert!((c.constraints[0].breaking_impulse - c_n * 2.2 / 200.0).abs() < 1e-6);
+        // Square contact: no distinct 90° values; bending B·h/w = B on both rows.
+        assert!((c.forces.bend_h_nm - c.forces.bend_w_nm).abs() < 1e-9 * c.forces.bend_w_nm);
+    }
+    assert!((c_n * 2.2 / 200.0 - 10660.6).abs() < 0.1);
+    // A column–column mid-height joint has exactly half the foundation's values.
+    let mid = conns
+        .iter()
+        .find(|c| kind(&bodies[c.a].name) == "Column" && kind(&bodies[c.b].name) == "Column")
+        .unwrap();
+    assert!((2.0 * mid.forces.compression_n - c_n).abs() < 1e-6 * c_n);
+    // Column–slab: the weaker group per value (slab shear 0.15·k·(100ρfc)^(1/3) is far
+    // below the beam formula's), the column group (A, lower index) governs tolerances.
+    let cs = conns
+        .iter()
+        .find(|c| kind(&bodies[c.a].name) == "Column" && kind(&bodies[c.b].name) == "Slab")
+        .unwrap();
+    assert_eq!(cs.group, "columns");
+    let v_slab = 0.15 * 1.9 * (100.0 * rho * 30.0f64).powf(1.0 / 3.0) * 1.0e4;
+    assert!((cs.forces.shear_h_n - v_slab).abs() < 1e-6 * v_slab);
+    // Every constraint frame pair coincides in the start pose.
+    for c in &conns {
+        for k in &c.constraints {
+            let wa = poses[c.a] * k.frame_a;
+            let wb = poses[c.b] * k.frame_b;
+            assert!((wa.translation.vector - wb.translation.vector).norm() < 1e-12);
+        }
+    }
+}
