@@ -304,8 +304,8 @@ fn frame3_like_connection_thresholds() {
     let found: Vec<_> = conns.iter().filter(|c| bodies[c.a].passive).collect();
     assert_eq!(found.len(), 4);
     // By hand: 100 × 100 mm contact, ρ = 5·3.1416·25/10⁴ = 0.03927;
-    // C = (30(1 − ρ) + 500ρ)·10⁴ N, ×2 to the foundation, ×2.2/200.
-    let rho = 5.0 * 3.1416 * 25.0 / 1.0e4;
+    // (BCB's π = 3.1416) C = (30(1 − ρ) + 500ρ)·10⁴ N, ×2 to the foundation, ×2.2/200.
+    let rho = 5.0 * fem2rbd::ruin::strength::FA_PI * 25.0 / 1.0e4;
     let c_n = (30.0 * (1.0 - rho) + 500.0 * rho) * 1.0e4 * 2.0;
     for c in &found {
         assert_eq!(c.group, "columns");
