@@ -23,4 +23,5 @@ pub mod motion;
 pub mod output;
 #[allow(unsafe_code)]
 pub mod physics;
+pub mod ruin;
 pub mod scene;

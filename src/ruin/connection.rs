@@ -1,0 +1,815 @@
+//! BCB connection type 22 ("6x GENERIC + 1x SPRING") as plain data.
+//!
+//! Source: BCB `builder_setc.py` (`setConstraintSettings`), bcb.md §2.1, §3.1, §4, §11.4.
+//! Re-implemented, not copied. Per connection (one touching pair A–B):
+//!
+//! | # | role | Bullet class | locked DOF (frame axes: X = normal A→B) | limits | breaking impulse |
+//! |---|---|---|---|---|---|
+//! | 0 | compression | `btGeneric6DofConstraint` | lin X | [0, 99999] | C·a·2.2·Δt |
+//! | 1 | tension | same | lin X | [−99999, 0] | T·a·2.2·Δt |
+//! | 2 | shear-h | same | lin axis ∥ h | [0, 0] | min(S,S90)·a·2.2·Δt |
+//! | 3 | shear-w | same | lin axis ∥ w | [0, 0] | max(S,S90)·a·2.2·Δt |
+//! | 4 | bend-h | same | ang X + ang about the w-axis | [0, 0] | min(B,B90)·a·1.5·Δt |
+//! | 5 | bend-w | same | ang X + ang about the h-axis | [0, 0] | max(B,B90)·a·1.5·Δt |
+//! | 6 | plastic spring | `btGeneric6DofSpring2Constraint` | springs on all 6, no limits, **disabled** | free | P·a·2·Δt |
+//!
+//! with Δt = time_scale / steps_per_second and a the contact area in mm² (strengths are per
+//! mm²). Every unlisted DOF is free (Bullet: lower > upper, we give (0, −1) as Blender does).
+//! The generics use `useLinearReferenceFrameA = true`.
+//!
+//! * **Thresholds** (bcb.md §3.1): value × multiplier × time_scale / steps_per_second ×
+//!   correction / constCount, corrections 2.2 (linear generic rows), 1.5 (bending rows),
+//!   2 (spring); constCount = 1 for CT 22. The multiplier is the group's threshold
+//!   multiplier, ×2 when the partner is passive (BCB's "boundary condition case").
+//! * **Two groups** (both active): each value is the weaker of the two groups' values
+//!   (`lowerBrkThresPriority`, default on), the 90° values only if both groups have them;
+//!   the tolerances and the Formula-Assistant tol2 come from A's group (BCB's `elemGrp`
+//!   when both groups use the same connection type). Active–passive: the active group.
+//! * **No 90° values** for both S and B: bending rows get B·h/w and B·w/h (BCB's
+//!   `btRatio`), if h and w both exceed the search distance.
+//! * **Spring stiffness** (bcb.md §4): k = P / (L·tol2D) · 2 / constCount / 2 (the last /2
+//!   for SPRING2), N/m, the same number for the angular axes (N·m/rad); damping 20 on all
+//!   six axes (SPRING2); L = the group's plastic length, or the centre distance if 0
+//!   (0.1 m if that is 0). The equilibrium point is set at creation (`setEquilibriumPoint()`),
+//!   which — frames coinciding at creation — is the zero offset.
+//! * **Frames**: BCB places all constraints at the pivot, rotated by `rotN` (local X onto the
+//!   snapped normal, Blender's `to_track_quat('X','Z')`); the spring frame is world-aligned
+//!   (identity). These frames are defined on the configuration the contacts were found in
+//!   (undeformed); at the hand-off time Tc each body carries them rigidly
+//!   (`P_A = A_Tc·A₀⁻¹·P₀`, likewise for B), the constraint's world frame at Tc is the
+//!   midpoint / half-way slerp of the two, and `frame_a = A_Tc⁻¹·P_Tc`,
+//!   `frame_b = B_Tc⁻¹·P_Tc`. So both frames coincide at Tc and nothing fires at the start.
+//!   With Tc poses equal to the undeformed ones this is exactly BCB's `A⁻¹·P`, `B⁻¹·P`.
+//!
+//! Not reproduced (off by default in BCB or irrelevant for RC frames): backlash, connection
+//! priorities, the intercomponent multiplier, cylindrical areas, detonators, Mohr–Coulomb.
+
+use super::search::Contact;
+use super::strength::{StrengthPerArea, StrengthSource};
+use super::{BodyGeom, RuinError};
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Bullet's "free" limit pair (lower > upper), as Blender passes for unused axes.
+pub const FREE: (f64, f64) = (0.0, -1.0);
+/// BCB's "unlimited" linear bound for the one-sided compression/tension rows, m.
+pub const BCB_UNLIMITED: f64 = 99999.0;
+
+/// Tolerances of the monitor as a group gives them, in BCB's convention
+/// (`connectsTol`, bcb.md §4): a value > 0 is used as is; **0 means automatic** for the
+/// 2nd tolerances (Formula Assistant: tol2D = elu/100, tol2R = atan(tol2D·L/(h/2)); without
+/// a formula BCB's preset 0.2 / 0.8); a **negative value disables** that check.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Tolerances {
+    /// 1st distance tolerance (relative), elastic → plastic. BCB 0.1.
+    pub dist1: f64,
+    /// 1st rotation tolerance, rad, elastic → plastic. BCB 0.2 (0.4 in 2020).
+    pub rot1: f64,
+    /// 2nd distance tolerance (relative), plastic → broken. 0 = automatic.
+    pub dist2: f64,
+    /// 2nd rotation tolerance, rad, plastic → broken. 0 = automatic.
+    pub rot2: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances {
+            dist1: 0.1,
+            rot1: 0.2,
+            dist2: 0.0,
+            rot2: 0.0,
+        }
+    }
+}
+
+/// BCB preset-0 2nd distance tolerance, used when a group has no formula (bcb.md §8).
+pub const PRESET_TOL2_DIST: f64 = 0.2;
+/// BCB preset-0 2nd rotation tolerance, rad.
+pub const PRESET_TOL2_ROT: f64 = 0.8;
+
+/// Tolerances resolved for one connection; `None` = check disabled.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResolvedTolerances {
+    /// 1st distance tolerance.
+    pub dist1: Option<f64>,
+    /// 1st rotation tolerance, rad.
+    pub rot1: Option<f64>,
+    /// 2nd distance tolerance.
+    pub dist2: Option<f64>,
+    /// 2nd rotation tolerance, rad.
+    pub rot2: Option<f64>,
+}
+
+/// The strength definition of one element group.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupStrength {
+    /// Group name, as in [`BodyGeom::group`].
+    pub name: String,
+    /// Where the per-mm² strengths come from.
+    pub strength: StrengthSource,
+    /// Monitor tolerances.
+    #[serde(default)]
+    pub tolerances: Tolerances,
+    /// Plastic length L of the spring stiffness, m; 0 = centre distance (BCB default).
+    #[serde(default)]
+    pub plastic_length: f64,
+    /// Breaking-threshold multiplier (BCB `BTX`), 1 by default.
+    #[serde(default = "one")]
+    pub threshold_multiplier: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl GroupStrength {
+    /// A group using the Formula Assistant, with BCB's default tolerances.
+    pub fn formula(name: &str, inputs: super::strength::FormulaInputs) -> Self {
+        GroupStrength {
+            name: name.into(),
+            strength: StrengthSource::Formula(inputs),
+            tolerances: Tolerances::default(),
+            plastic_length: 0.0,
+            threshold_multiplier: 1.0,
+        }
+    }
+
+    /// Checks the definition; the error names the group.
+    pub fn validate(&self) -> Result<(), RuinError> {
+        let bad = |message: String| RuinError::BadSetting {
+            item: format!("group '{}'", self.name),
+            message,
+        };
+        match &self.strength {
+            StrengthSource::Formula(f) => f.validate().map_err(bad)?,
+            StrengthSource::PerArea(p) => {
+                let vals = [
+                    ("C", Some(p.c)),
+                    ("T", Some(p.t)),
+                    ("S", Some(p.s)),
+                    ("S90", p.s90),
+                    ("B", Some(p.b)),
+                    ("B90", p.b90),
+                    ("P", p.p),
+                ];
+                for (n, v) in vals {
+                    if let Some(v) = v {
+                        if !v.is_finite() || v < 0.0 {
+                            return Err(bad(format!("strength {n} = {v} must be finite and >= 0")));
+                        }
+                    }
+                }
+            }
+        }
+        let t = &self.tolerances;
+        for (n, v) in [
+            ("dist1", t.dist1),
+            ("rot1", t.rot1),
+            ("dist2", t.dist2),
+            ("rot2", t.rot2),
+            ("plastic_length", self.plastic_length),
+            ("threshold_multiplier", self.threshold_multiplier),
+        ] {
+            if !v.is_finite() {
+                return Err(bad(format!("{n} = {v} is not finite")));
+            }
+        }
+        if self.plastic_length < 0.0 || self.threshold_multiplier < 0.0 {
+            return Err(bad(
+                "plastic_length and threshold_multiplier must be >= 0".into()
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Simulation settings that the constraint model depends on, with BCB's (HEAD) defaults.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RuinSettings {
+    /// Bullet substeps per second (BCB 200; 300 in the 2020 version).
+    pub steps_per_second: f64,
+    /// Solver iterations (BCB 100; Blender's 10 in 2020). Used by the Bullet layer.
+    pub solver_iterations: u32,
+    /// Monitor frames per second (BCB 25).
+    pub frame_rate: f64,
+    /// Bullet time scale (1).
+    pub time_scale: f64,
+    /// Correction of the linear generic rows (2.2).
+    pub linear_correction: f64,
+    /// Correction of the bending generic rows (1.5).
+    pub bending_correction: f64,
+    /// Correction of the plastic spring (2).
+    pub spring_correction: f64,
+    /// Threshold factor towards a passive (foundation) partner (2).
+    pub passive_multiplier: f64,
+    /// Use the weaker of two groups' strengths (BCB `lowerBrkThresPriority`, on).
+    pub weaker_group: bool,
+    /// SPRING2 damping on every axis (20).
+    pub spring_damping: f64,
+    /// Disable collisions between connected bodies while a constraint is enabled (on).
+    pub disable_collisions: bool,
+    /// The connection search.
+    pub search: super::search::SearchSettings,
+}
+
+impl Default for RuinSettings {
+    fn default() -> Self {
+        RuinSettings {
+            steps_per_second: 200.0,
+            solver_iterations: 100,
+            frame_rate: 25.0,
+            time_scale: 1.0,
+            linear_correction: 2.2,
+            bending_correction: 1.5,
+            spring_correction: 2.0,
+            passive_multiplier: 2.0,
+            weaker_group: true,
+            spring_damping: 20.0,
+            disable_collisions: true,
+            search: super::search::SearchSettings::default(),
+        }
+    }
+}
+
+impl RuinSettings {
+    /// The substep Δt = time_scale / steps_per_second, s.
+    pub fn substep(&self) -> f64 {
+        self.time_scale / self.steps_per_second
+    }
+
+    fn validate(&self) -> Result<(), RuinError> {
+        let pos = [
+            ("steps_per_second", self.steps_per_second),
+            ("frame_rate", self.frame_rate),
+            ("time_scale", self.time_scale),
+            ("linear_correction", self.linear_correction),
+            ("bending_correction", self.bending_correction),
+            ("spring_correction", self.spring_correction),
+            ("passive_multiplier", self.passive_multiplier),
+        ];
+        for (n, v) in pos {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(RuinError::BadSetting {
+                    item: n.into(),
+                    message: format!("{v} must be finite and > 0"),
+                });
+            }
+        }
+        if !(self.spring_damping.is_finite() && self.spring_damping >= 0.0) {
+            return Err(RuinError::BadSetting {
+                item: "spring_damping".into(),
+                message: format!("{} must be finite and >= 0", self.spring_damping),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Which Bullet constraint class a spec stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum ConstraintKind {
+    /// `btGeneric6DofConstraint(A, B, frame_a, frame_b, useLinearReferenceFrameA = true)`.
+    Generic6Dof,
+    /// `btGeneric6DofSpring2Constraint(A, B, frame_a, frame_b)` (rotation order XYZ).
+    Spring2,
+}
+
+/// What a constraint of a CT 22 connection models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum ConstraintRole {
+    /// Compression along the normal.
+    Compression,
+    /// Tension along the normal.
+    Tension,
+    /// Shear along h.
+    ShearH,
+    /// Shear along w.
+    ShearW,
+    /// Bending about the w-axis (section depth h) plus torsion.
+    BendH,
+    /// Bending about the h-axis (section depth w) plus torsion.
+    BendW,
+    /// The plastic 6-DOF spring (2nd mode).
+    PlasticSpring,
+}
+
+/// One Bullet constraint as plain data. Axis index i: 0–2 linear X, Y, Z, 3–5 angular X,
+/// Y, Z of the constraint frame. `lower[i] > upper[i]` means free.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConstraintSpec {
+    /// Its role in the connection.
+    pub role: ConstraintRole,
+    /// The Bullet class.
+    pub kind: ConstraintKind,
+    /// Constraint frame in body A's local frame.
+    pub frame_a: Isometry3<f64>,
+    /// Constraint frame in body B's local frame.
+    pub frame_b: Isometry3<f64>,
+    /// Lower limits (m, rad).
+    pub lower: [f64; 6],
+    /// Upper limits (m, rad).
+    pub upper: [f64; 6],
+    /// Spring enabled per axis (Spring2 only).
+    pub spring: [bool; 6],
+    /// Spring stiffness per axis, N/m (linear), N·m/rad (angular).
+    pub stiffness: [f64; 6],
+    /// Spring damping per axis (btGeneric6DofSpring2 damping).
+    pub damping: [f64; 6],
+    /// `setBreakingImpulseThreshold`, N·s (linear rows) or N·m·s (bending rows).
+    pub breaking_impulse: f64,
+    /// Enabled at creation.
+    pub enabled: bool,
+}
+
+impl ConstraintSpec {
+    /// Whether axis `i` is free (lower > upper).
+    pub fn is_free(&self, i: usize) -> bool {
+        self.lower[i] > self.upper[i]
+    }
+}
+
+/// The capacities of one connection, N and N·m (per-mm² strength × area × multipliers).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConnectionForces {
+    /// Compression C, N.
+    pub compression_n: f64,
+    /// Tension T, N.
+    pub tension_n: f64,
+    /// Shear along h, N.
+    pub shear_h_n: f64,
+    /// Shear along w, N.
+    pub shear_w_n: f64,
+    /// Bending, h-depth (about the w-axis), N·m.
+    pub bend_h_nm: f64,
+    /// Bending, w-depth (about the h-axis), N·m.
+    pub bend_w_nm: f64,
+    /// Plastic capacity P, N (None: no plastic spring).
+    pub plastic_n: Option<f64>,
+    /// Spring stiffness k, N/m and N·m/rad (None: no plastic spring).
+    pub spring_stiffness: Option<f64>,
+}
+
+/// The state of a connection (BCB's monitor modes 0, 1, 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConnectionState {
+    /// The six generic constraints hold; the spring is off.
+    Elastic,
+    /// The generics are off; the plastic spring holds.
+    Plastic,
+    /// Nothing holds.
+    Broken,
+}
+
+/// One connection: its geometry, capacities, tolerances and constraints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConnectionSpec {
+    /// Body A index.
+    pub a: usize,
+    /// Body B index.
+    pub b: usize,
+    /// The contact it was built from (undeformed configuration).
+    pub contact: Contact,
+    /// The group whose tolerances govern (A's if both are active, else the active one).
+    pub group: String,
+    /// Capacities.
+    pub forces: ConnectionForces,
+    /// Monitor tolerances.
+    pub tolerances: ResolvedTolerances,
+    /// Spring length L used for the stiffness, m.
+    pub spring_length: f64,
+    /// Disable collisions between A and B while any constraint is enabled.
+    pub disable_collisions: bool,
+    /// Six generics (roles in [`ConstraintRole`] order), then the plastic spring if any.
+    pub constraints: Vec<ConstraintSpec>,
+}
+
+/// Number of generic constraints of a CT 22 connection.
+pub const GENERIC_COUNT: usize = 6;
+
+impl ConnectionSpec {
+    /// Whether the connection has a plastic spring (index 6).
+    pub fn has_spring(&self) -> bool {
+        self.constraints.len() > GENERIC_COUNT
+    }
+
+    /// Sets the creation-time `enabled` flags for a starting state: elastic → generics on,
+    /// spring off (BCB's start); plastic → generics off, spring on (all off if there is no
+    /// spring); broken → all off.
+    pub fn set_state(&mut self, state: ConnectionState) {
+        let has_spring = self.has_spring();
+        for (i, c) in self.constraints.iter_mut().enumerate() {
+            let generic = i < GENERIC_COUNT;
+            c.enabled = match state {
+                ConnectionState::Elastic => generic,
+                ConnectionState::Plastic => !generic && has_spring,
+                ConnectionState::Broken => false,
+            };
+        }
+    }
+}
+
+/// BCB's constraint rotation for a snapped normal: local X onto `sign·e[axis]`, as
+/// Blender's `to_track_quat('X','Z')` gives it (bcb.md §2.1; −Y worked out the same way):
+/// +X → (X, Y, Z); −X → (−X, −Y, Z); +Y → (Y, −X, Z); −Y → (−Y, X, Z);
+/// +Z → (Z, Y, −X); −Z → (−Z, Y, X) (columns = images of local X, Y, Z).
+pub fn bcb_normal_rotation(axis: usize, sign: f64) -> UnitQuaternion<f64> {
+    let e = |i: usize, s: f64| {
+        let mut v = Vector3::zeros();
+        v[i] = s;
+        v
+    };
+    let pos = sign >= 0.0;
+    let (x, y, z) = match (axis, pos) {
+        (0, true) => (e(0, 1.0), e(1, 1.0), e(2, 1.0)),
+        (0, false) => (e(0, -1.0), e(1, -1.0), e(2, 1.0)),
+        (1, true) => (e(1, 1.0), e(0, -1.0), e(2, 1.0)),
+        (1, false) => (e(1, -1.0), e(0, 1.0), e(2, 1.0)),
+        (_, true) => (e(2, 1.0), e(1, 1.0), e(0, -1.0)),
+        (_, false) => (e(2, -1.0), e(1, 1.0), e(0, 1.0)),
+    };
+    let m = Matrix3::from_columns(&[x, y, z]);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
+}
+
+/// The weaker (or stronger) of two per-area strength sets, per value; a 90° or plastic
+/// value survives only if both have one (BCB: −1 if either is missing).
+fn combine(a: &StrengthPerArea, b: &StrengthPerArea, weaker: bool) -> StrengthPerArea {
+    let pick = |x: f64, y: f64| if weaker { x.min(y) } else { x.max(y) };
+    let pick_opt = |x: Option<f64>, y: Option<f64>| match (x, y) {
+        (Some(x), Some(y)) => Some(pick(x, y)),
+        _ => None,
+    };
+    StrengthPerArea {
+        c: pick(a.c, b.c),
+        t: pick(a.t, b.t),
+        s: pick(a.s, b.s),
+        s90: pick_opt(a.s90, b.s90),
+        b: pick(a.b, b.b),
+        b90: pick_opt(a.b90, b.b90),
+        p: pick_opt(a.p, b.p),
+    }
+}
+
+/// Builds the CT 22 connection of every contact.
+///
+/// * `bodies`: the geometry the contacts were found on (undeformed).
+/// * `groups`: strength definitions, looked up by [`BodyGeom::group`].
+/// * `contacts`: from [`super::search::find_contacts`].
+/// * `poses_at_start`: every body's pose when the constraints are created (Tc for the
+///   hybrid mode; the undeformed poses for physics-only), one per body.
+///
+/// Every connection is created elastic; use [`ConnectionSpec::set_state`] for another
+/// starting state.
+pub fn build_connections(
+    bodies: &[BodyGeom],
+    groups: &[GroupStrength],
+    contacts: &[Contact],
+    poses_at_start: &[Isometry3<f64>],
+    settings: &RuinSettings,
+) -> Result<Vec<ConnectionSpec>, RuinError> {
+    settings.validate()?;
+    if poses_at_start.len() != bodies.len() {
+        return Err(RuinError::LengthMismatch {
+            what: "poses at the start of the ruin stage".into(),
+            expected: bodies.len(),
+            got: poses_at_start.len(),
+        });
+    }
+    let mut by_name: BTreeMap<&str, &GroupStrength> = BTreeMap::new();
+    for g in groups {
+        g.validate()?;
+        by_name.insert(g.name.as_str(), g);
+    }
+    let lookup = |i: usize| -> Result<&GroupStrength, RuinError> {
+        let body = &bodies[i];
+        by_name
+            .get(body.group.as_str())
+            .copied()
+            .ok_or_else(|| RuinError::UnknownGroup {
+                index: i,
+                name: body.name.clone(),
+                group: body.group.clone(),
+            })
+    };
+    let mut out = Vec::with_capacity(contacts.len());
+    for c in contacts {
+        if c.a >= bodies.len() || c.b >= bodies.len() {
+            return Err(RuinError::BadSetting {
+                item: format!("contact ({}, {})", c.a, c.b),
+                message: format!("body index out of range (there are {})", bodies.len()),
+            });
+        }
+        let (ba, bb) = (&bodies[c.a], &bodies[c.b]);
+        if ba.passive && bb.passive {
+            continue;
+        }
+        let h_mm = c.h * 1000.0;
+        let w_mm = c.w * 1000.0;
+        let a_mm2 = c.area * 1.0e6;
+        // Governing group and the per-area values × multipliers (BCB `mul`).
+        let (group, per_area, mul, pl) = if ba.passive || bb.passive {
+            let active = if ba.passive { c.b } else { c.a };
+            let g = lookup(active)?;
+            (
+                g,
+                g.strength.per_area(h_mm, w_mm),
+                g.threshold_multiplier * settings.passive_multiplier,
+                g.plastic_length,
+            )
+        } else {
+            let ga = lookup(c.a)?;
+            let gb = lookup(c.b)?;
+            let pa = ga.strength.per_area(h_mm, w_mm);
+            let pb = gb.strength.per_area(h_mm, w_mm);
+            // BCB multiplies each group's expression by its own multiplier, then compares.
+            let sa = scale(&pa, ga.threshold_multiplier);
+            let sb = scale(&pb, gb.threshold_multiplier);
+            let pick = |x: f64, y: f64| {
+                if settings.weaker_group {
+                    x.min(y)
+                } else {
+                    x.max(y)
+                }
+            };
+            (
+                ga,
+                combine(&sa, &sb, settings.weaker_group),
+                1.0,
+                pick(ga.plastic_length, gb.plastic_length),
+            )
+        };
+        let v = scale(&per_area, mul * a_mm2);
+
+        // Shear and bending pairs (min → h, max → w), BCB's btRatio without 90° values.
+        let (shear_h, shear_w) = match v.s90 {
+            Some(s90) => (v.s.min(s90), v.s.max(s90)),
+            None => (v.s, v.s),
+        };
+        let (bend_h, bend_w) = match v.b90 {
+            Some(b90) => (v.b.min(b90), v.b.max(b90)),
+            None => {
+                let sd = settings.search.search_distance;
+                let ratio = if v.s90.is_none() && c.h > sd && c.w > sd {
+                    c.h / c.w
+                } else {
+                    1.0
+                };
+                (v.b * ratio, v.b / ratio)
+            }
+        };
+
+        // Tolerances of the governing group.
+        let formula = match &group.strength {
+            StrengthSource::Formula(f) => Some(f),
+            StrengthSource::PerArea(_) => None,
+        };
+        let t = &group.tolerances;
+        let enabled = |x: f64| (x >= 0.0).then_some(x);
+        let dist2 = if t.dist2 == 0.0 {
+            formula.map_or(PRESET_TOL2_DIST, |f| f.tol2_dist())
+        } else {
+            t.dist2
+        };
+        let rot2 = if t.rot2 == 0.0 {
+            match formula {
+                Some(f) if c.h > 0.0 => f.tol2_rot(c.centre_distance, c.h),
+                _ => PRESET_TOL2_ROT,
+            }
+        } else {
+            t.rot2
+        };
+        let tolerances = ResolvedTolerances {
+            dist1: enabled(t.dist1),
+            rot1: enabled(t.rot1),
+            dist2: enabled(dist2),
+            rot2: enabled(rot2),
+        };
+
+        // Spring.
+        let spring_length = if pl > 0.0 {
+            pl
+        } else if c.centre_distance > 0.0 {
+            c.centre_distance
+        } else {
+            0.1
+        };
+        // A disabled 2nd distance tolerance would give BCB a negative stiffness (−1);
+        // we use the preset value instead.
+        let tol2_for_k = if dist2 > 0.0 { dist2 } else { PRESET_TOL2_DIST };
+        let spring_stiffness =
+            v.p.map(|p| p / (spring_length * tol2_for_k) * settings.spring_correction / 2.0);
+
+        let forces = ConnectionForces {
+            compression_n: v.c,
+            tension_n: v.t,
+            shear_h_n: shear_h,
+            shear_w_n: shear_w,
+            bend_h_nm: bend_h,
+            bend_w_nm: bend_w,
+            plastic_n: v.p,
+            spring_stiffness,
+        };
+
+        let constraints = constraint_specs(
+            c,
+            ba,
+            bb,
+            &poses_at_start[c.a],
+            &poses_at_start[c.b],
+            &forces,
+            settings,
+        );
+        out.push(ConnectionSpec {
+            a: c.a,
+            b: c.b,
+            contact: *c,
+            group: group.name.clone(),
+            forces,
+            tolerances,
+            spring_length,
+            disable_collisions: settings.disable_collisions,
+            constraints,
+        });
+    }
+    Ok(out)
+}
+
+fn scale(p: &StrengthPerArea, f: f64) -> StrengthPerArea {
+    StrengthPerArea {
+        c: p.c * f,
+        t: p.t * f,
+        s: p.s * f,
+        s90: p.s90.map(|v| v * f),
+        b: p.b * f,
+        b90: p.b90.map(|v| v * f),
+        p: p.p.map(|v| v * f),
+    }
+}
+
+/// Carries a world frame `p0` defined on the undeformed bodies to the start poses and
+/// returns (frame in A, frame in B) — module docs, "Frames".
+pub fn frames_at_start(
+    p0: &Isometry3<f64>,
+    a0: &Isometry3<f64>,
+    b0: &Isometry3<f64>,
+    a_start: &Isometry3<f64>,
+    b_start: &Isometry3<f64>,
+) -> (Isometry3<f64>, Isometry3<f64>) {
+    let pa = a_start * (a0.inverse() * p0);
+    let pb = b_start * (b0.inverse() * p0);
+    let pos = (pa.translation.vector + pb.translation.vector) * 0.5;
+    let rot = pa.rotation.slerp(&pb.rotation, 0.5);
+    let p = Isometry3::from_parts(Translation3::from(pos), rot);
+    (a_start.inverse() * p, b_start.inverse() * p)
+}
+
+/// The seven constraint specs of a CT 22 connection (six if there is no plastic value).
+fn constraint_specs(
+    c: &Contact,
+    ba: &BodyGeom,
+    bb: &BodyGeom,
+    a_start: &Isometry3<f64>,
+    b_start: &Isometry3<f64>,
+    f: &ConnectionForces,
+    s: &RuinSettings,
+) -> Vec<ConstraintSpec> {
+    let rot_n = bcb_normal_rotation(c.normal_axis, c.normal_sign);
+    let pivot = Translation3::new(c.pivot[0], c.pivot[1], c.pivot[2]);
+    let p0 = Isometry3::from_parts(pivot, rot_n);
+    let (a0, b0) = (ba.pose(), bb.pose());
+    let (fa, fb) = frames_at_start(&p0, &a0, &b0, a_start, b_start);
+
+    // Local axis (1 = Y, 2 = Z) of the constraint frame parallel to h, and the other (w).
+    let m = rot_n.to_rotation_matrix();
+    let h_local = if m.matrix()[(c.h_axis, 1)].abs() >= m.matrix()[(c.h_axis, 2)].abs() {
+        1
+    } else {
+        2
+    };
+    let w_local = 3 - h_local;
+
+    let dt = s.substep();
+    let lin = |force: f64| force * s.linear_correction * dt;
+    let ang = |moment: f64| moment * s.bending_correction * dt;
+    let generic = |role, locks: &[(usize, f64, f64)], impulse: f64| {
+        let mut lower = [FREE.0; 6];
+        let mut upper = [FREE.1; 6];
+        for &(i, lo, hi) in locks {
+            lower[i] = lo;
+            upper[i] = hi;
+        }
+        ConstraintSpec {
+            role,
+            kind: ConstraintKind::Generic6Dof,
+            frame_a: fa,
+            frame_b: fb,
+            lower,
+            upper,
+            spring: [false; 6],
+            stiffness: [0.0; 6],
+            damping: [0.0; 6],
+            breaking_impulse: impulse,
+            enabled: true,
+        }
+    };
+    let mut v = vec![
+        generic(
+            ConstraintRole::Compression,
+            &[(0, 0.0, BCB_UNLIMITED)],
+            lin(f.compression_n),
+        ),
+        generic(
+            ConstraintRole::Tension,
+            &[(0, -BCB_UNLIMITED, 0.0)],
+            lin(f.tension_n),
+        ),
+        generic(
+            ConstraintRole::ShearH,
+            &[(h_local, 0.0, 0.0)],
+            lin(f.shear_h_n),
+        ),
+        generic(
+            ConstraintRole::ShearW,
+            &[(w_local, 0.0, 0.0)],
+            lin(f.shear_w_n),
+        ),
+        generic(
+            ConstraintRole::BendH,
+            &[(3, 0.0, 0.0), (3 + w_local, 0.0, 0.0)],
+            ang(f.bend_h_nm),
+        ),
+        generic(
+            ConstraintRole::BendW,
+            &[(3, 0.0, 0.0), (3 + h_local, 0.0, 0.0)],
+            ang(f.bend_w_nm),
+        ),
+    ];
+    if let (Some(p), Some(k)) = (f.plastic_n, f.spring_stiffness) {
+        // World-aligned spring frame at the pivot (BCB never applies rotN to it).
+        let p0s = Isometry3::from_parts(pivot, UnitQuaternion::identity());
+        let (fsa, fsb) = frames_at_start(&p0s, &a0, &b0, a_start, b_start);
+        v.push(ConstraintSpec {
+            role: ConstraintRole::PlasticSpring,
+            kind: ConstraintKind::Spring2,
+            frame_a: fsa,
+            frame_b: fsb,
+            lower: [FREE.0; 6],
+            upper: [FREE.1; 6],
+            spring: [true; 6],
+            stiffness: [k; 6],
+            damping: [s.spring_damping; 6],
+            breaking_impulse: p * s.spring_correction * dt,
+            enabled: false,
+        });
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normal_rotation_maps_x_onto_normal_and_is_proper() {
+        for axis in 0..3 {
+            for sign in [1.0, -1.0] {
+                let q = bcb_normal_rotation(axis, sign);
+                let x = q * Vector3::x();
+                let mut n = Vector3::zeros();
+                n[axis] = sign;
+                assert!((x - n).norm() < 1e-12, "axis {axis} sign {sign}");
+                let m = q.to_rotation_matrix();
+                assert!((m.matrix().determinant() - 1.0).abs() < 1e-12);
+            }
+        }
+        // +Z: local Z → −X (Blender's to_track_quat('X','Z')).
+        let q = bcb_normal_rotation(2, 1.0);
+        assert!((q * Vector3::z() - Vector3::new(-1.0, 0.0, 0.0)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn frames_coincide_at_start() {
+        let p0 = Isometry3::new(Vector3::new(0.5, 0.0, 1.0), Vector3::new(0.0, 0.3, 0.0));
+        let a0 = Isometry3::new(Vector3::new(0.0, 0.0, 0.5), Vector3::zeros());
+        let b0 = Isometry3::new(Vector3::new(0.5, 0.0, 1.5), Vector3::zeros());
+        let a1 = Isometry3::new(Vector3::new(0.1, 0.0, 0.5), Vector3::new(0.0, 0.05, 0.0));
+        let b1 = Isometry3::new(Vector3::new(0.7, 0.02, 1.45), Vector3::new(0.01, 0.08, 0.0));
+        let (fa, fb) = frames_at_start(&p0, &a0, &b0, &a1, &b1);
+        let wa = a1 * fa;
+        let wb = b1 * fb;
+        assert!((wa.translation.vector - wb.translation.vector).norm() < 1e-12);
+        assert!(wa.rotation.angle_to(&wb.rotation) < 1e-12);
+        // Undeformed start poses give BCB's frames A⁻¹·P exactly.
+        let (fa0, fb0) = frames_at_start(&p0, &a0, &b0, &a0, &b0);
+        let ea = a0.inverse() * p0;
+        let eb = b0.inverse() * p0;
+        assert!((fa0.translation.vector - ea.translation.vector).norm() < 1e-12);
+        assert!((fb0.translation.vector - eb.translation.vector).norm() < 1e-12);
+        assert!(fa0.rotation.angle_to(&ea.rotation) < 1e-12);
+    }
+}
