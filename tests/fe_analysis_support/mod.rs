@@ -213,3 +213,57 @@ pub fn cantilever(l: f64, n: usize, p: Props, vecxz: [f64; 3]) -> (Domain, usize
     }
     (d, n)
 }
+
+/// A 3D frame: `bays`×`bays` bays of span `s`, `stories` stories of height `h`,
+/// columns (vecxz = X) and beams (vecxz = Z), base fixed, lumped translational floor
+/// masses `m` per node (no rotational mass). Returns the domain.
+pub fn grid_frame(
+    bays: usize,
+    stories: usize,
+    s: f64,
+    h: f64,
+    col: Props,
+    beam: Props,
+    m: f64,
+) -> Domain {
+    let mut d = Domain::new();
+    let nn = bays + 1;
+    let id = |f: usize, i: usize, j: usize| (f * nn * nn + i * nn + j) as usize;
+    for f in 0..=stories {
+        for i in 0..nn {
+            for j in 0..nn {
+                let n = d
+                    .add_node(
+                        (100 * f + 10 * i + j) as i64,
+                        [s * i as f64, s * j as f64, h * f as f64],
+                    )
+                    .unwrap();
+                if f == 0 {
+                    d.fix(n, [true; 6]).unwrap();
+                } else {
+                    d.set_mass(n, [m, m, m, 0.0, 0.0, 0.0]).unwrap();
+                }
+            }
+        }
+    }
+    let mut tag = 0;
+    let mut add = |d: &mut Domain, a: usize, b: usize, v: [f64; 3], p: Props| {
+        tag += 1;
+        let el = ElasticFrame::new(tag, d, a, b, v, p);
+        d.add_element(Box::new(el)).unwrap();
+    };
+    for f in 1..=stories {
+        for i in 0..nn {
+            for j in 0..nn {
+                add(&mut d, id(f - 1, i, j), id(f, i, j), [1.0, 0.0, 0.0], col);
+                if i + 1 < nn {
+                    add(&mut d, id(f, i, j), id(f, i + 1, j), [0.0, 0.0, 1.0], beam);
+                }
+                if j + 1 < nn {
+                    add(&mut d, id(f, i, j), id(f, i, j + 1), [0.0, 0.0, 1.0], beam);
+                }
+            }
+        }
+    }
+    d
+}
