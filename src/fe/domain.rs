@@ -468,6 +468,27 @@ impl Domain {
         result
     }
 
+    /// Sets initial conditions: displacements, velocities and accelerations over the
+    /// equations (fixed DOFs zero), updates the elements and commits. For free
+    /// vibration give a consistent acceleration (M ü₀ = P − C u̇₀ − F(u₀)).
+    pub fn set_initial_state(
+        &mut self,
+        u: &[f64],
+        v: &[f64],
+        a: &[f64],
+    ) -> Result<(), ElementError> {
+        if !self.is_numbered() {
+            self.number_dofs();
+        }
+        let res = self.set_trial_eq(u, Some(v), Some(a));
+        if res.is_ok() {
+            self.commit();
+        } else {
+            self.revert_to_last_commit();
+        }
+        res
+    }
+
     /// Accepts the trial state (nodes and elements).
     pub fn commit(&mut self) {
         self.disp_c.clone_from(&self.disp);
