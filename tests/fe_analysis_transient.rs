@@ -125,7 +125,8 @@ fn scalar_newmark(m: f64, c: f64, k: f64, dt: f64, n: usize, ag: &dyn Fn(f64) ->
 /// Harmonic base acceleration a_g = A sin(Ω t) in X with 5 % Rayleigh damping: the
 /// FE run equals the scalar Newmark recurrence (c = a0 m + a1 k, exact because the
 /// massless DOFs follow statically), and the late-time amplitude equals the exact
-/// steady state |u| = A / √((ω² − Ω²)² + (2ξωΩ)²) within 1 % (Δt = T/100).
+/// steady state |u| = A / √((ω² − Ω²)² + (2ξωΩ)²) within 0.2 % (Δt = T/100;
+/// measured 0.08 %, the Newmark period error).
 #[test]
 fn sdof_harmonic_base_acceleration() {
     let mut d = column(None);

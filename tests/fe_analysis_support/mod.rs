@@ -120,9 +120,9 @@ pub enum FailMode {
     ErrorBeyond(f64),
     /// The resisting force becomes NaN once any |total displacement| exceeds the limit.
     NanBeyond(f64),
-    /// `tangent_stiffness` is `factor` × the true stiffness (Newton fails, the
-    /// initial-stiffness fallback converges).
-    WrongTangent(f64),
+    /// `tangent_stiffness` is NaN (Newton, Krylov-Newton and line search fail; the
+    /// initial-stiffness modified Newton converges).
+    NanTangent,
 }
 
 /// A linear element that fails on purpose.
@@ -170,7 +170,7 @@ impl Element for Failing {
     }
     fn tangent_stiffness(&self) -> Mat12 {
         match self.mode {
-            FailMode::WrongTangent(f) => self.inner.k * f,
+            FailMode::NanTangent => Mat12::repeat(f64::NAN),
             _ => self.inner.k,
         }
     }
