@@ -267,3 +267,53 @@ pub fn grid_frame(
     }
     d
 }
+
+/// Nonlinear axial spring between two nodes along global X: N = k δ + k3 δ³,
+/// δ = ux_j − ux_i (N); tangent k + 3 k3 δ², initial stiffness k. Only the ux DOFs.
+#[derive(Debug, Clone)]
+pub struct CubicSpring {
+    pub tag: i64,
+    pub nodes: [usize; 2],
+    pub k: f64,
+    pub k3: f64,
+    pub delta: f64,
+}
+
+impl Element for CubicSpring {
+    fn tag(&self) -> i64 {
+        self.tag
+    }
+    fn nodes(&self) -> [usize; 2] {
+        self.nodes
+    }
+    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
+        self.delta = disp.total[6] - disp.total[0];
+        Ok(())
+    }
+    fn resisting_force(&self) -> Vec12 {
+        let n = self.k * self.delta + self.k3 * self.delta.powi(3);
+        let mut f = Vec12::zeros();
+        f[0] = -n;
+        f[6] = n;
+        f
+    }
+    fn tangent_stiffness(&self) -> Mat12 {
+        let kt = self.k + 3.0 * self.k3 * self.delta * self.delta;
+        let mut m = Mat12::zeros();
+        m[(0, 0)] = kt;
+        m[(6, 6)] = kt;
+        m[(0, 6)] = -kt;
+        m[(6, 0)] = -kt;
+        m
+    }
+    fn initial_stiffness(&self) -> Mat12 {
+        let mut m = Mat12::zeros();
+        m[(0, 0)] = self.k;
+        m[(6, 6)] = self.k;
+        m[(0, 6)] = -self.k;
+        m[(6, 0)] = -self.k;
+        m
+    }
+    fn commit_state(&mut self) {}
+    fn revert_to_last_commit(&mut self) {}
+}
