@@ -106,3 +106,60 @@ fn static_fallback_chain() {
     load_control(&mut d, &s).unwrap();
     assert!((d.displacement(1)[0] - 0.1).abs() < 1e-11);
 }
+
+/// Displacement control through the limit point of a softening spring
+/// (k3 < 0: N peaks at δ = √(k/(3|k3|))): λ·P_ref = k δ + k3 δ³ at every step, on the
+/// rising and the falling branch, where load control cannot go.
+#[test]
+fn displacement_control_passes_limit_point() {
+    use fem2rbd::fe::analysis::static_analysis::{displacement_control, DisplacementControl};
+    let k3 = -K / (3.0 * 0.2f64.powi(2)); // peak at δ = 0.2
+    let mut d = Domain::new();
+    d.add_node(1, [0.0; 3]).unwrap();
+    d.add_node(2, [1.0, 0.0, 0.0]).unwrap();
+    d.fix(0, [true; 6]).unwrap();
+    d.fix(1, [false, true, true, true, true, true]).unwrap();
+    d.add_element(Box::new(CubicSpring {
+        tag: 1,
+        nodes: [0, 1],
+        k: K,
+        k3,
+        delta: 0.0,
+    }))
+    .unwrap();
+    d.add_nodal_load(1, [10.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+        .unwrap();
+    let s = DisplacementControl {
+        node: 1,
+        dof: 0,
+        increment: 0.01,
+        steps: 30,
+        test: ConvergenceTest {
+            tol: 1e-12,
+            max_iter: 50,
+        },
+        initial_stiffness_fallback: true,
+    };
+    let steps = displacement_control(&mut d, &s).unwrap();
+    let mut peak: f64 = 0.0;
+    for (i, st) in steps.iter().enumerate() {
+        let delta = 0.01 * (i + 1) as f64;
+        let n = K * delta + k3 * delta.powi(3);
+        assert!(
+            (st.load_factor * 10.0 - n).abs() < 1e-8,
+            "step {i}: {} vs {n}",
+            st.load_factor * 10.0
+        );
+        peak = peak.max(st.load_factor * 10.0);
+    }
+    assert!((d.displacement(1)[0] - 0.3).abs() < 1e-12);
+    // Peak N = 2/3 k δ_peak, and the end is on the falling branch.
+    assert!((peak - 2.0 / 3.0 * K * 0.2).abs() < 1e-9, "{peak}");
+    assert!(steps.last().unwrap().load_factor * 10.0 < peak * 0.9);
+    // A DOF that is fixed is an input error, not a panic.
+    let bad = DisplacementControl { dof: 1, ..s };
+    assert!(matches!(
+        displacement_control(&mut d, &bad),
+        Err(AnalysisError::Input(_))
+    ));
+}
