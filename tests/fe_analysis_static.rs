@@ -90,3 +90,28 @@ fn domain_input_errors() {
     assert!(d.set_mass(0, [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0]).is_err());
     assert!(d.fix(7, [true; 6]).is_err());
 }
+
+/// A mechanism (a node held by nothing in Y: zero stiffness) gives a singular tangent:
+/// a reported error naming the step, no panic, the domain unchanged.
+#[test]
+fn singular_tangent_is_an_error() {
+    let p = square(25e9, 0.1);
+    let (mut d, tip) = cantilever(1.0, 2, p, [0.0, 0.0, 1.0]);
+    let free = d.add_node(99, [5.0, 5.0, 5.0]).unwrap();
+    d.add_nodal_load(free, [0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+        .unwrap();
+    d.add_nodal_load(tip, [0.0, 0.0, -1.0, 0.0, 0.0, 0.0])
+        .unwrap();
+    let err = load_control(
+        &mut d,
+        &LoadControl {
+            steps: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    let msg = err.to_string();
+    assert!(msg.contains("step 1") && msg.contains("singular"), "{msg}");
+    assert_eq!(d.displacement(tip), [0.0; 6]);
+    assert_eq!(d.load_factor(), 0.0);
+}
