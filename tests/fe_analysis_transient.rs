@@ -142,6 +142,7 @@ fn sdof_harmonic_base_acceleration() {
     s.record = RecordSettings {
         every: 1,
         nodes: Some(vec![1]),
+        element_damage: false,
     };
     let res = run(&mut d, Some(damping), &ground, &s);
     assert_eq!(res.stop, StopReason::Completed);

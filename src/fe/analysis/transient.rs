@@ -27,7 +27,7 @@ use super::algorithm::{
 use super::rayleigh::RayleighDamping;
 use super::AnalysisError;
 use crate::fe::domain::{Domain, NDF};
-use crate::fe::element::ElementError;
+use crate::fe::element::{ElementDamage, ElementError};
 use crate::fe::linalg::{SparsePattern, StiffnessKind};
 
 /// Which nodal results are kept, and how often.
@@ -38,6 +38,8 @@ pub struct RecordSettings {
     pub every: usize,
     /// Node indices to record; `None` = all nodes.
     pub nodes: Option<Vec<usize>>,
+    /// Also record every element's [`ElementDamage`] flags at each record.
+    pub element_damage: bool,
 }
 
 /// Transient analysis settings. Defaults are the frame3 reference runs.
@@ -91,6 +93,7 @@ impl Default for TransientSettings {
             record: RecordSettings {
                 every: 1,
                 nodes: None,
+                element_damage: false,
             },
         }
     }
@@ -153,6 +156,10 @@ pub struct History {
     pub vel: Vec<Vec<[f64; NDF]>>,
     /// Per record, per node: acceleration (m/s², rad/s²).
     pub acc: Vec<Vec<[f64; NDF]>>,
+    /// Per record, per element (domain order): damage flags; empty unless
+    /// [`RecordSettings::element_damage`].
+    pub damage: Vec<Vec<ElementDamage>>,
+    record_damage: bool,
 }
 
 impl History {
