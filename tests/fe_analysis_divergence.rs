@@ -160,11 +160,13 @@ fn nan_tangent_is_rescued_by_initial_stiffness_fallback() {
 #[test]
 fn observer_stop() {
     let mut d = column(None);
-    let s = TransientSettings {
+    let mut s = TransientSettings {
         dt: 0.01,
         t_end: 3.0,
         ..Default::default()
     };
+    s.record.every = 7;
+    s.record.element_damage = true;
     let res = run_transient(&mut d, None, &ground, &s, &mut |info, dom| {
         if dom.displacement(1)[0].abs() > 0.01 || info.step == 1000 {
             StepControl::Stop
@@ -178,4 +180,14 @@ fn observer_stop() {
     };
     assert!(d.displacement(1)[0].abs() > 0.01);
     assert!((time - res.steps as f64 * 0.01).abs() < 1e-9 && time < 3.0);
+    // Records: t = 0, every 7th step, and the final state.
+    let expect = 1 + res.steps / 7 + usize::from(res.steps % 7 != 0);
+    assert_eq!(res.history.time.len(), expect);
+    assert_eq!(res.history.damage.len(), expect);
+    assert!(res
+        .history
+        .damage
+        .iter()
+        .all(|r| r.len() == 1 && !r[0].yielded));
+    assert_eq!(*res.history.time.last().unwrap(), time);
 }
