@@ -174,6 +174,10 @@ impl History {
             .push(self.nodes.iter().map(|&n| domain.velocity(n)).collect());
         self.acc
             .push(self.nodes.iter().map(|&n| domain.acceleration(n)).collect());
+        if self.record_damage {
+            self.damage
+                .push(domain.elements().iter().map(|e| e.damage()).collect());
+        }
     }
 }
 
@@ -463,6 +467,7 @@ pub fn run_transient(
     let mut integrator = Newmark::new(domain, damping, settings.gamma, settings.beta)?;
     let mut history = History {
         nodes,
+        record_damage: settings.record.element_damage,
         ..Default::default()
     };
     history.push(domain);
