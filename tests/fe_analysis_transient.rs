@@ -179,8 +179,7 @@ fn rayleigh_log_decrement_at_anchor_periods() {
         d.fix(0, [true; 6]).unwrap();
         for f in 1..3 {
             d.fix(f, [false, false, false, true, true, true]).unwrap();
-            d.set_mass(f as usize, [2000.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-                .unwrap();
+            d.set_mass(f, [2000.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
         }
         for f in 0..2usize {
             let el = ElasticFrame::new(f as i64, &d, f, f + 1, [1.0, 0.0, 0.0], square(30e9, 0.3));

@@ -228,7 +228,7 @@ pub fn grid_frame(
 ) -> Domain {
     let mut d = Domain::new();
     let nn = bays + 1;
-    let id = |f: usize, i: usize, j: usize| (f * nn * nn + i * nn + j) as usize;
+    let id = |f: usize, i: usize, j: usize| f * nn * nn + i * nn + j;
     for f in 0..=stories {
         for i in 0..nn {
             for j in 0..nn {

@@ -238,7 +238,7 @@ fn small_generalized(kr: &DMatrix<f64>, mr: &DMatrix<f64>) -> Option<(Vec<f64>, 
     let mr = (mr + mr.transpose()) * 0.5;
     let me = SymmetricEigen::new(mr);
     let dmax = me.eigenvalues.max();
-    if !(dmax > 0.0) {
+    if dmax.is_nan() || dmax <= 0.0 {
         return None;
     }
     let keep: Vec<usize> = (0..me.eigenvalues.len())

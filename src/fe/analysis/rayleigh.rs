@@ -19,7 +19,13 @@ pub struct RayleighDamping {
 impl RayleighDamping {
     /// Ratio `xi` (e.g. 0.05) at the two periods `t_i`, `t_j` (s, positive, distinct).
     pub fn from_periods(xi: f64, t_i: f64, t_j: f64) -> Result<Self, String> {
-        if !(xi >= 0.0 && xi.is_finite()) || !(t_i > 0.0 && t_j > 0.0) || t_i == t_j {
+        let valid = xi >= 0.0
+            && xi.is_finite()
+            && t_i > 0.0
+            && t_j > 0.0
+            && t_i.is_finite()
+            && t_j.is_finite();
+        if !valid || t_i == t_j {
             return Err(format!(
                 "Rayleigh damping: need ξ ≥ 0 and two distinct positive periods (ξ = {xi}, T = {t_i}, {t_j})"
             ));
