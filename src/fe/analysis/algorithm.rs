@@ -2,7 +2,7 @@
 //! displacement-increment convergence test (OpenSees `NormDispIncr`: ‖Δu‖₂ ≤ tol, over
 //! all free DOFs, m and rad mixed).
 //!
-//! A step is a nonlinear problem R(u) = 0 in the equation unknowns u; [`StepProblem`]
+//! A step is a nonlinear problem R(u) = 0 in the equation unknowns u; `StepProblem`
 //! supplies the residual, the effective tangent and the update. Every failure — element
 //! error, singular or non-finite matrix, NaN in a residual, no convergence — is an
 //! [`IterationFailure`], never a panic.
