@@ -18,9 +18,10 @@ pub enum Algorithm {
     Newton,
     /// Modified Newton with the initial stiffness (OpenSees `ModifiedNewton -initial`).
     ModifiedNewtonInitial,
-    /// Krylov-subspace accelerated modified Newton (Scott & Fenves 2003; OpenSees
-    /// `KrylovNewton`): tangent formed at the start of the step, corrections
-    /// accelerated by a least-squares fit over the last `max_dim` corrections.
+    /// Krylov-subspace accelerated modified Newton (Carlson & Miller 1998, Scott &
+    /// Fenves 2003; OpenSees `KrylovNewton`): tangent formed at the start of the step,
+    /// corrections accelerated by a least-squares fit over the previous corrections;
+    /// when more than `max_dim` are held the subspace restarts with a new tangent.
     KrylovNewton {
         /// Subspace dimension before restart (OpenSees default 3).
         max_dim: usize,
@@ -170,6 +171,15 @@ pub(crate) fn solve_step(
         ) {
             ws.factor(problem, domain, StiffnessKind::Tangent)?;
         }
+        if let Algorithm::KrylovNewton { max_dim } = algorithm {
+            // Restart (OpenSees): when the subspace exceeds its dimension, clear it and
+            // re-form the tangent at the current state.
+            if v_sub.len() > max_dim {
+                v_sub.clear();
+                av_sub.clear();
+                ws.factor(problem, domain, StiffnessKind::Tangent)?;
+            }
+        }
         ws.du.copy_from_slice(&ws.r);
         ws.lu.solve(&mut ws.du)?;
         let step_norm = match algorithm {
@@ -177,16 +187,12 @@ pub(crate) fn solve_step(
                 problem.apply(domain, &ws.du)?;
                 norm(&ws.du)
             }
-            Algorithm::KrylovNewton { max_dim } => {
+            Algorithm::KrylovNewton { .. } => {
                 let y = ws.du.clone();
                 if let Some(last_av) = av_sub.last_mut() {
                     last_av.iter_mut().zip(&y).for_each(|(a, b)| *a -= b);
                 }
                 let v = krylov_correction(&v_sub, &av_sub, &y);
-                if v_sub.len() >= max_dim.max(1) {
-                    v_sub.clear();
-                    av_sub.clear();
-                }
                 problem.apply(domain, &v)?;
                 let n = norm(&v);
                 v_sub.push(v);
