@@ -2,7 +2,9 @@
 //! materials, fiber sections, beam-column elements, geometric transformations, and
 //! static / modal / transient analyses on sparse linear algebra (faer).
 pub mod analysis;
+pub mod domain;
 pub mod element;
+pub mod linalg;
 pub mod material;
 pub mod section;
 pub mod transform;

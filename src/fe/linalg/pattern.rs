@@ -1,0 +1,168 @@
+//! Compressed-sparse-column pattern of the global (symmetric-structure) matrices,
+//! computed once from the element connectivity, with per-element scatter maps so
+//! that assembly only adds values.
+
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
+
+use crate::fe::domain::Domain;
+
+/// Which element stiffness to assemble.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StiffnessKind {
+    /// [`crate::fe::element::Element::tangent_stiffness`] of the trial state.
+    Tangent,
+    /// [`crate::fe::element::Element::initial_stiffness`].
+    Initial,
+}
+
+const NONE: usize = usize::MAX;
+
+/// Pattern of the `neq × neq` global matrices (both triangles and the full diagonal
+/// stored) and where each element entry lands in the value array.
+#[derive(Debug, Clone)]
+pub struct SparsePattern {
+    symbolic: SymbolicSparseColMat<usize>,
+    /// Per element, 144 value positions (row-major over the 12×12 element matrix),
+    /// `NONE` where a row or column is a fixed DOF.
+    element_slots: Vec<[usize; 144]>,
+    /// Value position of each diagonal entry.
+    diagonal_slots: Vec<usize>,
+}
+
+impl SparsePattern {
+    /// Builds the pattern for a numbered domain (numbers it if needed).
+    pub fn new(domain: &mut Domain) -> Self {
+        if !domain.is_numbered() {
+            domain.number_dofs();
+        }
+        let n = domain.num_equations();
+        let mut cols: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
+        let eqs: Vec<[Option<usize>; 12]> = (0..domain.elements().len())
+            .map(|e| domain.element_equations(e))
+            .collect();
+        for el in &eqs {
+            for c in el.iter().flatten() {
+                for r in el.iter().flatten() {
+                    cols[*c].push(*r);
+                }
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for c in &mut cols {
+            c.sort_unstable();
+            c.dedup();
+            row_idx.extend_from_slice(c);
+            col_ptr.push(row_idx.len());
+        }
+        let slot = |r: usize, c: usize| -> usize {
+            let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+            col_ptr[c] + rows.binary_search(&r).expect("entry in pattern")
+        };
+        let element_slots = eqs
+            .iter()
+            .map(|el| {
+                let mut s = [NONE; 144];
+                for (i, r) in el.iter().enumerate() {
+                    for (j, c) in el.iter().enumerate() {
+                        if let (Some(r), Some(c)) = (r, c) {
+                            s[12 * i + j] = slot(*r, *c);
+                        }
+                    }
+                }
+                s
+            })
+            .collect();
+        let diagonal_slots = (0..n).map(|i| slot(i, i)).collect();
+        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        Self {
+            symbolic,
+            element_slots,
+            diagonal_slots,
+        }
+    }
+
+    /// Matrix dimension (number of equations).
+    pub fn dim(&self) -> usize {
+        self.symbolic.nrows()
+    }
+
+    /// Number of stored entries (length of a value array).
+    pub fn nnz(&self) -> usize {
+        self.symbolic.row_idx().len()
+    }
+
+    /// A zeroed value array.
+    pub fn zeros(&self) -> Vec<f64> {
+        vec![0.0; self.nnz()]
+    }
+
+    /// The symbolic structure.
+    pub fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.symbolic.as_ref()
+    }
+
+    /// A faer view of a value array on this pattern.
+    pub fn as_mat<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
+        SparseColMatRef::new(self.symbolic.as_ref(), values)
+    }
+
+    /// `values += factor · Σ_e K_e` (tangent or initial element stiffness).
+    pub fn add_stiffness(
+        &self,
+        domain: &Domain,
+        kind: StiffnessKind,
+        factor: f64,
+        values: &mut [f64],
+    ) {
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            let k = match kind {
+                StiffnessKind::Tangent => el.tangent_stiffness(),
+                StiffnessKind::Initial => el.initial_stiffness(),
+            };
+            for i in 0..12 {
+                for j in 0..12 {
+                    let s = slots[12 * i + j];
+                    if s != NONE {
+                        values[s] += factor * k[(i, j)];
+                    }
+                }
+            }
+        }
+    }
+
+    /// `values += factor · diag(d)`.
+    pub fn add_diagonal(&self, d: &[f64], factor: f64, values: &mut [f64]) {
+        for (s, x) in self.diagonal_slots.iter().zip(d) {
+            values[*s] += factor * x;
+        }
+    }
+
+    /// `y = A x` for a value array `a` on this pattern.
+    pub fn mul_vec(&self, a: &[f64], x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        let cp = self.symbolic.col_ptr();
+        let ri = self.symbolic.row_idx();
+        for c in 0..self.dim() {
+            let xc = x[c];
+            for p in cp[c]..cp[c + 1] {
+                y[ri[p]] += a[p] * xc;
+            }
+        }
+    }
+
+    /// Dense copy (row-major, `n × n`), for small problems and tests.
+    pub fn to_dense(&self, a: &[f64]) -> nalgebra::DMatrix<f64> {
+        let n = self.dim();
+        let mut m = nalgebra::DMatrix::zeros(n, n);
+        let cp = self.symbolic.col_ptr();
+        let ri = self.symbolic.row_idx();
+        for c in 0..n {
+            for p in cp[c]..cp[c + 1] {
+                m[(ri[p], c)] += a[p];
+            }
+        }
+        m
+    }
+}
