@@ -232,7 +232,15 @@ impl Model {
                 u += &du;
                 du_last = du.clone();
                 let scale = u.norm().max(1e-12);
-                if du.norm() <= 1e-12 * scale {
+                if std::env::var("FE_DEBUG").is_ok() {
+                    eprintln!(
+                        "step {s} it {it} du {:e} u {:e} resid {:e}",
+                        du.norm(),
+                        scale,
+                        rf.norm()
+                    );
+                }
+                if du.norm() <= 1e-10 * scale {
                     // Final state determination at the converged displacements.
                     let zero = DVector::zeros(n);
                     self.assemble(&u, &zero)?;
