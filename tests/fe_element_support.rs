@@ -127,6 +127,100 @@ impl UniaxialMaterial for ElasticPerfectlyPlastic {
     }
 }
 
+/// Bilinear material with linear kinematic hardening (hardening modulus ratio `b`):
+/// 1D return mapping, H = bE/(1 − b) so the elastoplastic tangent is bE. For the
+/// monotonic tests here it is the law of OpenSees `Steel01` without isotropic hardening.
+#[derive(Debug, Clone)]
+pub struct BilinearKinematic {
+    pub e: f64,
+    pub fy: f64,
+    pub b: f64,
+    eps: f64,
+    sig: f64,
+    tan: f64,
+    ep: f64,
+    alpha: f64,
+    ep_c: f64,
+    alpha_c: f64,
+    eps_c: f64,
+    yielded_c: bool,
+}
+
+impl BilinearKinematic {
+    pub fn new(e: f64, fy: f64, b: f64) -> Self {
+        Self {
+            e,
+            fy,
+            b,
+            eps: 0.0,
+            sig: 0.0,
+            tan: e,
+            ep: 0.0,
+            alpha: 0.0,
+            ep_c: 0.0,
+            alpha_c: 0.0,
+            eps_c: 0.0,
+            yielded_c: false,
+        }
+    }
+}
+
+impl UniaxialMaterial for BilinearKinematic {
+    fn set_trial_strain(&mut self, strain: f64) {
+        self.eps = strain;
+        let h = self.b * self.e / (1.0 - self.b);
+        let trial = self.e * (strain - self.ep_c);
+        let xi = trial - self.alpha_c;
+        let f = xi.abs() - self.fy;
+        if f > 0.0 {
+            let dg = f / (self.e + h);
+            self.ep = self.ep_c + dg * xi.signum();
+            self.alpha = self.alpha_c + h * dg * xi.signum();
+            self.sig = self.e * (strain - self.ep);
+            self.tan = self.e * h / (self.e + h);
+        } else {
+            self.ep = self.ep_c;
+            self.alpha = self.alpha_c;
+            self.sig = trial;
+            self.tan = self.e;
+        }
+    }
+    fn strain(&self) -> f64 {
+        self.eps
+    }
+    fn stress(&self) -> f64 {
+        self.sig
+    }
+    fn tangent(&self) -> f64 {
+        self.tan
+    }
+    fn initial_tangent(&self) -> f64 {
+        self.e
+    }
+    fn commit_state(&mut self) {
+        self.ep_c = self.ep;
+        self.alpha_c = self.alpha;
+        self.eps_c = self.eps;
+        self.yielded_c |= self.tan < self.e;
+    }
+    fn revert_to_last_commit(&mut self) {
+        let eps = self.eps_c;
+        self.set_trial_strain(eps);
+    }
+    fn revert_to_start(&mut self) {
+        *self = Self::new(self.e, self.fy, self.b);
+    }
+    fn boxed_clone(&self) -> Box<dyn UniaxialMaterial> {
+        Box::new(self.clone())
+    }
+    fn damage(&self) -> MaterialDamage {
+        MaterialDamage {
+            yielded: self.yielded_c,
+            ruptured: false,
+        }
+    }
+}
+
 /// Fibers of a b × h rectangle (local y across b, local z across h), `ny × nz` cells.
 pub fn rectangle_fibers(
     b: f64,
