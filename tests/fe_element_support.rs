@@ -59,6 +59,8 @@ pub struct ElasticPerfectlyPlastic {
     ep: f64,
     ep_c: f64,
     eps_c: f64,
+    sig_c: f64,
+    tan_c: f64,
     yielded_c: bool,
 }
 
@@ -73,6 +75,8 @@ impl ElasticPerfectlyPlastic {
             ep: 0.0,
             ep_c: 0.0,
             eps_c: 0.0,
+            sig_c: 0.0,
+            tan_c: e,
             yielded_c: false,
         }
     }
@@ -107,11 +111,15 @@ impl UniaxialMaterial for ElasticPerfectlyPlastic {
     fn commit_state(&mut self) {
         self.ep_c = self.ep;
         self.eps_c = self.eps;
+        self.sig_c = self.sig;
+        self.tan_c = self.tan;
         self.yielded_c |= self.tan == 0.0;
     }
     fn revert_to_last_commit(&mut self) {
-        let eps = self.eps_c;
-        self.set_trial_strain(eps);
+        self.eps = self.eps_c;
+        self.ep = self.ep_c;
+        self.sig = self.sig_c;
+        self.tan = self.tan_c;
     }
     fn revert_to_start(&mut self) {
         *self = Self::new(self.e, self.fy);
@@ -143,6 +151,8 @@ pub struct BilinearKinematic {
     ep_c: f64,
     alpha_c: f64,
     eps_c: f64,
+    sig_c: f64,
+    tan_c: f64,
     yielded_c: bool,
 }
 
@@ -160,6 +170,8 @@ impl BilinearKinematic {
             ep_c: 0.0,
             alpha_c: 0.0,
             eps_c: 0.0,
+            sig_c: 0.0,
+            tan_c: e,
             yielded_c: false,
         }
     }
@@ -201,11 +213,16 @@ impl UniaxialMaterial for BilinearKinematic {
         self.ep_c = self.ep;
         self.alpha_c = self.alpha;
         self.eps_c = self.eps;
+        self.sig_c = self.sig;
+        self.tan_c = self.tan;
         self.yielded_c |= self.tan < self.e;
     }
     fn revert_to_last_commit(&mut self) {
-        let eps = self.eps_c;
-        self.set_trial_strain(eps);
+        self.eps = self.eps_c;
+        self.ep = self.ep_c;
+        self.alpha = self.alpha_c;
+        self.sig = self.sig_c;
+        self.tan = self.tan_c;
     }
     fn revert_to_start(&mut self) {
         *self = Self::new(self.e, self.fy, self.b);

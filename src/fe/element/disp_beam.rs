@@ -82,12 +82,19 @@ impl DispBeam3d {
     }
 
     fn state_determination(&mut self) {
+        for (i, sec) in self.sections.iter_mut().enumerate() {
+            sec.set_trial_deformation(&(self.b[i] * self.v));
+        }
+        self.integrate();
+    }
+
+    /// Basic forces and stiffness from the sections' current states.
+    fn integrate(&mut self) {
         let mut q = Vector6::zeros();
         let mut kb = Mat6::zeros();
-        for (i, sec) in self.sections.iter_mut().enumerate() {
+        for (i, sec) in self.sections.iter().enumerate() {
             let b = &self.b[i];
             let wl = self.ws[i] * self.l;
-            sec.set_trial_deformation(&(b * self.v));
             q += b.transpose() * sec.resultant() * wl;
             kb += b.transpose() * sec.tangent() * b * wl;
         }
@@ -148,7 +155,7 @@ impl Element for DispBeam3d {
             s.revert_to_last_commit();
         }
         self.v = self.transf.basic_deformations();
-        self.state_determination();
+        self.integrate();
     }
     fn damage(&self) -> ElementDamage {
         damage_of(&self.sections)

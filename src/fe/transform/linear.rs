@@ -24,6 +24,8 @@ pub(crate) struct SmallDisp {
     pub tlg: Mat12,
     /// Trial total global displacements.
     pub u: Vec12,
+    /// Committed total global displacements.
+    pub u_c: Vec12,
 }
 
 impl SmallDisp {
@@ -43,6 +45,7 @@ impl SmallDisp {
             tbg,
             tlg,
             u: Vec12::zeros(),
+            u_c: Vec12::zeros(),
         })
     }
 
@@ -52,6 +55,14 @@ impl SmallDisp {
         }
         self.u = *total;
         Ok(())
+    }
+
+    pub fn commit(&mut self) {
+        self.u_c = self.u;
+    }
+
+    pub fn revert(&mut self) {
+        self.u = self.u_c;
     }
 
     pub fn deformed_frame(&self) -> DeformedFrame {
@@ -116,8 +127,12 @@ impl CrdTransf for LinearTransf {
     fn initial_global_stiffness(&self, kb0: &Mat6) -> Mat12 {
         self.core.tbg.transpose() * kb0 * self.core.tbg
     }
-    fn commit(&mut self) {}
-    fn revert(&mut self) {}
+    fn commit(&mut self) {
+        self.core.commit();
+    }
+    fn revert(&mut self) {
+        self.core.revert();
+    }
     fn deformed_frame(&self) -> DeformedFrame {
         self.core.deformed_frame()
     }

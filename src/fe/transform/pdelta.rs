@@ -65,8 +65,12 @@ impl CrdTransf for PDeltaTransf {
     fn initial_global_stiffness(&self, kb0: &Mat6) -> Mat12 {
         self.core.tbg.transpose() * kb0 * self.core.tbg
     }
-    fn commit(&mut self) {}
-    fn revert(&mut self) {}
+    fn commit(&mut self) {
+        self.core.commit();
+    }
+    fn revert(&mut self) {
+        self.core.revert();
+    }
     fn deformed_frame(&self) -> DeformedFrame {
         self.core.deformed_frame()
     }
