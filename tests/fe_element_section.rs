@@ -32,14 +32,15 @@ fn elastic_fiber_section_stiffness_is_sum_of_e_a_y2() {
     assert!((k[(2, 2)] / eiy - 1.0).abs() < 1e-12);
     assert!(k[(0, 1)].abs() < 1e-6 * ea && k[(1, 2)].abs() < 1e-6 * eiz);
     assert_eq!(k[(3, 3)], gj);
-    // An eccentric fiber couples axial force and bending with the OpenSees signs.
+    // An eccentric fiber couples axial force and bending with the OpenSees signs
+    // (with `-noCentroid`; by default a single fiber is its own centroid).
     let one = vec![(
         0.1,
         -0.05,
         2e-4,
         Box::new(LinearElastic::new(e)) as Box<dyn fem2rbd::fe::material::UniaxialMaterial>,
     )];
-    let mut s1 = FiberSection::new(one, gj).unwrap();
+    let mut s1 = FiberSection::with_centroid_option(one, gj, false).unwrap();
     let k1 = s1.initial_tangent();
     assert!((k1[(0, 1)] - (-0.1 * e * 2e-4)).abs() < 1e-3);
     assert!((k1[(0, 2)] - (-0.05 * e * 2e-4)).abs() < 1e-3);
@@ -99,4 +100,33 @@ fn fully_plastic_moment_of_rectangle_is_fy_b_h2_over_4() {
     sz.set_trial_deformation(&Vector4::new(0.0, 1000.0 * ky, 0.0, 0.0));
     let mz = sz.resultant()[1];
     assert!((mz / mp - 1.0).abs() < 1e-5, "Mz = {mz}");
+}
+
+#[test]
+fn fiber_coordinates_are_measured_from_the_area_centroid() {
+    // A T-like section: flange 0.4 × 0.1 at z = 0.25, web 0.1 × 0.4 at z = 0 (as given).
+    let e = 30e9;
+    let m = LinearElastic::new(e);
+    let mut fibers = rectangle_fibers(0.4, 0.1, 8, 2, &m);
+    for f in &mut fibers {
+        f.1 += 0.25;
+    }
+    fibers.extend(rectangle_fibers(0.1, 0.4, 2, 8, &m));
+    let s = FiberSection::new(fibers, 1.0).unwrap();
+    let zbar = (0.04 * 0.25) / 0.08;
+    assert!((s.centroid().1 - zbar).abs() < 1e-15 && s.centroid().0.abs() < 1e-15);
+    let k = s.initial_tangent();
+    // No axial-bending coupling about the centroid; EIy by the parallel-axis theorem
+    // with the mid-point fiber sums.
+    assert!(k[(0, 2)].abs() < 1e-6 * k[(0, 0)]);
+    let iy = 0.4 * 0.1f64.powi(3) / 12.0 * (1.0 - 1.0 / 4.0)
+        + 0.04 * (0.25 - zbar).powi(2)
+        + 0.1 * 0.4f64.powi(3) / 12.0 * (1.0 - 1.0 / 64.0)
+        + 0.04 * zbar * zbar;
+    assert!(
+        (k[(2, 2)] / (e * iy) - 1.0).abs() < 1e-12,
+        "{} vs {}",
+        k[(2, 2)],
+        e * iy
+    );
 }

@@ -317,7 +317,8 @@ impl Model {
     }
 
     /// Applies `load` (full vector, N / N·m) in `steps` equal load increments with Newton
-    /// iterations; returns the Newton iterations per step.
+    /// iterations until ‖Δu‖₂ < 1e-12 (OpenSees `NormDispIncr 1e-12`, at most 100
+    /// iterations); returns the Newton iterations per step.
     pub fn solve(&mut self, load: &DVector<f64>, steps: usize) -> Result<Vec<usize>, String> {
         let n = 6 * self.n_nodes;
         let free: Vec<usize> = (0..n).filter(|d| !self.fixed.contains(d)).collect();
@@ -342,7 +343,8 @@ impl Model {
                 }
                 u += &du;
                 du_last = du.clone();
-                let scale = u.norm().max(1e-12);
+                // OpenSees `test NormDispIncr 1e-12`: 2-norm of the increment (m, rad).
+                let scale = u.norm();
                 if std::env::var("FE_DEBUG").is_ok() {
                     eprintln!(
                         "step {s} it {it} du {:e} u {:e} resid {:e}",
@@ -351,7 +353,7 @@ impl Model {
                         rf.norm()
                     );
                 }
-                if du.norm() <= 1e-10 * scale {
+                if du.norm() < 1e-12 {
                     // Final state determination at the converged displacements.
                     let zero = DVector::zeros(n);
                     self.assemble(&u, &zero)?;

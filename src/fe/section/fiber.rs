@@ -7,8 +7,10 @@
 //! - resultants `[N, Mz, My] = Σ σ A a`, `T = GJ ϑ`;
 //! - tangent `k = Σ E_t A a aᵀ` (3 × 3), `k_TT = GJ`.
 //!
-//! The section's coordinates are taken as given (OpenSees 3.x by default does not shift
-//! to the centroid for 3D fiber sections, and neither do we).
+//! Like OpenSees 3.7 `FiberSection3d` (default; `-noCentroid` turns it off), the fiber
+//! coordinates are measured from the section's area centroid
+//! `(ȳ, z̄) = (Σ A y / Σ A, Σ A z / Σ A)` — geometric area, not modulus-weighted. For
+//! doubly symmetric sections this changes nothing.
 
 use super::{Section, SectionDamage};
 use crate::fe::material::UniaxialMaterial;
@@ -64,7 +66,10 @@ pub enum SectionError {
 /// Fiber section with elastic torsion.
 #[derive(Debug, Clone)]
 pub struct FiberSection {
+    /// Fibers with coordinates relative to the centroid.
     fibers: Vec<Fiber>,
+    /// Area centroid `(ȳ, z̄)` of the input coordinates (m), or zero with `-noCentroid`.
+    centroid: (f64, f64),
     gj: f64,
     e: Vector4<f64>,
     e_c: Vector4<f64>,
@@ -75,11 +80,21 @@ pub struct FiberSection {
 
 impl FiberSection {
     /// A fiber section from `(y, z, area, material)` fibers and the torsional rigidity
-    /// `gj` (N·m²). Each fiber gets its own material; the materials must be in their
-    /// virgin state.
+    /// `gj` (N·m²), coordinates measured from the area centroid (OpenSees' default).
+    /// Each fiber gets its own material; the materials must be in their virgin state.
     pub fn new(
         fibers: Vec<(f64, f64, f64, Box<dyn UniaxialMaterial>)>,
         gj: f64,
+    ) -> Result<Self, SectionError> {
+        Self::with_centroid_option(fibers, gj, true)
+    }
+
+    /// As [`new`](Self::new); `compute_centroid = false` is OpenSees' `-noCentroid`
+    /// (coordinates taken as given).
+    pub fn with_centroid_option(
+        fibers: Vec<(f64, f64, f64, Box<dyn UniaxialMaterial>)>,
+        gj: f64,
+        compute_centroid: bool,
     ) -> Result<Self, SectionError> {
         if fibers.is_empty() {
             return Err(SectionError::Empty);
@@ -99,8 +114,21 @@ impl FiberSection {
                 material,
             });
         }
+        let mut centroid = (0.0, 0.0);
+        if compute_centroid {
+            let a: f64 = out.iter().map(|f| f.area).sum();
+            centroid = (
+                out.iter().map(|f| f.y * f.area).sum::<f64>() / a,
+                out.iter().map(|f| f.z * f.area).sum::<f64>() / a,
+            );
+            for f in &mut out {
+                f.y -= centroid.0;
+                f.z -= centroid.1;
+            }
+        }
         let mut s = Self {
             fibers: out,
+            centroid,
             gj,
             e: Vector4::zeros(),
             e_c: Vector4::zeros(),
@@ -113,7 +141,12 @@ impl FiberSection {
         Ok(s)
     }
 
-    /// The fibers (read-only).
+    /// Area centroid `(ȳ, z̄)` of the input fiber coordinates (m); zero with `-noCentroid`.
+    pub fn centroid(&self) -> (f64, f64) {
+        self.centroid
+    }
+
+    /// The fibers (read-only; coordinates relative to the centroid).
     pub fn fibers(&self) -> &[Fiber] {
         &self.fibers
     }
