@@ -134,3 +134,13 @@ fn force_based_element_reports_failure_beyond_capacity() {
     el.revert_to_last_commit();
     assert!((el.resisting_force() - f).norm() < 1e-9 * f.norm());
 }
+
+#[test]
+fn beam_column_converts_to_plain_element() {
+    let el = element(forms()[1], TransformKind::PDelta);
+    let k = el.initial_stiffness();
+    let plain: Box<dyn fem2rbd::fe::element::Element> = el.into_element();
+    assert_eq!(plain.tag(), 7);
+    assert_eq!(plain.nodes(), [0, 1]);
+    assert_eq!(plain.initial_stiffness(), k);
+}

@@ -37,6 +37,8 @@ pub trait BeamColumn: Element {
     /// Current node positions and local axes ([`DeformedFrame::centroid`] gives the
     /// centroid, `axes` the rotation matrix whose columns are local x, y, z).
     fn deformed_frame(&self) -> DeformedFrame;
+    /// The same element as a plain [`Element`] (for a domain that stores `Box<dyn Element>`).
+    fn into_element(self: Box<Self>) -> Box<dyn Element>;
 }
 
 /// Element damage from section damages.

@@ -175,4 +175,7 @@ impl BeamColumn for DispBeam3d {
     fn deformed_frame(&self) -> DeformedFrame {
         self.transf.deformed_frame()
     }
+    fn into_element(self: Box<Self>) -> Box<dyn Element> {
+        self
+    }
 }

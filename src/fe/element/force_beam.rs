@@ -122,7 +122,12 @@ impl ForceBeam3d {
                 "number of integration points {n_ip} must be 2..=20"
             )));
         }
-        if opts.max_iter == 0 || !(opts.tol > 0.0) || !(opts.subdivide_factor >= 1.0) {
+        if opts.max_iter == 0
+            || opts.tol.is_nan()
+            || opts.tol <= 0.0
+            || opts.subdivide_factor.is_nan()
+            || opts.subdivide_factor < 1.0
+        {
             return Err(err(format!("invalid element iteration options {opts:?}")));
         }
         let (xs, ws) = gauss_lobatto(n_ip);
@@ -326,5 +331,8 @@ impl BeamColumn for ForceBeam3d {
     }
     fn deformed_frame(&self) -> DeformedFrame {
         self.transf.deformed_frame()
+    }
+    fn into_element(self: Box<Self>) -> Box<dyn Element> {
+        self
     }
 }

@@ -54,7 +54,7 @@ pub trait Section: std::fmt::Debug + Send {
 pub fn flexibility(k: &Matrix4<f64>) -> Option<Matrix4<f64>> {
     let kb = k.fixed_view::<3, 3>(0, 0).into_owned();
     let fb = kb.try_inverse()?;
-    if !(k[(3, 3)] != 0.0) || fb.iter().any(|x| !x.is_finite()) {
+    if k[(3, 3)] == 0.0 || !k[(3, 3)].is_finite() || fb.iter().any(|x| !x.is_finite()) {
         return None;
     }
     let mut f = Matrix4::zeros();

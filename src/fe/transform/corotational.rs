@@ -159,7 +159,7 @@ impl CorotTransf {
         let xji = self.xj - self.xi;
         let dx = xji + dji;
         let ln = dx.norm();
-        if !(ln > 0.0) {
+        if ln.is_nan() || ln <= 0.0 {
             return Err(TransformError::ZeroDeformedLength);
         }
         let e1 = dx / ln;

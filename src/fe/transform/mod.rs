@@ -134,13 +134,13 @@ pub fn local_axes(
 ) -> Result<(Matrix3<f64>, f64), TransformError> {
     let dx = xj - xi;
     let l = dx.norm();
-    if !(l > 0.0) || !l.is_finite() {
+    if !l.is_finite() || l <= 0.0 {
         return Err(TransformError::ZeroLength);
     }
     let x = dx / l;
     let y = vecxz.cross(&x);
     let yn = y.norm();
-    if !(yn > 1e-12 * vecxz.norm()) || !(yn > 0.0) {
+    if !yn.is_finite() || yn <= 1e-12 * vecxz.norm() || yn <= 0.0 {
         return Err(TransformError::VecxzParallel([vecxz.x, vecxz.y, vecxz.z]));
     }
     let y = y / yn;
