@@ -77,7 +77,15 @@ fn props() -> ElasticProps {
     }
 }
 
-fn run_opensees(case: &Case, nodes: &[Vector3<f64>], vecxz: Vector3<f64>) -> Vec<[f64; 6]> {
+/// Runs the case in OpenSees; `lambdas` (total load factors per step) replaces the
+/// `steps` equal increments when not empty. Returns the final node displacements and
+/// the tip displacements after each step.
+fn run_opensees(
+    case: &Case,
+    nodes: &[Vector3<f64>],
+    vecxz: Vector3<f64>,
+    lambdas: &[f64],
+) -> (Vec<[f64; 6]>, Vec<[f64; 6]>) {
     let p = props();
     let fib: Vec<[f64; 3]> = fibers(false, case.asym)
         .iter()
@@ -108,6 +116,7 @@ fn run_opensees(case: &Case, nodes: &[Vector3<f64>], vecxz: Vector3<f64>) -> Vec
         "elements": elements,
         "loads": [[case.n_el, case.load]],
         "steps": case.steps,
+        "lambdas": lambdas,
     });
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("case.json");
@@ -134,23 +143,33 @@ fn run_opensees(case: &Case, nodes: &[Vector3<f64>], vecxz: Vector3<f64>) -> Vec
         .find(|l| l.starts_with('{'))
         .expect("JSON output");
     let v: serde_json::Value = serde_json::from_str(line).unwrap();
-    v["u"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|n| {
-            let a: Vec<f64> = n
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect();
-            [a[0], a[1], a[2], a[3], a[4], a[5]]
-        })
-        .collect()
+    let rows = |key: &str| -> Vec<[f64; 6]> {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| {
+                let a: Vec<f64> = n
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                [a[0], a[1], a[2], a[3], a[4], a[5]]
+            })
+            .collect()
+    };
+    (rows("u"), rows("tip_history"))
 }
 
-fn run_fem2rbd(case: &Case, nodes: &[Vector3<f64>], vecxz: Vector3<f64>) -> (DVector<f64>, bool) {
+/// Runs the case in fem2rbd (same `lambdas` convention as [`run_opensees`]); returns
+/// the final displacements, whether the first element yielded, and the tip history.
+fn run_fem2rbd(
+    case: &Case,
+    nodes: &[Vector3<f64>],
+    vecxz: Vector3<f64>,
+    lambdas: &[f64],
+) -> (DVector<f64>, bool, Vec<[f64; 6]>) {
     let mut elements: Vec<Box<dyn BeamColumn>> = Vec::new();
     for k in 0..case.n_el {
         let formulation = match case.kind {
@@ -192,8 +211,28 @@ fn run_fem2rbd(case: &Case, nodes: &[Vector3<f64>], vecxz: Vector3<f64>) -> (DVe
     for d in 0..6 {
         load[6 * case.n_el + d] = case.load[d];
     }
-    model.solve(&load, case.steps).unwrap();
-    (model.u.clone(), model.elements[0].damage().yielded)
+    let path: Vec<f64> = if lambdas.is_empty() {
+        (1..=case.steps)
+            .map(|s| s as f64 / case.steps as f64)
+            .collect()
+    } else {
+        lambdas.to_vec()
+    };
+    let mut history = Vec::new();
+    let tip = 6 * case.n_el;
+    model
+        .solve_path(&load, &path, |u| {
+            history.push([
+                u[tip],
+                u[tip + 1],
+                u[tip + 2],
+                u[tip + 3],
+                u[tip + 4],
+                u[tip + 5],
+            ])
+        })
+        .unwrap();
+    (model.u.clone(), model.elements[0].damage().yielded, history)
 }
 
 #[test]
@@ -304,8 +343,8 @@ fn cantilever_cases_agree_with_opensees() {
         let nodes: Vec<Vector3<f64>> = (0..=case.n_el)
             .map(|k| x0 + dir * (length * k as f64 / case.n_el as f64))
             .collect();
-        let ops = run_opensees(case, &nodes, vecxz);
-        let (ours, yielded) = run_fem2rbd(case, &nodes, vecxz);
+        let (ops, _) = run_opensees(case, &nodes, vecxz, &[]);
+        let (ours, yielded, _) = run_fem2rbd(case, &nodes, vecxz, &[]);
         let scale = ops.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
         // Translations and rotation DOFs separately (see the module doc).
         let (mut dt, mut dr, mut rmax) = (0.0f64, 0.0f64, 0.0f64);
@@ -349,5 +388,76 @@ fn cantilever_cases_agree_with_opensees() {
         if case.plastic {
             assert!(yielded, "{}: the plastic case must yield", case.name);
         }
+    }
+}
+
+/// A column under cyclic biaxial tip loads (load factor 0 → 1 → −1 → 1.2, steps of 0.1)
+/// into the hardening range and back: the element state determination through yielding,
+/// unloading and reloading (force-based and displacement-based, corotational), step by
+/// step against OpenSees.
+#[test]
+fn cyclic_column_agrees_with_opensees() {
+    let x0 = Vector3::new(0.0, 0.0, 0.0);
+    let length = 2.0;
+    let nodes: Vec<Vector3<f64>> = (0..=2)
+        .map(|k| x0 + Vector3::z() * (length * k as f64 / 2.0))
+        .collect();
+    let mut lambdas = vec![];
+    let mut lam: f64 = 0.0;
+    for (target, step) in [(1.0, 0.1), (-1.0, -0.1), (1.2, 0.1)] {
+        while (target - lam).abs() > 1e-9 {
+            lam += step;
+            lambdas.push((lam * 10.0).round() / 10.0);
+        }
+    }
+    for kind in [Kind::Force, Kind::Disp] {
+        let case = Case {
+            name: "cyclic column",
+            kind,
+            transf: TransformKind::Corotational,
+            plastic: true,
+            asym: false,
+            n_el: 2,
+            load: [5.5e4, 2.0e4, 0.0, 0.0, 0.0, 1.0e3],
+            steps: 0,
+        };
+        let (_, ops_hist) = run_opensees(&case, &nodes, Vector3::x(), &lambdas);
+        let (_, yielded, ours_hist) = run_fem2rbd(&case, &nodes, Vector3::x(), &lambdas);
+        assert!(yielded, "{kind:?}: the cyclic column must yield");
+        assert_eq!(ops_hist.len(), ours_hist.len());
+        let scale = ops_hist
+            .iter()
+            .flat_map(|r| r[..3].to_vec())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut worst = 0.0f64;
+        for (o, m) in ops_hist.iter().zip(&ours_hist) {
+            for d in 0..3 {
+                worst = worst.max((o[d] - m[d]).abs());
+            }
+        }
+        let peak = ops_hist
+            .iter()
+            .map(|r| r[0])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let last = ops_hist.last().unwrap()[0];
+        // Residual displacement when the load first returns to zero: plastic hysteresis.
+        let zero = lambdas.iter().position(|&l| l == 0.0).unwrap();
+        let residual = ops_hist[zero][0];
+        assert!(
+            residual.abs() > 1e-3 * scale,
+            "{kind:?}: no residual displacement"
+        );
+        println!(
+            "cyclic column {kind:?}: {} steps, tip ux peak {peak:.6e} m, residual at λ = 0 \
+             {residual:.6e} m, final {last:.6e} m (fem2rbd {:.6e}); \
+             max |Δu| over the history / max |u| = {:.2e}",
+            lambdas.len(),
+            ours_hist.last().unwrap()[0],
+            worst / scale
+        );
+        assert!(
+            worst < 1e-9 * scale,
+            "{kind:?}: history differs by {worst:e} of {scale:e}"
+        );
     }
 }

@@ -320,13 +320,24 @@ impl Model {
     /// iterations until ‖Δu‖₂ < 1e-12 (OpenSees `NormDispIncr 1e-12`, at most 100
     /// iterations); returns the Newton iterations per step.
     pub fn solve(&mut self, load: &DVector<f64>, steps: usize) -> Result<Vec<usize>, String> {
+        let lambdas: Vec<f64> = (1..=steps).map(|s| s as f64 / steps as f64).collect();
+        self.solve_path(load, &lambdas, |_| {})
+    }
+
+    /// Follows the load-factor path `lambdas` (total factor after each step, any sign),
+    /// calling `after_step` with the converged displacements of each step.
+    pub fn solve_path(
+        &mut self,
+        load: &DVector<f64>,
+        lambdas: &[f64],
+        mut after_step: impl FnMut(&DVector<f64>),
+    ) -> Result<Vec<usize>, String> {
         let n = 6 * self.n_nodes;
         let free: Vec<usize> = (0..n).filter(|d| !self.fixed.contains(d)).collect();
         let mut iters = Vec::new();
         let mut u = self.u.clone();
         let mut du_last = DVector::zeros(n);
-        for s in 1..=steps {
-            let lambda = s as f64 / steps as f64;
+        for (s, &lambda) in lambdas.iter().enumerate() {
             let mut converged = false;
             for it in 0..100 {
                 let (r, k) = self.assemble(&u, &du_last)?;
@@ -368,6 +379,7 @@ impl Model {
             for e in &mut self.elements {
                 e.commit_state();
             }
+            after_step(&u);
         }
         self.u = u;
         Ok(iters)

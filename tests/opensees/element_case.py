@@ -61,16 +61,23 @@ def main(path):
     ops.constraints("Plain")
     ops.test("NormDispIncr", 1e-12, 100, 0)
     ops.algorithm("Newton")
-    ops.integrator("LoadControl", 1.0 / case["steps"])
-    ops.analysis("Static")
+    # Either `steps` equal increments to λ = 1, or a load-factor path `lambdas`
+    # (total factors after each step; LoadControl with the matching increments).
+    lambdas = case.get("lambdas") or [(k + 1) / case["steps"] for k in range(case["steps"])]
     iters = []
-    for _ in range(case["steps"]):
+    history = []
+    lam = 0.0
+    for target in lambdas:
+        ops.integrator("LoadControl", target - lam)
+        ops.analysis("Static")
         if ops.analyze(1) != 0:
             print("OpenSees analysis failed", file=sys.stderr)
             sys.exit(3)
+        lam = target
         iters.append(ops.testIter())
+        history.append([ops.nodeDisp(len(case["nodes"]), d + 1) for d in range(6)])
     u = [[ops.nodeDisp(k + 1, d + 1) for d in range(6)] for k in range(len(case["nodes"]))]
-    print(json.dumps({"u": u, "iters": iters}))
+    print(json.dumps({"u": u, "iters": iters, "tip_history": history}))
 
 
 if __name__ == "__main__":
