@@ -2,6 +2,7 @@
 //! materials, fiber sections, beam-column elements, geometric transformations, and
 //! static / modal / transient analyses on sparse linear algebra (faer).
 pub mod analysis;
+pub mod build;
 pub mod domain;
 pub mod element;
 pub mod linalg;
