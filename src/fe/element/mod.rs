@@ -69,3 +69,14 @@ pub trait Element: std::fmt::Debug + Send {
         ElementDamage::default()
     }
 }
+
+pub mod beam;
+pub mod disp_beam;
+pub mod elastic_beam;
+pub mod force_beam;
+pub mod quadrature;
+
+pub use beam::{BeamColumnSpec, Formulation, SectionState};
+pub use disp_beam::DispBeam3d;
+pub use elastic_beam::{ElasticBeam3d, ElasticProps};
+pub use force_beam::{ForceBeam3d, ForceBeamOptions};
