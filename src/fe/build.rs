@@ -91,6 +91,7 @@ fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
     let params: BTreeMap<String, f64> = m
         .parameters()
         .into_iter()
+        .filter(|(k, _)| *k != "density")
         .map(|(k, v)| (k.to_string(), v))
         .collect();
     material::build(m.type_name(), &params)
@@ -102,9 +103,9 @@ fn section_prototype(
     mats: &BTreeMap<u32, &model::Material>,
 ) -> Result<Box<dyn Section>> {
     match &s.kind {
-        SectionKind::Elastic { e, g, a, iy, iz, j, .. } => {
-            Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j)))
-        }
+        SectionKind::Elastic {
+            e, g, a, iy, iz, j, ..
+        } => Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j))),
         SectionKind::Plate { .. } => bail!(
             "section {} is a plate section; beam-columns need a fiber, rc_rect or elastic section",
             s.tag
@@ -114,9 +115,9 @@ fn section_prototype(
             let gj = s.gj().expect("beam section has GJ");
             let mut list = Vec::with_capacity(fibers.len());
             for f in &fibers {
-                let m = mats
-                    .get(&f.material())
-                    .ok_or_else(|| anyhow!("section {}: unknown material {}", s.tag, f.material()))?;
+                let m = mats.get(&f.material()).ok_or_else(|| {
+                    anyhow!("section {}: unknown material {}", s.tag, f.material())
+                })?;
                 list.push((f.y(), f.z(), f.area(), uniaxial(m)?));
             }
             Ok(Box::new(
@@ -133,8 +134,18 @@ fn elastic_equivalent(
     s: &model::Section,
     mats: &BTreeMap<u32, &model::Material>,
 ) -> Result<ElasticProps> {
-    if let SectionKind::Elastic { e, g, a, iy, iz, j, .. } = &s.kind {
-        return Ok(ElasticProps { e: *e, g: *g, a: *a, iy: *iy, iz: *iz, j: *j });
+    if let SectionKind::Elastic {
+        e, g, a, iy, iz, j, ..
+    } = &s.kind
+    {
+        return Ok(ElasticProps {
+            e: *e,
+            g: *g,
+            a: *a,
+            iy: *iy,
+            iz: *iz,
+            j: *j,
+        });
     }
     let fibers = s
         .fibers()
@@ -265,7 +276,14 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             } => {
                 let (a, iy, iz, j) = model::element::strip_properties(*width, *thickness);
                 (
-                    Formulation::Elastic(ElasticProps { e: *young, g: *g, a, iy, iz, j }),
+                    Formulation::Elastic(ElasticProps {
+                        e: *young,
+                        g: *g,
+                        a,
+                        iy,
+                        iz,
+                        j,
+                    }),
                     None,
                 )
             }
