@@ -7,7 +7,8 @@
 #        shim; gcc links Rust binaries), python3 + pip,
 #        curl + ca-certificates (only when Rust must be installed)
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
-#        cross-checks of the FE stages)
+#        cross-checks of the FE stages), meshio==5.3.5 (reads back our VTK files)
+#   npm: scripts/setup-node.sh (gltf-validator and three.js for the glTF checks)
 #   Rust: a toolchain >= 1.85 via rustup, only when cargo is missing or older
 #
 # Run as root, or as a user with sudo.
@@ -76,7 +77,7 @@ fi
 # ---- pip packages ----------------------------------------------------------------------
 mapfile -t pip_missing < <(python3 - <<'PY'
 import importlib.metadata as md
-need = {"pybullet": "3.2.7", "numpy": None, "openseespy": None}
+need = {"pybullet": "3.2.7", "numpy": None, "openseespy": None, "meshio": "5.3.5"}
 for name, version in need.items():
     try:
         have = md.version(name)
@@ -100,10 +101,13 @@ if [ "${#pip_missing[@]}" -gt 0 ]; then
         fi
     fi
 else
-    log "pip packages present (pybullet 3.2.7, numpy, openseespy)"
+    log "pip packages present (pybullet 3.2.7, numpy, openseespy, meshio)"
 fi
 
 # ---- checks -----------------------------------------------------------------------------
 pkg-config --exists bullet-float64 || { echo "setup: pkg-config cannot find bullet-float64" >&2; exit 1; }
 python3 -c 'import numpy, pybullet' >/dev/null 2>&1 || { echo "setup: python3 cannot import numpy and pybullet" >&2; exit 1; }
 log "ok: Bullet $(pkg-config --modversion bullet-float64) (double), $(python3 --version)"
+
+# ---- npm packages (glTF validator, three.js) -------------------------------------------
+bash "$(dirname "${BASH_SOURCE[0]}")/setup-node.sh"
