@@ -103,6 +103,9 @@ pub struct StageSettings {
     /// warm-up period: 20 frames = 0.8 s, a Bezier ease ≈ smoothstep, bcb.md §4). 0 = off,
     /// the default: at a hand-off the structure is already loaded (bcb.md §10.6).
     pub warmup_s: f64,
+    /// Build the CT 22 connections (default). `false`: loose debris only, no constraints
+    /// (e.g. the debris phase of the pybullet cross-check).
+    pub connect: bool,
 }
 
 impl Default for StageSettings {
@@ -125,6 +128,7 @@ impl Default for StageSettings {
             body: BodySettings::default(),
             angle_rule: AngleRule::default(),
             warmup_s: 0.0,
+            connect: true,
         }
     }
 }
@@ -261,6 +265,7 @@ pub struct RuinStage {
     world: World,
     ground: BodyHandle,
     ground_rest: Pose,
+    ground_half_extents: [f64; 3],
     ground_spec: GroundSpec,
     handles: Vec<BodyHandle>,
     passive: Vec<bool>,
@@ -484,7 +489,11 @@ impl RuinStage {
         }
 
         // 4. + 5. Connections.
-        let contacts: Vec<Contact> = find_contacts(input.bodies, &r.search)?;
+        let contacts: Vec<Contact> = if settings.connect {
+            find_contacts(input.bodies, &r.search)?
+        } else {
+            Vec::new()
+        };
         let mut connections =
             build_connections(input.bodies, input.groups, &contacts, &input.start_poses, r)?;
         for &(a, b) in input.start_damage.keys() {
@@ -561,6 +570,7 @@ impl RuinStage {
             world,
             ground: ground_handle,
             ground_rest,
+            ground_half_extents: half,
             ground_spec: ground,
             handles,
             passive: input.bodies.iter().map(|b| b.passive).collect(),
@@ -594,6 +604,16 @@ impl RuinStage {
     /// The ground's pose with zero displacement.
     pub fn ground_rest_pose(&self) -> Pose {
         self.ground_rest
+    }
+
+    /// The ground box's half extents, m.
+    pub fn ground_half_extents(&self) -> [f64; 3] {
+        self.ground_half_extents
+    }
+
+    /// The settings the stage was built with.
+    pub fn settings(&self) -> &StageSettings {
+        &self.settings
     }
 
     /// The world handle of input body `i`.
