@@ -126,8 +126,8 @@ fn distribution(poses: &[Pose], masses: &[f64]) -> ([f64; 3], [f64; 2], f64) {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     let mut top = f64::NEG_INFINITY;
     for (p, m) in poses.iter().zip(masses) {
-        for j in 0..3 {
-            c[j] += m * p.position[j] / mt;
+        for (cj, x) in c.iter_mut().zip(&p.position) {
+            *cj += m * x / mt;
         }
         for j in 0..2 {
             lo[j] = lo[j].min(p.position[j]);

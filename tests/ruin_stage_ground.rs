@@ -96,8 +96,8 @@ fn kinematic_ground_follows_the_record_at_every_substep_from_tc() {
         let t = tc + k as f64 * h;
         let (d, _, _) = hist.ground_state_at(t);
         let p = stage.world().pose(ground).unwrap();
-        for j in 0..3 {
-            worst = worst.max((p.position[j] - (rest.position[j] + d[j])).abs());
+        for ((x, r), dj) in p.position.iter().zip(&rest.position).zip(&d) {
+            worst = worst.max((x - (r + dj)).abs());
         }
         let f = stage.body_poses().unwrap()[0];
         worst_found = worst_found.max((f.position[0] - (-0.0 + d[0])).abs());
