@@ -281,3 +281,69 @@ fn starting_states_set_the_enabled_constraints() {
         .to_string();
     assert!(err.contains("(2, 1)"), "{err}");
 }
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let bodies = vec![
+        body("c0", [0.0, 0.0, 0.5], [0.15, 0.15, 0.5], false),
+        body("c1", [0.0, 0.0, 1.5], [0.15, 0.15, 0.5], false),
+    ];
+    let groups = [group("rc", 1.0, Some(1.3))];
+    let masses = [100.0, 0.0];
+    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("'c1'") && err.contains("mass"), "{err}");
+    let masses = [100.0];
+    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("body masses") && err.contains("expected 2"),
+        "{err}"
+    );
+    let masses = [100.0, 100.0];
+    let input = StageInput::physics_only(&bodies, &masses, &[]);
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("'c0'") && err.contains("group 'rc'"), "{err}");
+    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut settings = StageSettings::default();
+    settings.ruin.steps_per_second = 210.0;
+    let err = RuinStage::build(&input, GroundSpec::default(), &settings)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("whole multiple"), "{err}");
+}
+
+/// The rest test's energy: ½·m·|v − v_g|² + ½·Σ Iᵢ ωᵢ² (body frame), closed form.
+#[test]
+fn rest_energy_is_the_kinetic_energy_relative_to_the_ground() {
+    use fem2rbd::ruin::rest::{body_energy_speed, RestBody};
+    let b = RestBody {
+        mass_kg: 12.0,
+        inertia: [13.0, 10.0, 5.0],
+        radius_m: 0.5,
+    };
+    // Body turned 90° about z: world ω along x is body −y... (body frame y ↦ world −x).
+    let q =
+        UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), std::f64::consts::FRAC_PI_2);
+    let qv = q.quaternion();
+    let (e, s) = body_energy_speed(
+        &b,
+        [qv.w, qv.i, qv.j, qv.k],
+        [1.0, 2.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+    );
+    // |v − v_g|² = 4; ω in the body frame = (0, −2, 0) → ½·10·4 = 20.
+    assert!((e - (0.5 * 12.0 * 4.0 + 20.0)).abs() < 1e-12, "{e}");
+    assert!((s - (2.0 + 2.0 * 0.5)).abs() < 1e-12, "{s}");
+}
