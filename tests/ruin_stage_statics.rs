@@ -347,3 +347,72 @@ fn rest_energy_is_the_kinetic_energy_relative_to_the_ground() {
     assert!((e - (0.5 * 12.0 * 4.0 + 20.0)).abs() < 1e-12, "{e}");
     assert!((s - (2.0 + 2.0 * 0.5)).abs() < 1e-12, "{s}");
 }
+
+/// Hybrid hand-off (bcb.md §10.7): bodies start at a deformed "Tc" pose (a leaning,
+/// kinked column), so the constraint frames come from those poses and no locked row starts
+/// with an error: nothing jumps, nothing breaks, and the monitor's reference is the Tc
+/// pose (no connection turns plastic although the column leans by more than tol1R).
+#[test]
+fn a_deformed_start_pose_does_not_fire_the_connections() {
+    use nalgebra::{Isometry3, Translation3, Vector3};
+    let n = 3;
+    let bodies: Vec<BodyGeom> = (0..n)
+        .map(|k| {
+            body(
+                &format!("c{k}"),
+                [0.0, 0.0, 0.5 + k as f64],
+                [0.15, 0.15, 0.5],
+                false,
+            )
+        })
+        .collect();
+    let masses = vec![150.0; n];
+    let groups = [group("rc", 1.0, Some(1.3))];
+    let mut input = StageInput::physics_only(&bodies, &masses, &groups);
+    // Each segment turned by 0.15 rad more than the one below about y (0.45 rad at the
+    // top), chained at the joints: a kinked column far beyond tol1R = 0.2 rad in total.
+    let mut base = Isometry3::translation(0.0, 0.0, 0.0225);
+    for k in 0..n {
+        let rot = UnitQuaternion::from_scaled_axis(Vector3::new(0.0, 0.15 * (k + 1) as f64, 0.0));
+        let seg = base * Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.0), rot);
+        input.start_poses[k] = seg * Isometry3::translation(0.0, 0.0, 0.5);
+        base = seg * Isometry3::translation(0.0, 0.0, 1.0);
+    }
+    input.start_time_s = 2.0;
+    let mut stage =
+        RuinStage::build(&input, GroundSpec::default(), &StageSettings::default()).unwrap();
+    // The lowest corner just touches the ground; the kinked column starts to topple.
+    let res = stage
+        .run(&StopRule {
+            max_time_s: 2.2,
+            rest: None,
+        })
+        .unwrap();
+    assert_eq!(res.frames[0].time_s, 2.0);
+    // The joints: both frames of every connection still coincide after 0.2 s of toppling
+    // (the column as a whole may start to topple; its joints do not open).
+    let mut gap: f64 = 0.0;
+    let mut turn: f64 = 0.0;
+    for conn in stage.connections() {
+        let spec = &conn.constraints[0];
+        let pa = fem2rbd::ruin::stage::to_isometry(&res.final_poses[conn.a]) * spec.frame_a;
+        let pb = fem2rbd::ruin::stage::to_isometry(&res.final_poses[conn.b]) * spec.frame_b;
+        gap = gap.max((pa.translation.vector - pb.translation.vector).norm());
+        turn = turn.max(pa.rotation.angle_to(&pb.rotation));
+        // ... and they coincided at the start.
+        let sa = input.start_poses[conn.a] * spec.frame_a;
+        let sb = input.start_poses[conn.b] * spec.frame_b;
+        assert!((sa.translation.vector - sb.translation.vector).norm() < 1e-12);
+    }
+    eprintln!("joint opening after 0.2 s: {gap:.3e} m, {turn:.3e} rad");
+    assert!(
+        gap < 1e-3 && turn < 1e-3,
+        "joints opened {gap} m / {turn} rad"
+    );
+    let c = res.frames.last().unwrap().counts;
+    assert_eq!((c.elastic, c.plastic, c.broken), (n - 1, 0, 0));
+    let en = stage.world().constraints_enabled().unwrap();
+    for (i, e) in en.iter().enumerate() {
+        assert_eq!(*e, i % 7 < 6, "constraint {i}");
+    }
+}
