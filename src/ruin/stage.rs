@@ -163,7 +163,9 @@ pub struct StageInput<'a> {
     pub groups: &'a [GroupStrength],
     /// Start time, s (Tc; 0 in the physics-only mode).
     pub start_time_s: f64,
-    /// FE damage at the start per connected body pair (a, b) with a < b; missing = intact.
+    /// FE damage at the start per connected body pair (a, b) with a < b (input indices);
+    /// missing = intact; a pair that has no connection is ignored (a pair with a ≥ b or
+    /// an index out of range is an error).
     pub start_damage: BTreeMap<(usize, usize), FeDamage>,
 }
 
