@@ -19,8 +19,11 @@
 //! The whole model is described in `docs/ruin-model.md`.
 
 pub mod connection;
+pub mod ground;
 pub mod monitor;
+pub mod rest;
 pub mod search;
+pub mod stage;
 pub mod strength;
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};

@@ -1,0 +1,894 @@
+//! The ruin stage in Bullet: BCB's five steps as one builder ([`RuinStage::build`]) and a
+//! stepping loop with the per-frame monitor ([`RuinStage::run`]).
+//!
+//! Build (bcb.md §1, §6, §7.1, §11; docs/ruin-model.md):
+//!
+//! 1. **Ground**: a large box, friction 1, top at the model's base ([`GroundSpec`]);
+//!    kinematic when a ground motion is given, static otherwise. It is body 0 of the world.
+//! 2. **Bodies**: every [`BodyGeom`] as a box at its start pose with its start velocity
+//!    (linear and angular, world frame), in input order (world body i + 1). Active bodies
+//!    are dynamic, with BCB's body settings ([`BodySettings`]: friction 1, restitution 0,
+//!    damping 0.04 / 0.1, never deactivated, margin 0.04). Passive bodies (foundation
+//!    blocks) are kinematic and ride on the ground.
+//! 3. **Remaining ground motion**: before every substep the ground (and the passive bodies)
+//!    are placed by the record's absolute displacement at the substep's end ([`super::ground`]).
+//!    With `start_time_s` = Tc this continues the FE stage's ground in position and velocity.
+//! 4. **Connections** (BCB's steps 4 and 5): [`find_contacts`] on the undeformed bodies,
+//!    [`build_connections`] with frames from the start poses (nothing fires at the start),
+//!    then each connection's starting state ([`start_state_from_damage`] of the FE damage
+//!    given per body pair): broken → no constraint enabled; plastic → spring on (its
+//!    equilibrium is the start pose), generics off. The seven Bullet constraints of each
+//!    connection are created in spec order with `addConstraint(c, disable_collisions)`.
+//!
+//! Run: substeps of h = time_scale / steps_per_second; every 1/frame_rate s the monitor
+//! ([`Monitor::check`]) reads the poses and Bullet's enabled flags and its actions are
+//! applied before the next substep; each frame is recorded ([`Frame`]). The run ends at
+//! [`StopRule::max_time_s`] or when the debris is at rest ([`RestTest`]).
+//!
+//! **Bullet's locked rows** (measured in `tests/ruin_stage_statics.rs`): a
+//! `btGeneric6DofConstraint` axis with lo = hi only produces a solver row while its error
+//! is strictly outside the limit; a joint that starts exactly in place (frames from the
+//! start poses) carries nothing in its first substep, and under load the row now and then
+//! drops out for a substep, after which it needs about twice the static impulse. So a
+//! CT 22 generic breaks between 1/2 and 1 times the force or moment its threshold stands
+//! for (BCB runs the same Bullet code; its empirical corrections 2.2/1.5 include this).
+//! A load switched on at once (no warm-up) is the worst case. Static joint forces, once
+//! settled, equal the closed-form ones to 0.25 % (column test).
+//!
+//! **Wall time**: [`RuinResult::wall`] splits the run's wall time into the time inside
+//! `World::step` and the rest (monitor, pose reads, ground updates). Measured (debug
+//! profile): 98–99 % inside Bullet for a 5-body portal frame under ground motion, 99.7 %
+//! for 30 debris boxes.
+//!
+//! **Physics-only mode** (BCB alone): [`StageInput::physics_only`] — undeformed start poses,
+//! zero velocities, all connections elastic, start at t = 0 under the whole record.
+
+use super::connection::{
+    build_connections, ConnectionSpec, ConnectionState, ConstraintKind as SpecKind, GroupStrength,
+    RuinSettings,
+};
+use super::ground::GroundSpec;
+use super::monitor::{start_state_from_damage, AngleRule, FeDamage, Monitor, StateCounts};
+use super::rest::{body_energy_speed, RestBody, RestTest};
+use super::search::{find_contacts, Contact};
+use super::{BodyGeom, RuinError};
+use crate::physics::{
+    BodyHandle, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, PhysicsError, Pose,
+    SolverSettings, Spring, Velocity, World, WorldSettings,
+};
+use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+/// Errors of the ruin stage.
+#[derive(Debug, thiserror::Error)]
+pub enum StageError {
+    /// Bad model input.
+    #[error(transparent)]
+    Ruin(#[from] RuinError),
+    /// Bullet refused something.
+    #[error(transparent)]
+    Physics(#[from] PhysicsError),
+}
+
+/// Body settings (BCB/Blender defaults, bcb.md §5 and §11.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodySettings {
+    /// Friction of the active bodies (BCB RC group: 1.0).
+    pub friction: f64,
+    /// Restitution (0).
+    pub restitution: f64,
+    /// Linear damping (Blender 0.04).
+    pub linear_damping: f64,
+    /// Angular damping (Blender 0.1).
+    pub angular_damping: f64,
+    /// Collision margin, m (0.04; kept inside the half extents as Blender does).
+    pub margin: f64,
+    /// Never deactivate (sleep) bodies (BCB: deactivation off).
+    pub disable_deactivation: bool,
+}
+
+impl Default for BodySettings {
+    fn default() -> Self {
+        BodySettings {
+            friction: 1.0,
+            restitution: 0.0,
+            linear_damping: 0.04,
+            angular_damping: 0.1,
+            margin: 0.04,
+            disable_deactivation: true,
+        }
+    }
+}
+
+/// Everything a ruin stage is built with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageSettings {
+    /// The constraint model and the stepping rates (200 substeps/s, 25 frames/s, ...).
+    pub ruin: RuinSettings,
+    /// The Bullet world. The solver's iteration count is replaced by
+    /// `ruin.solver_iterations`.
+    pub world: WorldSettings,
+    /// Body settings.
+    pub body: BodySettings,
+    /// How the monitor measures rotation.
+    pub angle_rule: AngleRule,
+    /// Warm-up, s: gravity grows from 0 to its full value over this time after the start,
+    /// as g·s(τ) with the smoothstep s(τ) = 3τ² − 2τ³, τ = (t − t_start)/warm-up (BCB's
+    /// warm-up period: 20 frames = 0.8 s, a Bezier ease ≈ smoothstep, bcb.md §4). 0 = off,
+    /// the default: at a hand-off the structure is already loaded (bcb.md §10.6).
+    pub warmup_s: f64,
+    /// Build the CT 22 connections (default). `false`: loose debris only, no constraints
+    /// (e.g. the debris phase of the pybullet cross-check).
+    pub connect: bool,
+}
+
+impl Default for StageSettings {
+    /// BCB's world (bcb.md §11.1): sequential impulses, 100 iterations, split impulse
+    /// off, gravity (0, 0, −9.81); Bullet's process-globals set to Bullet's own values
+    /// (gDbvtMargin 0.05, gContactBreakingThreshold 0.02) so a stage never depends on
+    /// what ran before it in the process.
+    fn default() -> Self {
+        StageSettings {
+            ruin: RuinSettings::default(),
+            world: WorldSettings {
+                gravity: [0.0, 0.0, -9.81],
+                solver: SolverSettings {
+                    split_impulse: false,
+                    ..SolverSettings::default()
+                },
+                dbvt_margin: Some(0.05),
+                contact_breaking_threshold: Some(0.02),
+            },
+            body: BodySettings::default(),
+            angle_rule: AngleRule::default(),
+            warmup_s: 0.0,
+            connect: true,
+        }
+    }
+}
+
+/// The input of [`RuinStage::build`]: one entry per body in every per-body slice.
+#[derive(Debug, Clone)]
+pub struct StageInput<'a> {
+    /// The undeformed boxes (contacts and connection geometry come from these).
+    pub bodies: &'a [BodyGeom],
+    /// Masses, kg (> 0 for active bodies; ignored for passive ones).
+    pub masses_kg: &'a [f64],
+    /// Poses at the start (Tc), local → world.
+    pub start_poses: Vec<Isometry3<f64>>,
+    /// Velocities at the start, world frame (ignored for passive bodies).
+    pub start_velocities: Vec<Velocity>,
+    /// Group strengths.
+    pub groups: &'a [GroupStrength],
+    /// Start time, s (Tc; 0 in the physics-only mode).
+    pub start_time_s: f64,
+    /// FE damage at the start per connected body pair (a, b) with a < b (input indices);
+    /// missing = intact; a pair that has no connection is ignored (a pair with a ≥ b or
+    /// an index out of range is an error).
+    pub start_damage: BTreeMap<(usize, usize), FeDamage>,
+}
+
+impl<'a> StageInput<'a> {
+    /// The physics-only mode (BCB alone): undeformed poses, at rest, t = 0, no damage.
+    pub fn physics_only(
+        bodies: &'a [BodyGeom],
+        masses_kg: &'a [f64],
+        groups: &'a [GroupStrength],
+    ) -> Self {
+        StageInput {
+            bodies,
+            masses_kg,
+            start_poses: bodies.iter().map(BodyGeom::pose).collect(),
+            start_velocities: vec![Velocity::default(); bodies.len()],
+            groups,
+            start_time_s: 0.0,
+            start_damage: BTreeMap::new(),
+        }
+    }
+}
+
+/// When a run stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StopRule {
+    /// Absolute end time, s (the run stops at the first frame at or after it).
+    pub max_time_s: f64,
+    /// The at-rest test; `None` = run until `max_time_s`.
+    pub rest: Option<RestTest>,
+}
+
+/// One recorded frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Absolute time, s.
+    pub time_s: f64,
+    /// Every input body's pose, in input order.
+    pub poses: Vec<Pose>,
+    /// Connections per state after this frame's monitor check.
+    pub counts: StateCounts,
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The rest test held for its hold time.
+    AtRest,
+    /// The time limit.
+    TimeLimit,
+}
+
+/// Final state of one connection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConnectionOutcome {
+    /// Body indices (input order).
+    pub a: usize,
+    /// Body B.
+    pub b: usize,
+    /// State at the start.
+    pub start_state: ConnectionState,
+    /// Final state.
+    pub state: ConnectionState,
+    /// Time of the frame at which it was found broken, s (`None`: not broken in the run;
+    /// a connection broken from the start has `None`).
+    pub broke_at_s: Option<f64>,
+    /// Time it became plastic, s.
+    pub plastic_at_s: Option<f64>,
+}
+
+/// Wall-clock time of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WallTime {
+    /// Inside `World::step` (Bullet).
+    pub in_bullet: Duration,
+    /// The whole `run` call.
+    pub total: Duration,
+}
+
+impl WallTime {
+    /// in_bullet / total (1 for an empty run).
+    pub fn bullet_share(&self) -> f64 {
+        if self.total.is_zero() {
+            1.0
+        } else {
+            self.in_bullet.as_secs_f64() / self.total.as_secs_f64()
+        }
+    }
+}
+
+/// The result of [`RuinStage::run`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RuinResult {
+    /// Frames from the start (frame 0 = the start state), every 1/frame_rate s.
+    pub frames: Vec<Frame>,
+    /// Final poses, input order.
+    pub final_poses: Vec<Pose>,
+    /// Final velocities, input order.
+    pub final_velocities: Vec<Velocity>,
+    /// Per body: point speed relative to the ground below the rest test's v_tol at the
+    /// end (passive bodies: true).
+    pub at_rest: Vec<bool>,
+    /// Per connection (in [`RuinStage::connections`] order).
+    pub connections: Vec<ConnectionOutcome>,
+    /// Why it ended.
+    pub stop: StopReason,
+    /// End time, s.
+    pub end_time_s: f64,
+    /// Wall time.
+    pub wall: WallTime,
+}
+
+/// A built ruin stage: the Bullet world, its handles, the connections and the monitor.
+pub struct RuinStage {
+    world: World,
+    ground: BodyHandle,
+    ground_rest: Pose,
+    ground_half_extents: [f64; 3],
+    ground_spec: GroundSpec,
+    handles: Vec<BodyHandle>,
+    passive: Vec<bool>,
+    passive_start: Vec<Isometry3<f64>>,
+    rest_bodies: Vec<Option<RestBody>>,
+    total_mass_kg: f64,
+    model_height_m: f64,
+    connections: Vec<ConnectionSpec>,
+    constraint_handles: Vec<Vec<ConstraintHandle>>,
+    monitor: Monitor,
+    start_states: Vec<ConnectionState>,
+    settings: StageSettings,
+    start_time_s: f64,
+    substep_s: f64,
+    substeps_per_frame: u64,
+    substeps_done: u64,
+    in_bullet: Duration,
+}
+
+/// nalgebra isometry → physics pose.
+pub fn to_pose(p: &Isometry3<f64>) -> Pose {
+    let q = p.rotation.quaternion();
+    Pose {
+        position: [p.translation.x, p.translation.y, p.translation.z],
+        orientation: [q.w, q.i, q.j, q.k],
+    }
+}
+
+/// Physics pose → nalgebra isometry.
+pub fn to_isometry(p: &Pose) -> Isometry3<f64> {
+    let [w, x, y, z] = p.orientation;
+    Isometry3::from_parts(
+        Translation3::new(p.position[0], p.position[1], p.position[2]),
+        UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
+    )
+}
+
+fn bad(item: &str, message: String) -> StageError {
+    StageError::Ruin(RuinError::BadSetting {
+        item: item.into(),
+        message,
+    })
+}
+
+fn check_len(what: &str, expected: usize, got: usize) -> Result<(), StageError> {
+    if expected != got {
+        return Err(StageError::Ruin(RuinError::LengthMismatch {
+            what: what.into(),
+            expected,
+            got,
+        }));
+    }
+    Ok(())
+}
+
+impl RuinStage {
+    /// Builds the Bullet world of a ruin stage (module docs). Errors name the body,
+    /// group or setting at fault.
+    pub fn build(
+        input: &StageInput,
+        ground: GroundSpec,
+        settings: &StageSettings,
+    ) -> Result<RuinStage, StageError> {
+        let n = input.bodies.len();
+        check_len("body masses", n, input.masses_kg.len())?;
+        check_len("start poses", n, input.start_poses.len())?;
+        check_len("start velocities", n, input.start_velocities.len())?;
+        for (i, b) in input.bodies.iter().enumerate() {
+            b.validate(i)?;
+            let m = input.masses_kg[i];
+            let usable = m.is_finite() && m > 0.0;
+            if !b.passive && !usable {
+                return Err(StageError::Ruin(RuinError::BadBody {
+                    index: i,
+                    name: b.name.clone(),
+                    message: format!("mass {m} kg must be finite and > 0"),
+                }));
+            }
+            let v = &input.start_velocities[i];
+            if v.linear.iter().chain(&v.angular).any(|x| !x.is_finite()) {
+                return Err(StageError::Ruin(RuinError::BadBody {
+                    index: i,
+                    name: b.name.clone(),
+                    message: "start velocity is not finite".into(),
+                }));
+            }
+        }
+        let r = &settings.ruin;
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if [r.steps_per_second, r.frame_rate, r.time_scale]
+            .iter()
+            .any(|v| !positive(*v))
+        {
+            return Err(bad(
+                "ruin settings",
+                "steps_per_second, frame_rate and time_scale must be finite and > 0".into(),
+            ));
+        }
+        let h = r.substep();
+        let frame_sim = r.time_scale / r.frame_rate;
+        let spf = (frame_sim / h).round();
+        if spf < 1.0 || (frame_sim / h - spf).abs() > 1e-9 * spf {
+            return Err(bad(
+                "steps_per_second",
+                format!(
+                    "{} substeps/s is not a whole multiple of the frame rate {} frames/s",
+                    r.steps_per_second, r.frame_rate
+                ),
+            ));
+        }
+        if !(settings.warmup_s.is_finite() && settings.warmup_s >= 0.0) {
+            return Err(bad(
+                "warmup_s",
+                format!("{} must be finite and >= 0", settings.warmup_s),
+            ));
+        }
+        if !input.start_time_s.is_finite() || input.start_time_s < 0.0 {
+            return Err(bad(
+                "start_time_s",
+                format!("{} must be finite and >= 0", input.start_time_s),
+            ));
+        }
+        for (name, v) in [
+            ("ground plan_margin_m", ground.plan_margin_m),
+            ("ground thickness_m", ground.thickness_m),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(bad(name, format!("{v} must be finite and > 0")));
+            }
+        }
+
+        let mut ws = settings.world.clone();
+        ws.solver.num_iterations = r.solver_iterations;
+        if settings.warmup_s > 0.0 {
+            ws.gravity = [0.0; 3];
+        }
+        let mut world = World::new(&ws)?;
+
+        // 1. Ground.
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for b in input.bodies {
+            let bb = b.aabb();
+            for k in 0..3 {
+                lo[k] = lo[k].min(bb.min[k]);
+                hi[k] = hi[k].max(bb.max[k]);
+            }
+        }
+        if n == 0 {
+            lo = [0.0; 3];
+            hi = [0.0; 3];
+        }
+        let top = ground.top_z.unwrap_or(lo[2]);
+        let half = [
+            0.5 * (hi[0] - lo[0]) + ground.plan_margin_m,
+            0.5 * (hi[1] - lo[1]) + ground.plan_margin_m,
+            0.5 * ground.thickness_m,
+        ];
+        let ground_rest = Pose::at([
+            0.5 * (lo[0] + hi[0]),
+            0.5 * (lo[1] + hi[1]),
+            top - 0.5 * ground.thickness_m,
+        ]);
+        let t0 = input.start_time_s;
+        let d0 = ground.displacement_at(t0);
+        let ground_start = shifted(&ground_rest, d0);
+        let mut gdesc = if ground.history.is_some() {
+            BoxDesc::kinematic(half, ground_start)
+        } else {
+            BoxDesc::fixed(half, ground_start)
+        };
+        gdesc.friction = ground.friction;
+        gdesc.margin = settings.body.margin;
+        gdesc.restitution = settings.body.restitution;
+        let ground_handle = world.add_box(&gdesc)?;
+
+        // 2. Bodies.
+        let bs = &settings.body;
+        let mut handles = Vec::with_capacity(n);
+        let mut rest_bodies = Vec::with_capacity(n);
+        let mut total_mass = 0.0;
+        for (i, b) in input.bodies.iter().enumerate() {
+            let pose = to_pose(&input.start_poses[i]);
+            let mut d = if b.passive {
+                BoxDesc::kinematic(b.half_extents, pose)
+            } else {
+                BoxDesc::dynamic(b.half_extents, input.masses_kg[i], pose)
+            };
+            if !b.passive {
+                d.velocity = input.start_velocities[i];
+            }
+            d.friction = if b.passive {
+                ground.friction
+            } else {
+                bs.friction
+            };
+            d.restitution = bs.restitution;
+            d.linear_damping = bs.linear_damping;
+            d.angular_damping = bs.angular_damping;
+            d.margin = bs
+                .margin
+                .min(b.half_extents.iter().copied().fold(f64::INFINITY, f64::min));
+            d.disable_deactivation = bs.disable_deactivation;
+            let hnd = world.add_box(&d).map_err(|e| {
+                StageError::Ruin(RuinError::BadBody {
+                    index: i,
+                    name: b.name.clone(),
+                    message: e.to_string(),
+                })
+            })?;
+            handles.push(hnd);
+            if b.passive {
+                rest_bodies.push(None);
+            } else {
+                let (m, inertia) = world.mass_inertia(hnd)?;
+                total_mass += m;
+                let he = b.half_extents;
+                rest_bodies.push(Some(RestBody {
+                    mass_kg: m,
+                    inertia,
+                    radius_m: (he[0] * he[0] + he[1] * he[1] + he[2] * he[2]).sqrt(),
+                }));
+            }
+        }
+
+        // 4. + 5. Connections.
+        let contacts: Vec<Contact> = if settings.connect {
+            find_contacts(input.bodies, &r.search)?
+        } else {
+            Vec::new()
+        };
+        let mut connections =
+            build_connections(input.bodies, input.groups, &contacts, &input.start_poses, r)?;
+        for &(a, b) in input.start_damage.keys() {
+            if a >= b || b >= n {
+                return Err(bad(
+                    "start damage",
+                    format!("body pair ({a}, {b}) must have a < b < {n}"),
+                ));
+            }
+        }
+        let mut start_states = Vec::with_capacity(connections.len());
+        for c in connections.iter_mut() {
+            let dmg = input
+                .start_damage
+                .get(&(c.a, c.b))
+                .copied()
+                .unwrap_or(FeDamage::Intact);
+            let mut s = start_state_from_damage(dmg);
+            if s == ConnectionState::Plastic && !c.has_spring() {
+                s = ConnectionState::Broken;
+            }
+            c.set_state(s);
+            start_states.push(s);
+        }
+        let mut constraint_handles = Vec::with_capacity(connections.len());
+        for c in &connections {
+            let mut hs = Vec::with_capacity(c.constraints.len());
+            for spec in &c.constraints {
+                let kind = match spec.kind {
+                    SpecKind::Generic6Dof => ConstraintKind::Generic6Dof {
+                        use_linear_reference_frame_a: true,
+                    },
+                    SpecKind::Spring2 => {
+                        let mut springs = [None; 6];
+                        for (k, s) in springs.iter_mut().enumerate() {
+                            if spec.spring[k] {
+                                *s = Some(Spring {
+                                    stiffness: spec.stiffness[k],
+                                    damping: spec.damping[k],
+                                });
+                            }
+                        }
+                        ConstraintKind::Spring2 {
+                            springs,
+                            set_equilibrium_point: true,
+                        }
+                    }
+                };
+                let mut desc = ConstraintDesc::new(
+                    kind,
+                    handles[c.a],
+                    handles[c.b],
+                    to_pose(&spec.frame_a),
+                    to_pose(&spec.frame_b),
+                );
+                for k in 0..6 {
+                    desc.limits[k] = Some((spec.lower[k], spec.upper[k]));
+                }
+                desc.breaking_impulse_threshold = spec.breaking_impulse;
+                desc.disable_collisions_between = c.disable_collisions;
+                desc.enabled = spec.enabled;
+                hs.push(world.add_constraint(&desc)?);
+            }
+            constraint_handles.push(hs);
+        }
+        let monitor = Monitor::new(
+            &connections,
+            &input.start_poses,
+            &start_states,
+            settings.angle_rule,
+        )?;
+        let model_height_m = (hi[2] - lo[2]).max(0.0);
+        Ok(RuinStage {
+            world,
+            ground: ground_handle,
+            ground_rest,
+            ground_half_extents: half,
+            ground_spec: ground,
+            handles,
+            passive: input.bodies.iter().map(|b| b.passive).collect(),
+            passive_start: input.start_poses.clone(),
+            rest_bodies,
+            total_mass_kg: total_mass,
+            model_height_m,
+            connections,
+            constraint_handles,
+            monitor,
+            start_states,
+            settings: settings.clone(),
+            start_time_s: t0,
+            substep_s: h,
+            substeps_per_frame: spf as u64,
+            substeps_done: 0,
+            in_bullet: Duration::ZERO,
+        })
+    }
+
+    /// The Bullet world (read access, e.g. for contacts).
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The ground's handle.
+    pub fn ground(&self) -> BodyHandle {
+        self.ground
+    }
+
+    /// The ground's pose with zero displacement.
+    pub fn ground_rest_pose(&self) -> Pose {
+        self.ground_rest
+    }
+
+    /// The ground box's half extents, m.
+    pub fn ground_half_extents(&self) -> [f64; 3] {
+        self.ground_half_extents
+    }
+
+    /// The settings the stage was built with.
+    pub fn settings(&self) -> &StageSettings {
+        &self.settings
+    }
+
+    /// The world handle of input body `i`.
+    pub fn body(&self, i: usize) -> BodyHandle {
+        self.handles[i]
+    }
+
+    /// The connections (specs as created, with their starting `enabled` flags).
+    pub fn connections(&self) -> &[ConnectionSpec] {
+        &self.connections
+    }
+
+    /// The Bullet handles of connection `i`'s constraints, in spec order.
+    pub fn constraint_handles(&self, i: usize) -> &[ConstraintHandle] {
+        &self.constraint_handles[i]
+    }
+
+    /// The monitor.
+    pub fn monitor(&self) -> &Monitor {
+        &self.monitor
+    }
+
+    /// Current absolute time, s.
+    pub fn time_s(&self) -> f64 {
+        self.start_time_s + self.substeps_done as f64 * self.substep_s
+    }
+
+    /// The substep h, s.
+    pub fn substep_s(&self) -> f64 {
+        self.substep_s
+    }
+
+    /// Substeps per monitor frame.
+    pub fn substeps_per_frame(&self) -> u64 {
+        self.substeps_per_frame
+    }
+
+    /// Time spent inside `World::step` so far.
+    pub fn time_in_bullet(&self) -> Duration {
+        self.in_bullet
+    }
+
+    /// Runs `count` substeps, moving the ground and the passive bodies before each one
+    /// (no monitor: [`RuinStage::run`] calls it once per frame).
+    pub fn substeps(&mut self, count: u64) -> Result<(), StageError> {
+        let h = self.substep_s;
+        let warmup = self.settings.warmup_s;
+        let in_warmup = |done: u64| warmup > 0.0 && (done as f64) * h < warmup;
+        if self.ground_spec.history.is_none() && !in_warmup(self.substeps_done) {
+            let mut left = count;
+            while left > 0 {
+                let c = left.min(u64::from(u32::MAX)) as u32;
+                let t = Instant::now();
+                self.world.step(h, c)?;
+                self.in_bullet += t.elapsed();
+                left -= u64::from(c);
+            }
+            self.substeps_done += count;
+            return Ok(());
+        }
+        let t0 = self.start_time_s;
+        let d_start = self.ground_spec.displacement_at(t0);
+        let has_motion = self.ground_spec.history.is_some();
+        for _ in 0..count {
+            let t_next = t0 + (self.substeps_done + 1) as f64 * h;
+            if in_warmup(self.substeps_done) {
+                let tau = ((self.substeps_done + 1) as f64 * h / warmup).min(1.0);
+                let f = tau * tau * (3.0 - 2.0 * tau);
+                let g = self.settings.world.gravity;
+                self.world.set_gravity([g[0] * f, g[1] * f, g[2] * f])?;
+            }
+            if !has_motion {
+                let t = Instant::now();
+                self.world.step(h, 1)?;
+                self.in_bullet += t.elapsed();
+                self.substeps_done += 1;
+                continue;
+            }
+            let d = self.ground_spec.displacement_at(t_next);
+            self.world
+                .set_kinematic_target(self.ground, shifted(&self.ground_rest, d), None)?;
+            let dd = [d[0] - d_start[0], d[1] - d_start[1], d[2] - d_start[2]];
+            for i in 0..self.handles.len() {
+                if self.passive[i] {
+                    let p = shifted(&to_pose(&self.passive_start[i]), dd);
+                    self.world.set_kinematic_target(self.handles[i], p, None)?;
+                }
+            }
+            let t = Instant::now();
+            self.world.step(h, 1)?;
+            self.in_bullet += t.elapsed();
+            self.substeps_done += 1;
+        }
+        Ok(())
+    }
+
+    /// The poses of the input bodies, input order.
+    pub fn body_poses(&self) -> Result<Vec<Pose>, StageError> {
+        let all = self.world.poses()?;
+        Ok(self.handles.iter().map(|h| all[h.index()]).collect())
+    }
+
+    /// The velocities of the input bodies, input order.
+    pub fn body_velocities(&self) -> Result<Vec<Velocity>, StageError> {
+        let all = self.world.velocities()?;
+        Ok(self.handles.iter().map(|h| all[h.index()]).collect())
+    }
+
+    /// One monitor frame: check the connections at the current poses, apply the actions.
+    /// Returns the state changes (connection, from, to).
+    pub fn monitor_frame(&mut self) -> Result<Vec<super::monitor::StateChange>, StageError> {
+        let poses: Vec<Isometry3<f64>> = self.body_poses()?.iter().map(to_isometry).collect();
+        let enabled = self.world.constraints_enabled()?;
+        let handles = &self.constraint_handles;
+        let actions = self.monitor.check(&poses, |c, k| {
+            handles[c].get(k).is_some_and(|h| enabled[h.index()])
+        })?;
+        for a in actions {
+            let h = self.constraint_handles[a.connection][a.constraint];
+            self.world.set_constraint_enabled(h, a.enable)?;
+        }
+        Ok(self.monitor.last_changes().to_vec())
+    }
+
+    /// Kinetic energy of the dynamic bodies relative to the ground (J), the largest point
+    /// speed (m/s) and each body's point speed (passive: 0) — see [`super::rest`].
+    pub fn motion_measures(&self) -> Result<(f64, f64, Vec<f64>), StageError> {
+        let poses = self.body_poses()?;
+        let vels = self.body_velocities()?;
+        let vg = self.ground_spec.velocity_at(self.time_s());
+        let mut e = 0.0;
+        let mut vmax: f64 = 0.0;
+        let mut speeds = vec![0.0; self.handles.len()];
+        for i in 0..self.handles.len() {
+            if let Some(rb) = &self.rest_bodies[i] {
+                let (ei, si) = body_energy_speed(
+                    rb,
+                    poses[i].orientation,
+                    vels[i].linear,
+                    vels[i].angular,
+                    vg,
+                );
+                e += ei;
+                vmax = vmax.max(si);
+                speeds[i] = si;
+            }
+        }
+        Ok((e, vmax, speeds))
+    }
+
+    /// Runs frame by frame until `stop` (module docs) and returns the record.
+    pub fn run(&mut self, stop: &StopRule) -> Result<RuinResult, StageError> {
+        let start = Instant::now();
+        let bullet_before = self.in_bullet;
+        if !stop.max_time_s.is_finite() {
+            return Err(bad(
+                "max_time_s",
+                format!("{} must be finite", stop.max_time_s),
+            ));
+        }
+        let g = {
+            let g = self.settings.world.gravity;
+            (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt()
+        };
+        let rest = stop.rest;
+        let energy_bound = rest.map(|r| {
+            let l = r.reference_length_m.unwrap_or(self.model_height_m.max(1.0));
+            r.energy_ratio * self.total_mass_kg * g * l
+        });
+        let frame_dt = self.substeps_per_frame as f64 * self.substep_s;
+        let hold_frames = rest.map(|r| (r.hold_s / frame_dt - 1e-9).ceil().max(1.0) as u64);
+        let motion_end = self.ground_spec.motion_end_s();
+
+        let nconn = self.connections.len();
+        let mut outcomes: Vec<ConnectionOutcome> = (0..nconn)
+            .map(|i| ConnectionOutcome {
+                a: self.connections[i].a,
+                b: self.connections[i].b,
+                start_state: self.start_states[i],
+                state: self.monitor.state(i),
+                broke_at_s: None,
+                plastic_at_s: None,
+            })
+            .collect();
+        let mut frames = vec![Frame {
+            time_s: self.time_s(),
+            poses: self.body_poses()?,
+            counts: self.monitor.counts(),
+        }];
+        let mut quiet = 0u64;
+        let mut reason = StopReason::TimeLimit;
+        while self.time_s() < stop.max_time_s - 1e-9 * frame_dt {
+            self.substeps(self.substeps_per_frame)?;
+            let t = self.time_s();
+            for ch in self.monitor_frame()? {
+                let o = &mut outcomes[ch.connection];
+                if ch.to == ConnectionState::Broken && o.broke_at_s.is_none() {
+                    o.broke_at_s = Some(t);
+                }
+                if ch.to == ConnectionState::Plastic && o.plastic_at_s.is_none() {
+                    o.plastic_at_s = Some(t);
+                }
+            }
+            frames.push(Frame {
+                time_s: t,
+                poses: self.body_poses()?,
+                counts: self.monitor.counts(),
+            });
+            if let (Some(r), Some(eb), Some(hf)) = (rest, energy_bound, hold_frames) {
+                let (e, vmax, _) = self.motion_measures()?;
+                if t >= motion_end - 1e-12 && e < eb && vmax < r.max_speed_mps {
+                    quiet += 1;
+                } else {
+                    quiet = 0;
+                }
+                if quiet >= hf {
+                    reason = StopReason::AtRest;
+                    break;
+                }
+            }
+        }
+        for (i, o) in outcomes.iter_mut().enumerate() {
+            o.state = self.monitor.state(i);
+        }
+        let (_, _, speeds) = self.motion_measures()?;
+        let vtol = rest.unwrap_or_default().max_speed_mps;
+        let at_rest = speeds
+            .iter()
+            .zip(&self.passive)
+            .map(|(s, p)| *p || *s < vtol)
+            .collect();
+        let wall = WallTime {
+            in_bullet: self.in_bullet - bullet_before,
+            total: start.elapsed(),
+        };
+        Ok(RuinResult {
+            frames,
+            final_poses: self.body_poses()?,
+            final_velocities: self.body_velocities()?,
+            at_rest,
+            connections: outcomes,
+            stop: reason,
+            end_time_s: self.time_s(),
+            wall,
+        })
+    }
+}
+
+/// `pose` translated by `d`.
+fn shifted(pose: &Pose, d: [f64; 3]) -> Pose {
+    Pose {
+        position: [
+            pose.position[0] + d[0],
+            pose.position[1] + d[1],
+            pose.position[2] + d[2],
+        ],
+        orientation: pose.orientation,
+    }
+}
