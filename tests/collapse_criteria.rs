@@ -45,7 +45,7 @@ fn vertical_drop_triggers_exactly_at_the_threshold_step() {
             .iter()
             .map(|n| match n.tag {
                 121 => [0.01, 0.0, -0.0625 * k as f64],
-                112 => [0.0, 0.0, -1.0 * k as f64],
+                112 => [0.0, 0.0, -(k as f64)],
                 _ => [0.0, 0.0, -0.01 * k as f64],
             })
             .collect()

@@ -24,6 +24,9 @@
 //!   that of the bottom node and h_s = z_{s+1} − z_s. This is the inter-story drift
 //!   ratio of GB 50011-2010 §5.5 and FEMA 356 Table C1-3, measured per column line
 //!   (not at the floor's centre of mass), so torsion counts at the corner columns.
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::model::{ElementKind, Model};
 use anyhow::{bail, Result};
 use std::collections::BTreeMap;
