@@ -10,7 +10,7 @@
 //!    tolerance;
 //! 3. [`mass`]: element self-weight plus nodal masses onto the boxes.
 //!
-//! [`from_model`] builds the input from a [`crate::model::Model`] (rigid-body elements
+//! [`from_model()`] builds the input from a [`crate::model::Model`] (rigid-body elements
 //! only; FE-only elements' weight goes to their nodes). [`handoff`] poses the mapped
 //! bodies from an FE nodal state (keyframes up to Tc, instantaneous velocities at Tc).
 
