@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 
 pub mod export;
 pub mod generate;
+pub mod map;
 pub mod scene;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
@@ -36,6 +37,8 @@ pub enum Command {
     /// Export a model to another program (openseespy script).
     #[command(subcommand)]
     Export(export::ExportCommand),
+    /// Map a model's elements to rigid boxes and write the rigid-body table (CSV).
+    Map(map::MapArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -51,5 +54,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(args) => scene::run(args),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd),
+        Command::Map(args) => map::run(&args, cli.quiet),
     }
 }

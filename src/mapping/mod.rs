@@ -9,17 +9,24 @@
 //! 2. [`overlap`]: boxes at joints are shortened so no pair overlaps by more than the
 //!    tolerance;
 //! 3. [`mass`]: element self-weight plus nodal masses onto the boxes.
+//!
+//! [`from_model()`] builds the input from a [`crate::model::Model`] (rigid-body elements
+//! only; FE-only elements' weight goes to their nodes). [`handoff`] poses the mapped
+//! bodies from an FE nodal state (keyframes up to Tc, instantaneous velocities at Tc).
 
 // `!(x > 0.0)` is used on purpose: it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod from_model;
 pub mod geometry;
+pub mod handoff;
 pub mod input;
 pub mod mass;
 pub mod overlap;
 pub mod polytope;
 pub mod table;
 
+pub use from_model::from_model;
 pub use geometry::{BodyKind, RigidBox};
 pub use input::{LineMember, MappingInput, NodalMass, Quad};
 pub use overlap::TrimReport;
