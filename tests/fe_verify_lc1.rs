@@ -99,8 +99,9 @@ fn check(r: &Reference, t_end: f64) {
         ey = ey.max((at(&t, &uy, ti) - uy_ref[i]).abs());
     }
     eprintln!(
-        "LC1 {} 0–{t_end} s: max |Δux| = {:.3} % of peak, max |Δuy| = {:.3} % of peak",
+        "LC1 {} 0–{:.2} s: max |Δux| = {:.3} % of peak, max |Δuy| = {:.3} % of peak",
         r.name,
+        t_end.min(*t_ref.last().unwrap()),
         ex / sx * 100.0,
         ey / sy * 100.0
     );
