@@ -3,8 +3,10 @@
 use clap::{Parser, Subcommand};
 
 pub mod export;
+pub mod fe;
 pub mod generate;
 pub mod map;
+pub mod modal;
 pub mod scene;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
@@ -39,6 +41,10 @@ pub enum Command {
     Export(export::ExportCommand),
     /// Map a model's elements to rigid boxes and write the rigid-body table (CSV).
     Map(map::MapArgs),
+    /// Eigen periods, effective masses and mode characters of a model.
+    Modal(modal::ModalArgs),
+    /// Nonlinear FE time history of a model under a ground motion.
+    Fe(fe::FeArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -49,11 +55,12 @@ pub fn main() -> anyhow::Result<()> {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let _ = cli.quiet;
     match cli.command {
         Command::Scene(args) => scene::run(args),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd),
         Command::Map(args) => map::run(&args, cli.quiet),
+        Command::Modal(args) => modal::run(&args),
+        Command::Fe(args) => fe::run(&args, cli.quiet),
     }
 }
