@@ -114,16 +114,15 @@ fn exported_frame3_gravity_sag_matches_reference() {
 }
 
 fn record(name: &str) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let candidates = [
-        root.join("data/ground-motions").join(name),
-        PathBuf::from("/work/shared/data/ground-motions").join(name),
-    ];
-    candidates
-        .iter()
-        .find(|p| p.exists())
-        .unwrap_or_else(|| panic!("El Centro record {name} not found in data/ground-motions/"))
-        .clone()
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data/ground-motions")
+        .join(name);
+    assert!(
+        path.exists(),
+        "El Centro record {} not found",
+        path.display()
+    );
+    path
 }
 
 /// Runs LC1 (0.10/0.08/0.06 g) for `duration` s with `variant` and compares the
