@@ -282,18 +282,27 @@ impl StepProblem for NewmarkProblem<'_> {
         let c1 = 1.0 / (self.beta * self.h * self.h);
         let c2 = self.gamma / (self.beta * self.h);
         let RayleighDamping { a0, a1 } = self.damping;
-        let kfac = match kind {
-            StiffnessKind::Initial => 1.0 + c2 * a1,
-            StiffnessKind::Tangent => {
-                pattern.add_stiffness(domain, StiffnessKind::Tangent, 1.0, values);
-                c2 * a1
+        match kind {
+            StiffnessKind::Initial => {
+                let kfac = 1.0 + c2 * a1;
+                values
+                    .iter_mut()
+                    .zip(self.pattern_kinit)
+                    .for_each(|(v, k)| *v += kfac * k);
             }
-        };
-        if kfac != 0.0 {
-            values
-                .iter_mut()
-                .zip(self.pattern_kinit)
-                .for_each(|(v, k)| *v += kfac * k);
+            StiffnessKind::Tangent => {
+                // K_t + c2·a1·D with the damping stiffness of the residual (trial
+                // geometry where the element asks for it), as OpenSees's Newmark forms it.
+                pattern.add_stiffness(domain, StiffnessKind::Tangent, 1.0, values);
+                let kfac = c2 * a1;
+                if kfac != 0.0 {
+                    values
+                        .iter_mut()
+                        .zip(self.pattern_kdamp_const)
+                        .for_each(|(v, k)| *v += kfac * k);
+                    pattern.add_trial_damping_stiffness(domain, kfac, values);
+                }
+            }
         }
         pattern.add_diagonal(self.mass, c1 + c2 * a0, values);
     }

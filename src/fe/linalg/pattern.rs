@@ -175,6 +175,24 @@ impl SparsePattern {
         }
     }
 
+    /// `values += factor · Σ_e D_e` over the elements whose damping stiffness `D_e`
+    /// follows the trial configuration (`damping_stiffness()` is `Some`).
+    pub fn add_trial_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            let Some(k) = el.damping_stiffness() else {
+                continue;
+            };
+            for i in 0..12 {
+                for j in 0..12 {
+                    let s = slots[12 * i + j];
+                    if s != NONE {
+                        values[s] += factor * k[(i, j)];
+                    }
+                }
+            }
+        }
+    }
+
     /// `values += factor · diag(d)`.
     pub fn add_diagonal(&self, d: &[f64], factor: f64, values: &mut [f64]) {
         for (s, x) in self.diagonal_slots.iter().zip(d) {
