@@ -203,6 +203,9 @@ pub struct Newmark {
     /// Copy of the workspace's pattern, for K_initial·v in the damping force.
     pattern: SparsePattern,
     kinit: Vec<f64>,
+    /// Σ K0_e of the elements whose damping stiffness is constant (all but
+    /// displacement-based corotational beams, whose `D_e` follows the trial geometry).
+    kdamp_const: Vec<f64>,
     mass: Vec<f64>,
     iota: [Vec<f64>; 3],
     damping: RayleighDamping,
@@ -212,6 +215,7 @@ pub struct Newmark {
 
 struct NewmarkProblem<'a> {
     pattern_kinit: &'a [f64],
+    pattern_kdamp_const: &'a [f64],
     mass: &'a [f64],
     iota: &'a [Vec<f64>; 3],
     damping: RayleighDamping,
@@ -248,8 +252,13 @@ impl StepProblem for NewmarkProblem<'_> {
     fn residual(&mut self, domain: &Domain, out: &mut [f64]) {
         domain.external_load(&mut self.p);
         domain.resisting_force(&mut self.f);
+        // Stiffness-proportional damping force D·v, D = Σ K0_e; per element as OpenSees
+        // forms it (Element::getRayleighDampingForces), with the trial geometry where the
+        // element asks for it (Element::damping_stiffness).
         self.pattern
-            .mul_vec(self.pattern_kinit, &self.v, &mut self.kv);
+            .mul_vec(self.pattern_kdamp_const, &self.v, &mut self.kv);
+        self.pattern
+            .add_trial_damping_product(domain, &self.v, &mut self.kv);
         let RayleighDamping { a0, a1 } = self.damping;
         for i in 0..out.len() {
             let ag = self.iota[0][i] * self.ag[0]
@@ -273,18 +282,27 @@ impl StepProblem for NewmarkProblem<'_> {
         let c1 = 1.0 / (self.beta * self.h * self.h);
         let c2 = self.gamma / (self.beta * self.h);
         let RayleighDamping { a0, a1 } = self.damping;
-        let kfac = match kind {
-            StiffnessKind::Initial => 1.0 + c2 * a1,
-            StiffnessKind::Tangent => {
-                pattern.add_stiffness(domain, StiffnessKind::Tangent, 1.0, values);
-                c2 * a1
+        match kind {
+            StiffnessKind::Initial => {
+                let kfac = 1.0 + c2 * a1;
+                values
+                    .iter_mut()
+                    .zip(self.pattern_kinit)
+                    .for_each(|(v, k)| *v += kfac * k);
             }
-        };
-        if kfac != 0.0 {
-            values
-                .iter_mut()
-                .zip(self.pattern_kinit)
-                .for_each(|(v, k)| *v += kfac * k);
+            StiffnessKind::Tangent => {
+                // K_t + c2·a1·D with the damping stiffness of the residual (trial
+                // geometry where the element asks for it), as OpenSees's Newmark forms it.
+                pattern.add_stiffness(domain, StiffnessKind::Tangent, 1.0, values);
+                let kfac = c2 * a1;
+                if kfac != 0.0 {
+                    values
+                        .iter_mut()
+                        .zip(self.pattern_kdamp_const)
+                        .for_each(|(v, k)| *v += kfac * k);
+                    pattern.add_trial_damping_stiffness(domain, kfac, values);
+                }
+            }
         }
         pattern.add_diagonal(self.mass, c1 + c2 * a0, values);
     }
@@ -318,12 +336,16 @@ impl Newmark {
         let mut kinit = ws.pattern.zeros();
         ws.pattern
             .add_stiffness(domain, StiffnessKind::Initial, 1.0, &mut kinit);
+        let mut kdamp_const = ws.pattern.zeros();
+        ws.pattern
+            .add_constant_damping_stiffness(domain, 1.0, &mut kdamp_const);
         let mass = domain.mass_diagonal();
         let iota = [0, 1, 2].map(|d| domain.influence_vector(d));
         Ok(Self {
             pattern: ws.pattern.clone(),
             ws,
             kinit,
+            kdamp_const,
             mass,
             iota,
             damping,
@@ -354,6 +376,7 @@ impl Newmark {
         domain.committed_eq(&mut un, &mut vn, &mut an);
         let mut problem = NewmarkProblem {
             pattern_kinit: &self.kinit,
+            pattern_kdamp_const: &self.kdamp_const,
             mass: &self.mass,
             iota: &self.iota,
             damping: self.damping,

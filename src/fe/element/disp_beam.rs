@@ -31,6 +31,8 @@ pub struct DispBeam3d {
     v: Vector6<f64>,
     q: Vector6<f64>,
     kb: Mat6,
+    /// Initial basic stiffness `Σ Bᵀ k_s0 B w L` (sections' initial tangents; constant).
+    kb0: Mat6,
 }
 
 /// `B(ξ)`: section deformations from basic deformations.
@@ -76,7 +78,9 @@ impl DispBeam3d {
             v: Vector6::zeros(),
             q: Vector6::zeros(),
             kb: Mat6::zeros(),
+            kb0: Mat6::zeros(),
         };
+        s.kb0 = s.integrate_initial();
         s.state_determination();
         Ok(s)
     }
@@ -140,8 +144,10 @@ impl Element for DispBeam3d {
         self.transf.global_stiffness(&self.kb, &self.q)
     }
     fn initial_stiffness(&self) -> Mat12 {
-        self.transf
-            .initial_global_stiffness(&self.integrate_initial())
+        self.transf.initial_global_stiffness(&self.kb0)
+    }
+    fn damping_stiffness(&self) -> Option<Mat12> {
+        self.transf.trial_initial_global_stiffness(&self.kb0)
     }
     fn commit_state(&mut self) {
         self.transf.commit();

@@ -60,6 +60,15 @@ pub trait Element: std::fmt::Debug + Send {
     /// Stiffness of the undeformed, undamaged element (for initial-stiffness Rayleigh
     /// damping and modified Newton with the initial tangent).
     fn initial_stiffness(&self) -> Mat12;
+    /// Stiffness for the stiffness-proportional part of initial-stiffness Rayleigh
+    /// damping when it follows the trial configuration, `None` (the default) when it is
+    /// [`Self::initial_stiffness`]. OpenSees's `DispBeamColumn3d` re-evaluates its
+    /// initial stiffness with the corotational transformation's trial geometry each time
+    /// the damping force is formed (`Element::getRayleighDampingForces` →
+    /// `getInitialStiff`), whereas `ForceBeamColumn3d` caches it once.
+    fn damping_stiffness(&self) -> Option<Mat12> {
+        None
+    }
     /// Accepts the trial state.
     fn commit_state(&mut self);
     /// Returns to the last committed state.

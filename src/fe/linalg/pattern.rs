@@ -25,6 +25,8 @@ pub struct SparsePattern {
     /// Per element, 144 value positions (row-major over the 12×12 element matrix),
     /// `NONE` where a row or column is a fixed DOF.
     element_slots: Vec<[usize; 144]>,
+    /// Per element, the equation numbers of its 12 DOFs (`None` for fixed DOFs).
+    element_eqs: Vec<[Option<usize>; 12]>,
     /// Value position of each diagonal entry.
     diagonal_slots: Vec<usize>,
 }
@@ -79,6 +81,7 @@ impl SparsePattern {
         Self {
             symbolic,
             element_slots,
+            element_eqs: eqs,
             diagonal_slots,
         }
     }
@@ -120,6 +123,64 @@ impl SparsePattern {
             let k = match kind {
                 StiffnessKind::Tangent => el.tangent_stiffness(),
                 StiffnessKind::Initial => el.initial_stiffness(),
+            };
+            for i in 0..12 {
+                for j in 0..12 {
+                    let s = slots[12 * i + j];
+                    if s != NONE {
+                        values[s] += factor * k[(i, j)];
+                    }
+                }
+            }
+        }
+    }
+
+    /// `values += factor · Σ_e K0_e` over the elements whose damping stiffness is their
+    /// (constant) initial stiffness ([`crate::fe::element::Element::damping_stiffness`]
+    /// is `None`).
+    pub fn add_constant_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            if el.damping_stiffness().is_some() {
+                continue;
+            }
+            let k = el.initial_stiffness();
+            for i in 0..12 {
+                for j in 0..12 {
+                    let s = slots[12 * i + j];
+                    if s != NONE {
+                        values[s] += factor * k[(i, j)];
+                    }
+                }
+            }
+        }
+    }
+
+    /// `y += Σ_e D_e x_e` over the elements whose damping stiffness `D_e` follows the
+    /// trial configuration (`damping_stiffness()` is `Some`), `x` and `y` in equations.
+    pub fn add_trial_damping_product(&self, domain: &Domain, x: &[f64], y: &mut [f64]) {
+        for (el, eqs) in domain.elements().iter().zip(&self.element_eqs) {
+            let Some(k) = el.damping_stiffness() else {
+                continue;
+            };
+            for (i, ri) in eqs.iter().enumerate() {
+                let Some(r) = ri else { continue };
+                let mut acc = 0.0;
+                for (j, cj) in eqs.iter().enumerate() {
+                    if let Some(c) = cj {
+                        acc += k[(i, j)] * x[*c];
+                    }
+                }
+                y[*r] += acc;
+            }
+        }
+    }
+
+    /// `values += factor · Σ_e D_e` over the elements whose damping stiffness `D_e`
+    /// follows the trial configuration (`damping_stiffness()` is `Some`).
+    pub fn add_trial_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            let Some(k) = el.damping_stiffness() else {
+                continue;
             };
             for i in 0..12 {
                 for j in 0..12 {

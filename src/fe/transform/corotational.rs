@@ -489,6 +489,10 @@ impl CrdTransf for CorotTransf {
         let tb = self.tp * self.t0;
         tb.transpose() * kb0 * tb
     }
+    fn trial_initial_global_stiffness(&self, kb0: &Mat6) -> Option<Mat12> {
+        let tb = self.tp * self.kin.t;
+        Some(tb.transpose() * kb0 * tb)
+    }
     fn commit(&mut self) {
         self.u_c = self.u;
         self.qi_c = self.qi;

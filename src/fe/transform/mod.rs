@@ -99,6 +99,17 @@ pub trait CrdTransf: std::fmt::Debug + Send {
     /// Global stiffness of the undeformed configuration with basic stiffness `kb0`
     /// (no geometric part).
     fn initial_global_stiffness(&self, kb0: &Mat6) -> Mat12;
+    /// Basic stiffness `kb0` carried to global axes with the *trial* configuration's
+    /// basic-to-global map, without the geometric part: `Tbᵀ kb0 Tb`.
+    ///
+    /// This is what OpenSees's `getInitialGlobalStiffMatrix` returns when called after
+    /// `update()` (CorotCrdTransf3d.cpp: `kl = Tpᵀ kb Tp; kg = Tᵀ kl T` with the `T` of
+    /// the last update), and `DispBeamColumn3d::getInitialStiff` calls it on every
+    /// Rayleigh damping force evaluation. `None` where it equals
+    /// [`Self::initial_global_stiffness`] (linear and P-Delta transformations).
+    fn trial_initial_global_stiffness(&self, _kb0: &Mat6) -> Option<Mat12> {
+        None
+    }
     /// Accepts the trial configuration.
     fn commit(&mut self);
     /// Returns to the last committed configuration.
