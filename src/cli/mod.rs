@@ -3,7 +3,9 @@
 use clap::{Parser, Subcommand};
 
 pub mod export;
+pub mod fe;
 pub mod generate;
+pub mod modal;
 pub mod scene;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
@@ -36,6 +38,10 @@ pub enum Command {
     /// Export a model to another program (openseespy script).
     #[command(subcommand)]
     Export(export::ExportCommand),
+    /// Eigen periods, effective masses and mode characters of a model.
+    Modal(modal::ModalArgs),
+    /// Nonlinear FE time history of a model under a ground motion.
+    Fe(fe::FeArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -46,10 +52,11 @@ pub fn main() -> anyhow::Result<()> {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    let _ = cli.quiet;
     match cli.command {
         Command::Scene(args) => scene::run(args),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd),
+        Command::Modal(args) => modal::run(&args),
+        Command::Fe(args) => fe::run(&args, cli.quiet),
     }
 }

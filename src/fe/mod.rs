@@ -7,5 +7,6 @@ pub mod domain;
 pub mod element;
 pub mod linalg;
 pub mod material;
+pub mod run;
 pub mod section;
 pub mod transform;

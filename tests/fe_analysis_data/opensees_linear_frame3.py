@@ -18,7 +18,8 @@ import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tests", "opensees"))
 try:
     from ops_import import ops  # noqa: E402
 except Exception as exc:  # pragma: no cover
@@ -40,7 +41,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tmax", type=float, default=6.0)
     args = ap.parse_args()
-    with open(os.path.join(HERE, "frame3.json")) as fh:
+    with open(os.path.join(ROOT, "data", "frame3", "reference-frame3.json")) as fh:
         model = json.load(fh)
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
@@ -90,7 +91,7 @@ def main():
     pga = model["ground_motion"]["load_cases_pga_g"]["LC1"]
     g = model["gravity"]
     for k, (dirn, key) in enumerate([(1, "X"), (2, "Y"), (3, "Z")]):
-        rdt, vals = read_at2(os.path.join(HERE, model["ground_motion"]["files"][key]))
+        rdt, vals = read_at2(os.path.join(ROOT, "data", "ground-motions", model["ground_motion"]["files"][key]))
         scale = pga[k] / max(abs(v) for v in vals)
         ops.timeSeries("Path", 10 + k, "-dt", rdt, "-values", *vals, "-factor", scale * g)
         ops.pattern("UniformExcitation", 10 + k, dirn, "-accel", 10 + k)

@@ -1,0 +1,256 @@
+//! `fem2rbd fe model.toml --gm X=path[,pga=G] ... --out DIR`: a nonlinear time history
+//! of a model under a ground motion ([`crate::fe::run::run_ground_motion`]). Writes
+//! `DIR/nodes.csv` (time and the six displacements of every node) and
+//! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
+//! both atomically. All input is checked before anything is written.
+use crate::fe::analysis::transient::{StepControl, StopReason};
+use crate::fe::build::{BuildOptions, Variant};
+use crate::fe::run::{run_ground_motion, RunOptions, RunResult};
+use crate::model::Model;
+use crate::motion::{Format, GroundMotion};
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::json;
+use std::fmt::Write as _;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Options of `fe`.
+#[derive(Debug, Args)]
+pub struct FeArgs {
+    /// Model file (.toml or .json).
+    pub model: PathBuf,
+    /// Ground-motion component `DIR=PATH[,pga=G]` (DIR = X, Y or Z; PATH an AT2 or
+    /// two-column file; G the target PGA in g); repeat for several components.
+    #[arg(long = "gm", value_name = "DIR=PATH[,pga=G]", required = true)]
+    pub gm: Vec<String>,
+    /// Time-scale factor t' = f·t of the records.
+    #[arg(long, default_value_t = 1.0)]
+    pub time_scale: f64,
+    /// Analysis time step (s).
+    #[arg(long, default_value_t = 0.005)]
+    pub dt: f64,
+    /// Analysis duration (s); default the shortest record.
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Element variant: model, force, disp or elastic.
+    #[arg(long, default_value = "model")]
+    pub variant: Variant,
+    /// Record every k-th step.
+    #[arg(long, default_value_t = 1)]
+    pub every: usize,
+    /// Output folder (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// One `--gm` component.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GmSpec {
+    /// 0 = X, 1 = Y, 2 = Z.
+    pub axis: usize,
+    /// Record file.
+    pub path: PathBuf,
+    /// Target PGA (g), if scaling.
+    pub pga_g: Option<f64>,
+}
+
+/// Parses `X=path`, `X=path,pga=0.93` (or `X=path,0.93`).
+pub fn parse_gm(s: &str) -> Result<GmSpec> {
+    let (dir, rest) = s
+        .split_once('=')
+        .with_context(|| format!("--gm {s:?}: expected DIR=PATH[,pga=G]"))?;
+    let axis = match dir.trim().to_ascii_uppercase().as_str() {
+        "X" => 0,
+        "Y" => 1,
+        "Z" => 2,
+        o => bail!("--gm {s:?}: unknown direction {o:?} (use X, Y or Z)"),
+    };
+    let mut parts = rest.split(',');
+    let path = parts.next().unwrap_or("").trim();
+    if path.is_empty() {
+        bail!("--gm {s:?}: no record file given");
+    }
+    let mut pga_g = None;
+    for p in parts {
+        let value = match p.split_once('=') {
+            Some((k, v)) if k.trim().eq_ignore_ascii_case("pga") => v,
+            Some((k, _)) => bail!("--gm {s:?}: unknown option {k:?} (only pga=G)"),
+            None => p,
+        };
+        let g: f64 = value
+            .trim()
+            .parse()
+            .with_context(|| format!("--gm {s:?}: PGA {value:?} is not a number"))?;
+        if !(g > 0.0 && g.is_finite()) {
+            bail!("--gm {s:?}: PGA must be positive, got {g}");
+        }
+        pga_g = Some(g);
+    }
+    Ok(GmSpec {
+        axis,
+        path: PathBuf::from(path),
+        pga_g,
+    })
+}
+
+/// Reads, scales and time-scales the ground motion of the `--gm` components.
+pub fn ground_motion(specs: &[GmSpec], time_scale: f64) -> Result<GroundMotion> {
+    let mut paths: [Option<&Path>; 3] = [None; 3];
+    let mut pga = [None; 3];
+    for s in specs {
+        if paths[s.axis].is_some() {
+            bail!("--gm: direction {} given twice", ["X", "Y", "Z"][s.axis]);
+        }
+        if !s.path.is_file() {
+            bail!("--gm: record file {} does not exist", s.path.display());
+        }
+        paths[s.axis] = Some(s.path.as_path());
+        pga[s.axis] = s.pga_g;
+    }
+    let mut gm = GroundMotion::from_files(paths, Format::Auto)?;
+    gm.scale_to_pga(pga)?;
+    if time_scale != 1.0 {
+        gm.time_scale(time_scale)?;
+    }
+    Ok(gm)
+}
+
+/// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times
+/// with 6 decimals (s), displacements with 9 decimals (m, rad).
+pub fn nodes_csv(result: &RunResult) -> String {
+    let h = &result.transient.history;
+    let mut s = String::from("t");
+    for tag in &result.node_tags {
+        for c in ["ux", "uy", "uz", "rx", "ry", "rz"] {
+            let _ = write!(s, ",{c}_{tag}");
+        }
+    }
+    s.push('\n');
+    for (k, t) in h.time.iter().enumerate() {
+        let _ = write!(s, "{t:.6}");
+        for d in &h.disp[k] {
+            for v in d {
+                let _ = write!(s, ",{v:.9}");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// `fe_summary.json` content.
+pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
+    let tr = &result.transient;
+    let stop = match &tr.stop {
+        StopReason::Completed => json!({"reason": "completed", "time": tr.end_time}),
+        StopReason::Stopped { time } => json!({"reason": "stopped", "time": time}),
+        StopReason::Diverged {
+            time,
+            attempted,
+            reason,
+        } => json!({"reason": "diverged", "time": time, "attempted": attempted, "message": reason}),
+    };
+    // Peak |u| per component over all recorded nodes and times.
+    let h = &tr.history;
+    let names = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    let mut peaks = serde_json::Map::new();
+    for (c, name) in names.iter().enumerate() {
+        let mut best = (0.0f64, 0u32, 0.0f64);
+        for (k, t) in h.time.iter().enumerate() {
+            for (n, d) in h.disp[k].iter().enumerate() {
+                if d[c].abs() > best.0.abs() {
+                    best = (d[c], result.node_tags[n], *t);
+                }
+            }
+        }
+        peaks.insert(
+            (*name).to_string(),
+            json!({"value": best.0, "node": best.1, "time": best.2}),
+        );
+    }
+    json!({
+        "periods_s": result.modal.periods,
+        "rayleigh": {"a0": result.damping.a0, "a1": result.damping.a1},
+        "stop": stop,
+        "end_time_s": tr.end_time,
+        "steps": tr.steps,
+        "fallback_steps": tr.fallback_steps,
+        "records": h.time.len(),
+        "peaks": peaks,
+        "wall_time_s": wall_s,
+    })
+}
+
+/// Runs `fe`.
+pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
+    let model = Model::load(&args.model)?;
+    let specs: Vec<GmSpec> = args.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?;
+    let gm = ground_motion(&specs, args.time_scale)?;
+    if !(args.dt > 0.0 && args.dt.is_finite()) {
+        bail!("--dt must be positive, got {}", args.dt);
+    }
+    if args.every == 0 {
+        bail!("--every must be at least 1");
+    }
+    if let Some(d) = args.duration {
+        if !(d > 0.0 && d.is_finite()) {
+            bail!("--duration must be positive, got {d}");
+        }
+    }
+    if args.out.exists() && !args.out.is_dir() {
+        bail!("--out {} exists and is not a folder", args.out.display());
+    }
+    let t_end = args.duration.unwrap_or_else(|| gm.duration_s());
+    let options = RunOptions {
+        build: BuildOptions {
+            variant: args.variant,
+            ..Default::default()
+        },
+        dt: args.dt,
+        duration: Some(t_end),
+        every: args.every,
+        ..Default::default()
+    };
+    let total = (t_end / args.dt).ceil() as u64;
+    let bar = if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {msg} [{elapsed_precise}, eta {eta}]")
+                .expect("valid template"),
+        );
+        b
+    };
+    let start = std::time::Instant::now();
+    let result = run_ground_motion(&model, &gm, &options, &mut |info, _| {
+        bar.set_position(info.step as u64);
+        bar.set_message(format!("t = {:.3} / {t_end:.3} s", info.time));
+        StepControl::Continue
+    })?;
+    bar.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let csv = args.out.join("nodes.csv");
+    crate::output::write_atomic(&csv, nodes_csv(&result).as_bytes())
+        .with_context(|| format!("cannot write {}", csv.display()))?;
+    let js = args.out.join("fe_summary.json");
+    let text = serde_json::to_string_pretty(&summary(&result, wall))? + "\n";
+    crate::output::write_atomic(&js, text.as_bytes())
+        .with_context(|| format!("cannot write {}", js.display()))?;
+    if !quiet {
+        match &result.transient.stop {
+            StopReason::Diverged { time, reason, .. } => {
+                eprintln!("fe: stopped at t = {time:.3} s, a step did not converge: {reason}")
+            }
+            _ => eprintln!(
+                "fe: t = {:.3} s in {} steps ({} with fallbacks), {wall:.1} s",
+                result.transient.end_time, result.transient.steps, result.transient.fallback_steps
+            ),
+        }
+    }
+    Ok(())
+}

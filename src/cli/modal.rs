@@ -1,0 +1,64 @@
+//! `fem2rbd modal model.toml`: eigen periods of a model on its initial stiffness, with
+//! frequencies, effective modal mass ratios and each mode's character (by shape).
+use crate::fe::analysis::modal::{modal_analysis, ModalSettings};
+use crate::fe::build::{build_domain, BuildOptions, Variant};
+use crate::fe::run::mode_character;
+use crate::model::Model;
+use anyhow::{Context, Result};
+use clap::Args;
+use std::path::PathBuf;
+
+/// Options of `modal`.
+#[derive(Debug, Args)]
+pub struct ModalArgs {
+    /// Model file (.toml or .json).
+    pub model: PathBuf,
+    /// Number of modes (lowest first).
+    #[arg(long, default_value_t = 6)]
+    pub modes: usize,
+    /// Element variant: model, force, disp or elastic.
+    #[arg(long, default_value = "model")]
+    pub variant: Variant,
+}
+
+/// The report printed by `modal` (one line per mode).
+pub fn report(model: &Model, modes: usize, variant: Variant) -> Result<String> {
+    let mut built = build_domain(
+        model,
+        &BuildOptions {
+            variant,
+            ..Default::default()
+        },
+    )?;
+    let modal = modal_analysis(
+        &mut built.domain,
+        &ModalSettings {
+            modes,
+            ..Default::default()
+        },
+    )
+    .context("modal analysis")?;
+    let mut out = String::from("mode  T (s)     f (Hz)    MX     MY     MZ     character\n");
+    for k in 0..modal.periods.len() {
+        let t = modal.periods[k];
+        let r = modal.effective_mass_ratio[k];
+        out.push_str(&format!(
+            "{:>4}  {:.5}  {:>8.4}  {:.3}  {:.3}  {:.3}  {}\n",
+            k + 1,
+            t,
+            1.0 / t,
+            r[0],
+            r[1],
+            r[2],
+            mode_character(&built.domain, &modal, k)
+        ));
+    }
+    Ok(out)
+}
+
+/// Runs `modal`.
+pub fn run(args: &ModalArgs) -> Result<()> {
+    let model = Model::load(&args.model)?;
+    print!("{}", report(&model, args.modes, args.variant)?);
+    Ok(())
+}

@@ -1,0 +1,105 @@
+//! frame3 LC5 (El Centro at 0.93 / 1.19 / 0.57 g), displacement-based variant, against
+//! OpenSees 3.7.1 (results.md §4, `tests/fixtures/opensees-frame3/LC5_disp_ts1.*`):
+//! first times the roof drift passes 5 % and 10 % (corner column line: node 301 over
+//! base node 1, SRSS of X and Y, over 3.0 m; OpenSees 2.39 s and 3.57 s) and the
+//! collapse time Tc, the first step at which any non-base node has uz < −0.25 m
+//! (OpenSees 4.735 s). Each within 5 %. The run stops at Tc through the observer (the
+//! collapse criterion as a [`StepControl::Stop`]).
+mod fe_verify_support;
+
+use fe_verify_support::*;
+use fem2rbd::fe::analysis::transient::StopReason;
+use fem2rbd::fe::build::Variant;
+
+/// Runs LC5 disp to `t_end` (or Tc); returns (t5, t10, Tc).
+fn lc5(t_end: f64) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let model = frame3();
+    let gm = el_centro(LC5);
+    let fixed: std::collections::BTreeSet<u32> = model.fixity().keys().copied().collect();
+    // The built domain numbers nodes in model order.
+    let free: Vec<usize> = model
+        .nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| !fixed.contains(&n.tag))
+        .map(|(i, _)| i)
+        .collect();
+    let r = run(
+        &model,
+        &gm,
+        Variant::Disp,
+        t_end,
+        &[301, 1, 312],
+        &mut |d| free.iter().any(|&i| d.displacement(i)[2] < -0.25),
+    );
+    let h = &r.transient.history;
+    let mut t5 = None;
+    let mut t10 = None;
+    for (k, &t) in h.time.iter().enumerate() {
+        let (a, b) = (h.disp[k][0], h.disp[k][1]);
+        let drift = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() / 3.0;
+        if t5.is_none() && drift > 0.05 {
+            t5 = Some(t);
+        }
+        if t10.is_none() && drift > 0.10 {
+            t10 = Some(t);
+        }
+    }
+    // Roof-centre node 312 against the OpenSees series at a few times.
+    let (_, rows) = read_csv(&fixture("LC5_disp_ts1.csv"));
+    let tr: Vec<f64> = rows.iter().map(|v| v[0]).collect();
+    for ts in [2.0, 2.2, 2.4, 2.7, 3.0, 3.6, 4.2, 4.7] {
+        if ts > *h.time.last().unwrap() {
+            break;
+        }
+        let ours = |j: usize| {
+            at(
+                &h.time,
+                &h.disp.iter().map(|d| d[2][j]).collect::<Vec<_>>(),
+                ts,
+            )
+        };
+        let theirs = |j: usize| at(&tr, &rows.iter().map(|v| v[1 + j]).collect::<Vec<_>>(), ts);
+        eprintln!(
+            "LC5 disp t = {ts} s: node 312 ux/uy/uz = {:+.4}/{:+.4}/{:+.4} m, OpenSees {:+.4}/{:+.4}/{:+.4} m",
+            ours(0), ours(1), ours(2), theirs(0), theirs(1), theirs(2)
+        );
+    }
+    let tc = match r.transient.stop {
+        StopReason::Stopped { time } => Some(time),
+        _ => None,
+    };
+    eprintln!(
+        "LC5 disp: t(5 %) = {t5:?} s (OpenSees 2.39), t(10 %) = {t10:?} s (OpenSees 3.57), Tc = {tc:?} s (OpenSees 4.735); {} steps, {} fallback steps",
+        r.transient.steps, r.transient.fallback_steps
+    );
+    (t5, t10, tc)
+}
+
+fn within(x: Option<f64>, reference: f64, what: &str) {
+    let x = x.unwrap_or_else(|| panic!("{what} not reached"));
+    let rel = (x - reference) / reference;
+    eprintln!(
+        "{what}: {x:.3} s vs OpenSees {reference} s, diff {:+.2} %",
+        rel * 100.0
+    );
+    assert!(rel.abs() < 0.05, "{what}: {x} s vs {reference} s");
+}
+
+/// CI: the run to 4.0 s (past the 10 % drift time).
+#[test]
+fn lc5_disp_times_to_5_and_10_percent_drift() {
+    let (t5, t10, _) = lc5(4.0);
+    within(t5, 2.39, "time to 5 % roof drift");
+    within(t10, 3.57, "time to 10 % roof drift");
+}
+
+/// Known failure (docs/fe-verification.md): fem2rbd's LC5 disp history leaves
+/// OpenSees's after about 2.2 s (large inelastic excursions), and the 0.25 m drop is
+/// not reached by 5.5 s (OpenSees: 4.735 s).
+#[test]
+#[ignore = "known failure: Tc not reached by 5.5 s (OpenSees 4.735 s); see docs/fe-verification.md"]
+fn lc5_disp_collapse_time() {
+    let (_, _, tc) = lc5(5.5);
+    within(tc, 4.735, "Tc (uz < -0.25 m)");
+}
