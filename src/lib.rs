@@ -15,6 +15,7 @@
 #![deny(unsafe_code)]
 
 pub mod cli;
+pub mod collapse;
 pub mod export;
 pub mod fe;
 pub mod mapping;

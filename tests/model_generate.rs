@@ -40,14 +40,18 @@ fn multi_bay_frame_counts_masses_and_names() {
     let want = closed_total(&p);
     assert!((total / want - 1.0).abs() < 1e-12, "{total} vs {want}");
     // counts: 12 columns x 2 stories x 3 elements; beams per floor: (3 lines x 3 spans
-    // + 4 lines x 2 spans) x 2 halves x 2 elements; 6 panels x 4 strips per floor
+    // + 4 lines x 2 spans) x 2 halves x 2 elements; 6 panels x (4 strips + 4 quarter
+    // panels) per floor
     let count = |name: &str| m.elements.iter().filter(|e| e.type_name == name).count();
     assert_eq!(count("Column"), 12 * 2 * 3);
     assert_eq!(count("Beam"), 2 * (3 * 3 + 4 * 2) * 2 * 2);
-    assert_eq!(count("Slab"), 2 * 6 * 4);
+    assert_eq!(count("Slab"), 2 * 6 * 4 * 2);
+    let panels = m.elements.iter().filter(|e| !e.in_fe()).count();
+    assert_eq!(panels, 2 * 6 * 4);
     // every element's length is positive and every group is its story
     for e in &m.elements {
-        assert!(m.element_length(e).unwrap() > 0.1);
+        let size = m.element_length(e).or_else(|| m.shell_area(e)).unwrap();
+        assert!(size > 0.1, "element {} size {size}", e.tag);
         assert!(["1", "2"].contains(&e.group.0.as_str()));
     }
     // the core concrete of story 2 is 25 MPa x 1.1
@@ -85,7 +89,7 @@ fn refined_frame3_mesh_keeps_mass_and_geometry() {
         ..FrameParams::default()
     })
     .unwrap();
-    assert_eq!(fine.elements.len(), 4 * 3 * 4 + 3 * 4 * 2 * 2 + 12);
+    assert_eq!(fine.elements.len(), 4 * 3 * 4 + 3 * 4 * 2 * 2 + 12 + 12);
     assert!((fine.total_mass() / base.total_mass() - 1.0).abs() < 1e-12);
     let want = closed_total(&FrameParams::default());
     assert!((base.total_mass() / want - 1.0).abs() < 1e-12);

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 pub mod export;
 pub mod fe;
 pub mod generate;
+pub mod map;
 pub mod modal;
 pub mod scene;
 
@@ -42,6 +43,8 @@ pub enum Command {
     Modal(modal::ModalArgs),
     /// Nonlinear FE time history of a model under a ground motion.
     Fe(fe::FeArgs),
+    /// Map a model's elements to rigid boxes and write the rigid-body table (CSV).
+    Map(map::MapArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -58,5 +61,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(cmd) => export::run(&cmd),
         Command::Modal(args) => modal::run(&args),
         Command::Fe(args) => fe::run(&args, cli.quiet),
+        Command::Map(args) => map::run(&args, cli.quiet),
     }
 }

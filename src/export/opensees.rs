@@ -460,7 +460,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
                 "    ops.element(\"ShellMITC4\", {}, {}, {}, {}, {}, {section})",
                 e.tag, nodes[0], nodes[1], nodes[2], nodes[3]
             )?,
-            ElementKind::BeamColumn { .. } => {}
+            ElementKind::BeamColumn { .. } | ElementKind::Panel { .. } => {} // panels: no FE
         }
     }
     o.push_str(TEMPLATE);

@@ -216,6 +216,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             ElementKind::BeamColumn { nodes, transf, .. }
             | ElementKind::ElasticBeamColumn { nodes, transf, .. }
             | ElementKind::ElasticStrip { nodes, transf, .. } => (*nodes, *transf),
+            ElementKind::Panel { .. } => continue, // rigid-body model only
             ElementKind::Shell { .. } => bail!(
                 "element {}: shell elements are not supported by the FE solver yet \
                  (model slabs as elastic strips, as data/frame3 does)",
@@ -287,7 +288,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                     None,
                 )
             }
-            ElementKind::Shell { .. } => unreachable!("refused above"),
+            ElementKind::Shell { .. } | ElementKind::Panel { .. } => unreachable!("refused above"),
         };
         let spec = BeamColumnSpec {
             tag,

@@ -13,13 +13,16 @@
 // `!(x > 0.0)` is used on purpose: it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod from_model;
 pub mod geometry;
+pub mod handoff;
 pub mod input;
 pub mod mass;
 pub mod overlap;
 pub mod polytope;
 pub mod table;
 
+pub use from_model::from_model;
 pub use geometry::{BodyKind, RigidBox};
 pub use input::{LineMember, MappingInput, NodalMass, Quad};
 pub use overlap::TrimReport;

@@ -103,12 +103,26 @@ pub struct Element {
     pub type_name: String,
     /// Material group (number or name).
     pub group: Group,
+    /// Whether the element becomes a rigid body in the mapping (default `true`). `false`
+    /// marks an FE-only element, e.g. the elastic diagonal strips that stand in for a slab's
+    /// in-plane stiffness (the slab's rigid bodies are `panel`s instead).
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub rigid_body: bool,
     /// The element kind (`type` key) and its data.
     #[serde(flatten)]
     pub kind: ElementKind,
 }
 
-/// Element kinds (`type = "beam_column" | "elastic_beam_column" | "elastic_strip" | "shell"`).
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
+}
+
+/// Element kinds (`type = "beam_column" | "elastic_beam_column" | "elastic_strip" | "shell" |
+/// "panel"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum ElementKind {
@@ -167,6 +181,19 @@ pub enum ElementKind {
         /// Plate section tag.
         section: u32,
     },
+    /// Slab panel for the rigid-body model only: four corner nodes (cyclic order) and a
+    /// thickness; no FE stiffness (the FE solver and the OpenSees export skip it). Its
+    /// self-weight is ρ·t·area when a `density` is given, else zero (frame3 lumps the
+    /// slab's weight as nodal masses). Its rigid-body pose follows its four nodes.
+    Panel {
+        /// Corner nodes, cyclic order.
+        nodes: [u32; 4],
+        /// Thickness (m).
+        thickness: f64,
+        /// Density for self-weight (kg/m³); default 0.
+        #[serde(default)]
+        density: f64,
+    },
 }
 
 fn five() -> u32 {
@@ -191,7 +218,7 @@ impl Element {
             ElementKind::BeamColumn { nodes, .. }
             | ElementKind::ElasticBeamColumn { nodes, .. }
             | ElementKind::ElasticStrip { nodes, .. } => nodes,
-            ElementKind::Shell { nodes, .. } => nodes,
+            ElementKind::Shell { nodes, .. } | ElementKind::Panel { nodes, .. } => nodes,
         }
     }
 
@@ -201,7 +228,7 @@ impl Element {
             ElementKind::BeamColumn { section, .. }
             | ElementKind::ElasticBeamColumn { section, .. }
             | ElementKind::Shell { section, .. } => Some(*section),
-            ElementKind::ElasticStrip { .. } => None,
+            ElementKind::ElasticStrip { .. } | ElementKind::Panel { .. } => None,
         }
     }
 
@@ -211,7 +238,7 @@ impl Element {
             ElementKind::BeamColumn { transf, .. }
             | ElementKind::ElasticBeamColumn { transf, .. }
             | ElementKind::ElasticStrip { transf, .. } => Some(*transf),
-            ElementKind::Shell { .. } => None,
+            ElementKind::Shell { .. } | ElementKind::Panel { .. } => None,
         }
     }
 
@@ -222,7 +249,13 @@ impl Element {
             ElementKind::ElasticBeamColumn { .. } => "elastic_beam_column",
             ElementKind::ElasticStrip { .. } => "elastic_strip",
             ElementKind::Shell { .. } => "shell",
+            ElementKind::Panel { .. } => "panel",
         }
+    }
+
+    /// Whether the FE solver models the element (everything but `panel`).
+    pub fn in_fe(&self) -> bool {
+        !matches!(self.kind, ElementKind::Panel { .. })
     }
 
     /// Rigid-body name `Type:group:tag`, e.g. `Beam:1:234` (paper §3.1, BCB naming).

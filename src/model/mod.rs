@@ -310,6 +310,9 @@ impl Model {
                 }
                 _ => 0.0,
             },
+            ElementKind::Panel {
+                thickness, density, ..
+            } => density * thickness * self.shell_area(e).unwrap_or(0.0),
         }
     }
 

@@ -250,8 +250,10 @@ fn from_value(v: &Value) -> Result<Model> {
             }
             other => bail!("{what}: unsupported type {other:?}"),
         };
+        let rigid_body = e.get("group").and_then(Value::as_str) != Some("slab_strip");
         elements.push(Element {
             tag: t,
+            rigid_body,
             type_name,
             group: Group(group),
             kind,

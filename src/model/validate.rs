@@ -264,7 +264,7 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
                     matches!(k, SectionKind::Elastic { .. })
                 }
                 (ElementKind::Shell { .. }, k) => matches!(k, SectionKind::Plate { .. }),
-                (ElementKind::ElasticStrip { .. }, _) => true,
+                (ElementKind::ElasticStrip { .. } | ElementKind::Panel { .. }, _) => true,
             };
             if !ok {
                 return Err(err(format!(
@@ -348,6 +348,20 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
                 }
                 if *density < 0.0 {
                     return Err(err(format!("density = {density} must not be negative")));
+                }
+            }
+            ElementKind::Panel {
+                thickness, density, ..
+            } => {
+                finite(&[("thickness", *thickness), ("density", *density)]).map_err(err)?;
+                if *thickness <= 0.0 {
+                    return Err(err(format!("thickness = {thickness} must be positive")));
+                }
+                if *density < 0.0 {
+                    return Err(err(format!("density = {density} must not be negative")));
+                }
+                if m.shell_area(e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
+                    return Err(err("has zero area".into()));
                 }
             }
             ElementKind::Shell { .. } => {
