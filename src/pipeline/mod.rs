@@ -264,6 +264,8 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.restitution = p.restitution;
     s.body.linear_damping = p.linear_damping;
     s.body.angular_damping = p.angular_damping;
+    s.ruin.spring_correction = p.spring_correction;
+    s.ruin.spring_damping = p.spring_damping;
     s
 }
 

@@ -128,6 +128,10 @@ pub struct PhysicsSpec {
     pub linear_damping: f64,
     /// Angular damping (0.1).
     pub angular_damping: f64,
+    /// BCB's spring correction factor of the plastic-spring stiffness (2).
+    pub spring_correction: f64,
+    /// Plastic-spring damping (BCB 20).
+    pub spring_damping: f64,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -147,6 +151,8 @@ impl Default for PhysicsSpec {
             restitution: 0.0,
             linear_damping: 0.04,
             angular_damping: 0.1,
+            spring_correction: 2.0,
+            spring_damping: 20.0,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,
@@ -351,6 +357,8 @@ impl Scenario {
             ("restitution", ph.restitution),
             ("linear_damping", ph.linear_damping),
             ("angular_damping", ph.angular_damping),
+            ("spring_correction", ph.spring_correction),
+            ("spring_damping", ph.spring_damping),
         ] {
             if !(v >= 0.0 && v.is_finite()) {
                 bail!("{p}: physics.{name} must be ≥ 0, got {v}");
