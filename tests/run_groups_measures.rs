@@ -44,11 +44,11 @@ fn plan_areas_match_closed_form() {
     let p = projection(&pose, [1.0, 0.5, 0.2]);
     assert_eq!(p.len(), 4);
     let a = union_area(&[&p]);
-    assert!((a - 2.0).abs() < 2.0 * 4.0 * 2.0 / 600.0, "area {a}");
+    assert!((a - 2.0).abs() < 6.0 * 1.0 / 20.0 * 0.1, "area {a}");
     // Two unit squares offset by 0.5 in x: union 1.5, intersection 0.5.
     let s1 = hull(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
     let s2 = hull(&[[0.5, 0.0], [1.5, 0.0], [1.5, 1.0], [0.5, 1.0]]);
-    let cell = 1.5 / 600.0;
+    let cell = 1.0 / 20.0;
     let u = union_area(&[&s1, &s2]);
     let i = intersection_area(&[&s1], &[&s2]);
     assert!((u - 1.5).abs() < 4.0 * cell, "union {u}");

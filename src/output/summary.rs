@@ -4,8 +4,8 @@
 //! * a body's **plan projection** is the convex hull of its 8 box corners projected on
 //!   the ground plane (x, y);
 //! * areas of unions and intersections of projections are counted on a square raster
-//!   (cell = the larger side of the measured region / [`RASTER_CELLS`]; a cell counts when
-//!   its centre lies inside), so they are exact to about one cell width along the edges;
+//!   (cell = the smallest plan-AABB side of the measured projections / [`CELLS_PER_SIDE`];
+//!   a cell counts when its centre lies inside), exact to about one cell along the edges;
 //! * the **original footprint** is the plan AABB of the undeformed active bodies;
 //! * the **floors** are the slab bodies grouped by their undeformed centre height (mm);
 //!   a floor's centroid is the mass-weighted mean of its slab centres;
@@ -20,8 +20,8 @@ use nalgebra::{Point3, Vector3};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 
-/// Raster resolution of the area measures: cells along the longer side.
-pub const RASTER_CELLS: f64 = 600.0;
+/// Raster resolution of the area measures: cells across the smallest projection side.
+pub const CELLS_PER_SIDE: f64 = 20.0;
 
 /// The 8 corners of a box of half extents `he` at `pose`, m.
 pub fn corners(pose: &Pose, he: [f64; 3]) -> Vec<[f64; 3]> {
@@ -86,69 +86,50 @@ pub fn projection(pose: &Pose, he: [f64; 3]) -> Vec<[f64; 2]> {
     hull(&c)
 }
 
-/// A raster over a plan rectangle.
-#[derive(Debug, Clone)]
-struct Raster {
-    x0: f64,
-    y0: f64,
-    cell: f64,
-    nx: usize,
-    ny: usize,
+/// The raster cell of a set of projections, m: 1/[`CELLS_PER_SIDE`] of the smallest
+/// plan-AABB side among them (so every body is resolved, however far the debris spreads).
+fn cell_of(polys: &[&Vec<[f64; 2]>]) -> f64 {
+    let mut side = f64::INFINITY;
+    for p in polys {
+        let (lo, hi) = bbox(p);
+        side = side.min((hi[0] - lo[0]).min(hi[1] - lo[1]));
+    }
+    (side.max(1e-4)) / CELLS_PER_SIDE
 }
 
-impl Raster {
-    fn over(polys: &[&Vec<[f64; 2]>]) -> Raster {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in polys {
-            for q in p.iter() {
-                for k in 0..2 {
-                    lo[k] = lo[k].min(q[k]);
-                    hi[k] = hi[k].max(q[k]);
-                }
-            }
-        }
-        let side = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
-        let cell = side / RASTER_CELLS;
-        Raster {
-            x0: lo[0],
-            y0: lo[1],
-            cell,
-            nx: ((hi[0] - lo[0]) / cell).ceil() as usize + 1,
-            ny: ((hi[1] - lo[1]) / cell).ceil() as usize + 1,
+fn bbox(p: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for q in p {
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
         }
     }
+    (lo, hi)
+}
 
-    /// Cell mask of the union of `polys`.
-    fn mask(&self, polys: &[&Vec<[f64; 2]>]) -> Vec<bool> {
-        let mut m = vec![false; self.nx * self.ny];
-        for p in polys {
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for q in p.iter() {
-                for k in 0..2 {
-                    lo[k] = lo[k].min(q[k]);
-                    hi[k] = hi[k].max(q[k]);
-                }
-            }
-            let i0 = (((lo[0] - self.x0) / self.cell).floor().max(0.0)) as usize;
-            let i1 = (((hi[0] - self.x0) / self.cell).ceil() as usize).min(self.nx - 1);
-            let j0 = (((lo[1] - self.y0) / self.cell).floor().max(0.0)) as usize;
-            let j1 = (((hi[1] - self.y0) / self.cell).ceil() as usize).min(self.ny - 1);
-            for j in j0..=j1 {
-                let y = self.y0 + (j as f64 + 0.5) * self.cell;
-                for i in i0..=i1 {
-                    let x = self.x0 + (i as f64 + 0.5) * self.cell;
-                    if !m[j * self.nx + i] && inside(p, x, y) {
-                        m[j * self.nx + i] = true;
-                    }
+/// The sorted, deduplicated cells (i, j) of side `cell` whose centres lie in the union.
+fn cells(polys: &[&Vec<[f64; 2]>], cell: f64) -> Vec<(i64, i64)> {
+    let mut out = Vec::new();
+    for p in polys {
+        if p.len() < 3 {
+            continue;
+        }
+        let (lo, hi) = bbox(p);
+        let (i0, i1) = ((lo[0] / cell).floor() as i64, (hi[0] / cell).ceil() as i64);
+        let (j0, j1) = ((lo[1] / cell).floor() as i64, (hi[1] / cell).ceil() as i64);
+        for j in j0..=j1 {
+            let y = (j as f64 + 0.5) * cell;
+            for i in i0..=i1 {
+                if inside(p, (i as f64 + 0.5) * cell, y) {
+                    out.push((i, j));
                 }
             }
         }
-        m
     }
-
-    fn area(&self, m: &[bool]) -> f64 {
-        m.iter().filter(|b| **b).count() as f64 * self.cell * self.cell
-    }
+    out.sort_unstable();
+    out.dedup();
+    out
 }
 
 /// Plan area of the union of `polys`, m².
@@ -156,8 +137,8 @@ pub fn union_area(polys: &[&Vec<[f64; 2]>]) -> f64 {
     if polys.is_empty() {
         return 0.0;
     }
-    let r = Raster::over(polys);
-    r.area(&r.mask(polys))
+    let cell = cell_of(polys);
+    cells(polys, cell).len() as f64 * cell * cell
 }
 
 /// Area of (∪ a) ∩ (∪ b), m².
@@ -166,9 +147,21 @@ pub fn intersection_area(a: &[&Vec<[f64; 2]>], b: &[&Vec<[f64; 2]>]) -> f64 {
         return 0.0;
     }
     let all: Vec<&Vec<[f64; 2]>> = a.iter().chain(b.iter()).copied().collect();
-    let r = Raster::over(&all);
-    let (ma, mb) = (r.mask(a), r.mask(b));
-    ma.iter().zip(&mb).filter(|(x, y)| **x && **y).count() as f64 * r.cell * r.cell
+    let cell = cell_of(&all);
+    let (ca, cb) = (cells(a, cell), cells(b, cell));
+    let (mut i, mut j, mut n) = (0, 0, 0usize);
+    while i < ca.len() && j < cb.len() {
+        match ca[i].cmp(&cb[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                n += 1;
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    n as f64 * cell * cell
 }
 
 fn r6(x: f64) -> f64 {

@@ -442,8 +442,13 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
         let tc = result.built.domain.time();
         rec.fe_end_s = Some(tc);
         rec.tc_reason = match (&result.transient.stop, monitor.event()) {
-            (FeStop::Diverged { time, reason, .. }, _) => TcReason::Diverged(format!(
-                "a step did not converge at t = {time:.4} s ({reason}); hand-off at the last converged step t = {tc:.4} s"
+            (
+                FeStop::Diverged {
+                    attempted, reason, ..
+                },
+                _,
+            ) => TcReason::Diverged(format!(
+                "the step to t = {attempted:.4} s did not converge ({reason}); hand-off at the last converged step t = {tc:.4} s"
             )),
             (_, Some(ev)) => TcReason::Criterion(match ev.trigger {
                 Trigger::VerticalDrop { node, drop_m, threshold_m } => format!(
