@@ -318,3 +318,21 @@ fn shipped_lc5_scenario_parses_as_the_paper_says() {
     );
     assert_eq!((ph.linear_damping, ph.angular_damping), (0.04, 0.1));
 }
+
+#[test]
+fn fe_mode_reports_tc_and_runs_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_scenario(
+        dir.path(),
+        "fe.toml",
+        &scenario_text("fe", "criterion = \"drift_4pct\"", "duration = 1.8", ""),
+    );
+    let sc = Scenario::load(&p).unwrap();
+    let rec = pipeline::run(&sc, &Silent).unwrap();
+    assert!(rec.ruin.is_none());
+    // Same FE as the hybrid test: the 4 % drift is met at the same step, but the FE
+    // runs on to the end of `fe.duration`.
+    assert!((rec.tc_s.unwrap() - 1.66).abs() < 0.05, "{:?}", rec.tc_s);
+    assert!((rec.fe_end_s.unwrap() - 1.8).abs() < 1e-9);
+    assert_eq!(rec.fe_frames.len(), 46, "keyframes 0, 0.04, ..., 1.80");
+}

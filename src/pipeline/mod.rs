@@ -460,9 +460,12 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
             }),
             _ => TcReason::NoCollapse,
         };
-        if let TcReason::Criterion(_) | TcReason::Diverged(_) = rec.tc_reason {
-            rec.tc_s = Some(tc);
-        }
+        rec.tc_s = match rec.tc_reason {
+            // In `fe` mode the FE runs on past the criterion: Tc is the event's time.
+            TcReason::Criterion(_) => monitor.event().map(|e| e.time_s),
+            TcReason::Diverged(_) => Some(tc),
+            _ => None,
+        };
         for (t, nodes) in &frames_nodes {
             let (poses, _) =
                 poses_from_states(&handoff, &bodies, nodes, &ground_at(&rec.ground, *t))?;
