@@ -207,3 +207,45 @@ fn secant_velocity_over_keyframes() {
     assert!(secant_velocity(&poses, dt, 5).is_err());
     assert!(secant_velocity(&poses, 0.0, 1).is_err());
 }
+
+#[test]
+fn in_plane_stretch_of_a_floor_gives_panels_their_mean_velocity_and_no_spin() {
+    let (model, m, h) = setup();
+    // floor-1 nodes (z = 1) move at v = eps (x - c), c the bay centre: a pure stretch
+    let (eps, c) = (0.4, Vector3::new(0.75, 0.75, 1.0));
+    let nodes: Vec<NodeState> = model
+        .nodes
+        .iter()
+        .map(|n| {
+            let x = v3(n.xyz());
+            let v = if n.z == 1.0 {
+                (x - c) * eps
+            } else {
+                Vector3::zeros()
+            };
+            NodeState {
+                v: v.into(),
+                ..NodeState::default()
+            }
+        })
+        .collect();
+    let states = h.states(&nodes, &GroundState::default()).unwrap();
+    let mut seen = 0;
+    for (s, b) in states.iter().zip(&m.bodies) {
+        if b.name.starts_with("Slab:1:") {
+            // least-squares rigid fit: mean node velocity, no spin (Σ r × εr = 0)
+            let mean = b
+                .nodes
+                .iter()
+                .map(|p| (v3(*p) - c) * eps)
+                .sum::<Vector3<f64>>()
+                / 4.0;
+            close(v3(s.angular_velocity), Vector3::zeros(), 1e-15, &b.name);
+            // the trimmed centre moves with the fitted rigid motion: v̄ + 0 × r
+            close(v3(s.linear_velocity), mean, 1e-15, &b.name);
+            assert!(mean.norm() > 0.1);
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 4);
+}

@@ -8,7 +8,7 @@
 //! (translation only). Poses are absolute: x = X + u_ground + u, v_abs = v_ground + v;
 //! rotations and rotational velocities are unchanged by a translating ground.
 //!
-//! **Line members** (beam-columns). Nodal triads R_k = exp([θ_k]×) (Rodrigues): the
+//! **Line members** (beam-columns). Nodal triads R_k = exp(\[θ_k\]×) (Rodrigues): the
 //! nodal rotation DOFs are taken as a *finite rotation vector*. This is exact for a
 //! rotation imposed as one vector and the usual approximation for OpenSees's summed
 //! rotational DOFs (their sum differs from the compound rotation at second order in the
@@ -146,7 +146,7 @@ fn quat(m: Matrix3<f64>) -> UnitQuaternion<f64> {
 
 impl Handoff {
     /// Prepares the hand-off of the mapped bodies of `model` (the mapping from
-    /// [`super::from_model`] + [`super::map_to_boxes`]). Errors name the body whose element
+    /// [`super::from_model()`] + [`super::map_to_boxes`]). Errors name the body whose element
     /// is missing or of the wrong kind.
     pub fn new(model: &Model, mapping: &Mapping) -> Result<Handoff> {
         let index: std::collections::BTreeMap<u32, usize> = model

@@ -9,6 +9,10 @@
 //! 2. [`overlap`]: boxes at joints are shortened so no pair overlaps by more than the
 //!    tolerance;
 //! 3. [`mass`]: element self-weight plus nodal masses onto the boxes.
+//!
+//! [`from_model()`] builds the input from a [`crate::model::Model`] (rigid-body elements
+//! only; FE-only elements' weight goes to their nodes). [`handoff`] poses the mapped
+//! bodies from an FE nodal state (keyframes up to Tc, instantaneous velocities at Tc).
 
 // `!(x > 0.0)` is used on purpose: it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
