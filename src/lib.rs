@@ -24,5 +24,6 @@ pub mod motion;
 pub mod output;
 #[allow(unsafe_code)]
 pub mod physics;
+pub mod pipeline;
 pub mod ruin;
 pub mod scene;

@@ -7,6 +7,7 @@ pub mod fe;
 pub mod generate;
 pub mod map;
 pub mod modal;
+pub mod run;
 pub mod scene;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
@@ -45,6 +46,8 @@ pub enum Command {
     Modal(modal::ModalArgs),
     /// Nonlinear FE time history of a model under a ground motion.
     Fe(fe::FeArgs),
+    /// Run a scenario: FE until collapse, then the Bullet ruin stage (or one of them).
+    Run(run::RunArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -62,5 +65,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Map(args) => map::run(&args, cli.quiet),
         Command::Modal(args) => modal::run(&args),
         Command::Fe(args) => fe::run(&args, cli.quiet),
+        Command::Run(args) => run::run(&args, cli.quiet),
     }
 }

@@ -2,6 +2,9 @@
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
 pub mod gltf;
+pub mod keyframes;
+pub mod ruins;
+pub mod summary;
 pub mod vtk;
 
 pub use atomic::{write_atomic, AtomicFile};

@@ -20,6 +20,7 @@
 
 pub mod connection;
 pub mod ground;
+pub mod groups;
 pub mod monitor;
 pub mod rest;
 pub mod search;

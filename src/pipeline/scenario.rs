@@ -1,0 +1,397 @@
+//! The scenario file (`fem2rbd run scenario.toml`): one TOML file that says which model,
+//! which earthquake, which collapse criterion, which mode and which physics settings.
+//! The format is documented field by field in `docs/scenario-format.md`.
+//!
+//! Paths inside the file (model, records) are relative to the scenario file's folder;
+//! the output folder is relative to the current directory. Every error names the file,
+//! and the line (TOML syntax and types, from the `toml` crate) or the item at fault.
+
+use crate::collapse::Criterion;
+use crate::fe::build::Variant;
+use crate::ruin::rest::RestTest;
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// What runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// FE until the collapse moment Tc, then Bullet with the remaining ground motion.
+    Hybrid,
+    /// Bullet alone from t = 0 on the undeformed model (BCB alone).
+    Physics,
+    /// FE only.
+    Fe,
+}
+
+impl Mode {
+    /// The name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Hybrid => "hybrid",
+            Mode::Physics => "physics",
+            Mode::Fe => "fe",
+        }
+    }
+}
+
+/// How the bodies' velocities at Tc are obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum VelocityHandoff {
+    /// From the FE nodal velocities at Tc (default).
+    #[default]
+    Instantaneous,
+    /// The paper's secant through the last two 25 fps keyframes.
+    Secant,
+}
+
+/// One ground-motion component as written in the file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComponentSpec {
+    /// Record file (AT2 or two-column), relative to the scenario file.
+    pub file: PathBuf,
+    /// `X`, `Y` or `Z`.
+    pub direction: String,
+    /// Target PGA, g; absent = as recorded.
+    pub pga_g: Option<f64>,
+    /// Time-scale factor t' = f·t (1 = as recorded; 0.5 for a 1/4-scale model by
+    /// similitude).
+    #[serde(default = "one")]
+    pub time_scale: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// FE settings.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FeSpec {
+    /// Time step, s.
+    pub dt: f64,
+    /// `model`, `force`, `disp` or `elastic`.
+    pub variant: String,
+    /// Analysis length, s; absent = the record's length.
+    pub duration: Option<f64>,
+}
+
+impl Default for FeSpec {
+    fn default() -> Self {
+        FeSpec {
+            dt: 0.005,
+            variant: "model".into(),
+            duration: None,
+        }
+    }
+}
+
+/// The collapse criterion as written.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CollapseSpec {
+    /// `vertical_drop` (default), `drift_1_50` (GB 50011), `drift_4pct` (FEMA 356) or
+    /// `drift` (with `ratio`).
+    pub criterion: String,
+    /// Vertical-drop threshold, m; default 1 m × model scale (paper Criterion 4).
+    pub threshold_m: Option<f64>,
+    /// Drift ratio of `criterion = "drift"`.
+    pub ratio: Option<f64>,
+}
+
+impl Default for CollapseSpec {
+    fn default() -> Self {
+        CollapseSpec {
+            criterion: "vertical_drop".into(),
+            threshold_m: None,
+            ratio: None,
+        }
+    }
+}
+
+/// Physics (Bullet) settings; defaults are BCB's.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PhysicsSpec {
+    /// Substeps per simulated second (BCB 200).
+    pub steps_per_second: f64,
+    /// Solver iterations (BCB 100).
+    pub solver_iterations: u32,
+    /// Body friction (1).
+    pub friction: f64,
+    /// Restitution (0).
+    pub restitution: f64,
+    /// Linear damping (0.04).
+    pub linear_damping: f64,
+    /// Angular damping (0.1).
+    pub angular_damping: f64,
+    /// BCB's spring correction factor of the plastic-spring stiffness (2).
+    pub spring_correction: f64,
+    /// Plastic-spring damping (BCB 20).
+    pub spring_damping: f64,
+    /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
+    pub time_limit_s: Option<f64>,
+    /// Extra time after the record when `time_limit_s` is absent, s (5).
+    pub settle_s: f64,
+    /// Stop when the debris is at rest (true).
+    pub stop_at_rest: bool,
+    /// The at-rest test (`crate::ruin::rest::RestTest`).
+    pub rest: RestTest,
+}
+
+impl Default for PhysicsSpec {
+    fn default() -> Self {
+        PhysicsSpec {
+            steps_per_second: 200.0,
+            solver_iterations: 100,
+            friction: 1.0,
+            restitution: 0.0,
+            linear_damping: 0.04,
+            angular_damping: 0.1,
+            spring_correction: 2.0,
+            spring_damping: 20.0,
+            time_limit_s: None,
+            settle_s: 5.0,
+            stop_at_rest: true,
+            rest: RestTest::default(),
+        }
+    }
+}
+
+/// The file's content.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    model: PathBuf,
+    #[serde(default = "default_mode")]
+    mode: Mode,
+    #[serde(default)]
+    velocity: VelocityHandoff,
+    output: Option<PathBuf>,
+    #[serde(default)]
+    ground_motion: Vec<ComponentSpec>,
+    #[serde(default)]
+    fe: FeSpec,
+    #[serde(default)]
+    collapse: CollapseSpec,
+    #[serde(default)]
+    physics: PhysicsSpec,
+}
+
+fn default_mode() -> Mode {
+    Mode::Hybrid
+}
+
+/// The collapse criterion before the model's scale is known.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CriterionSpec {
+    /// Vertical drop; `None` = 1 m × model scale.
+    VerticalDrop(Option<f64>),
+    /// Story drift ratio.
+    StoryDrift(f64),
+}
+
+impl CriterionSpec {
+    /// The criterion for a model of `scale` (1 = full size).
+    pub fn resolve(self, scale: f64) -> Criterion {
+        match self {
+            CriterionSpec::VerticalDrop(t) => Criterion::VerticalDrop {
+                threshold_m: t.unwrap_or(scale),
+            },
+            CriterionSpec::StoryDrift(r) => Criterion::StoryDrift { ratio: r },
+        }
+    }
+}
+
+/// A checked scenario, paths resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// The scenario file.
+    pub path: PathBuf,
+    /// Model file.
+    pub model: PathBuf,
+    /// Mode.
+    pub mode: Mode,
+    /// Velocity hand-off.
+    pub velocity: VelocityHandoff,
+    /// Output folder.
+    pub output: PathBuf,
+    /// Components, axis 0..3 = X, Y, Z, files resolved.
+    pub components: [Option<ComponentSpec>; 3],
+    /// FE time step, s.
+    pub dt: f64,
+    /// FE element variant.
+    pub variant: Variant,
+    /// FE duration, s (`None` = record).
+    pub duration: Option<f64>,
+    /// Collapse criterion.
+    pub criterion: CriterionSpec,
+    /// Physics settings.
+    pub physics: PhysicsSpec,
+}
+
+fn positive(v: f64) -> bool {
+    v > 0.0 && v.is_finite()
+}
+
+impl Scenario {
+    /// Reads and checks a scenario file (module docs). Nothing is written.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scenario> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read scenario file {}", path.display()))?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses scenario text; `path` names the file in errors and anchors relative paths.
+    pub fn parse(text: &str, path: &Path) -> Result<Scenario> {
+        let p = path.display();
+        let raw: RawScenario = toml::from_str(text).map_err(|e| {
+            let (line, col) = e
+                .span()
+                .map(|s| {
+                    let before = &text[..s.start.min(text.len())];
+                    let line = before.matches('\n').count() + 1;
+                    let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                    (line, col)
+                })
+                .unwrap_or((0, 0));
+            anyhow::anyhow!("{p}:{line}:{col}: {}", e.message())
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let model = base.join(&raw.model);
+        if !model.is_file() {
+            bail!("{p}: model: file {} does not exist", model.display());
+        }
+        if raw.ground_motion.is_empty() {
+            bail!("{p}: ground_motion: at least one component is needed");
+        }
+        let mut components: [Option<ComponentSpec>; 3] = [None, None, None];
+        for (i, c) in raw.ground_motion.iter().enumerate() {
+            let item = format!("{p}: ground_motion[{i}]");
+            let axis = match c.direction.trim().to_ascii_uppercase().as_str() {
+                "X" => 0,
+                "Y" => 1,
+                "Z" => 2,
+                o => bail!("{item}: direction {o:?} is not X, Y or Z"),
+            };
+            if components[axis].is_some() {
+                bail!("{item}: direction {} given twice", c.direction);
+            }
+            let file = base.join(&c.file);
+            if !file.is_file() {
+                bail!("{item}: record file {} does not exist", file.display());
+            }
+            if let Some(g) = c.pga_g {
+                if !positive(g) {
+                    bail!("{item}: pga_g must be positive, got {g}");
+                }
+            }
+            if !positive(c.time_scale) {
+                bail!("{item}: time_scale must be positive, got {}", c.time_scale);
+            }
+            components[axis] = Some(ComponentSpec { file, ..c.clone() });
+        }
+        if !positive(raw.fe.dt) {
+            bail!("{p}: fe.dt must be positive, got {}", raw.fe.dt);
+        }
+        if let Some(d) = raw.fe.duration {
+            if !positive(d) {
+                bail!("{p}: fe.duration must be positive, got {d}");
+            }
+        }
+        let variant: Variant = raw
+            .fe
+            .variant
+            .parse()
+            .map_err(|e| anyhow::anyhow!("{p}: fe.variant: {e}"))?;
+        let c = &raw.collapse;
+        let criterion = match c.criterion.as_str() {
+            "vertical_drop" => {
+                if c.ratio.is_some() {
+                    bail!("{p}: collapse.ratio is for a drift criterion, not vertical_drop");
+                }
+                if let Some(t) = c.threshold_m {
+                    if !positive(t) {
+                        bail!("{p}: collapse.threshold_m must be positive, got {t}");
+                    }
+                }
+                CriterionSpec::VerticalDrop(c.threshold_m)
+            }
+            "drift_1_50" | "drift_4pct" | "drift" => {
+                if c.threshold_m.is_some() {
+                    bail!("{p}: collapse.threshold_m is for vertical_drop, not a drift criterion");
+                }
+                let r = match (c.criterion.as_str(), c.ratio) {
+                    ("drift", Some(r)) => r,
+                    ("drift", None) => bail!("{p}: collapse.criterion = \"drift\" needs ratio"),
+                    (_, Some(_)) => {
+                        bail!("{p}: collapse.ratio is only for criterion = \"drift\"")
+                    }
+                    ("drift_1_50", None) => 1.0 / 50.0,
+                    _ => 0.04,
+                };
+                if !(positive(r) && r < 1.0) {
+                    bail!("{p}: collapse.ratio must be in (0, 1), got {r}");
+                }
+                CriterionSpec::StoryDrift(r)
+            }
+            o => bail!(
+                "{p}: collapse.criterion {o:?} is not vertical_drop, drift_1_50, drift_4pct or drift"
+            ),
+        };
+        let ph = &raw.physics;
+        for (name, v) in [
+            ("steps_per_second", ph.steps_per_second),
+            ("settle_s", ph.settle_s + 1.0),
+        ] {
+            if !positive(v) {
+                bail!("{p}: physics.{name} must be positive");
+            }
+        }
+        for (name, v) in [
+            ("friction", ph.friction),
+            ("restitution", ph.restitution),
+            ("linear_damping", ph.linear_damping),
+            ("angular_damping", ph.angular_damping),
+            ("spring_correction", ph.spring_correction),
+            ("spring_damping", ph.spring_damping),
+        ] {
+            if !(v >= 0.0 && v.is_finite()) {
+                bail!("{p}: physics.{name} must be ≥ 0, got {v}");
+            }
+        }
+        if ph.solver_iterations == 0 {
+            bail!("{p}: physics.solver_iterations must be at least 1");
+        }
+        if let Some(t) = ph.time_limit_s {
+            if !positive(t) {
+                bail!("{p}: physics.time_limit_s must be positive, got {t}");
+            }
+        }
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scenario".into());
+        let output = raw
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(stem));
+        Ok(Scenario {
+            path: path.to_path_buf(),
+            model,
+            mode: raw.mode,
+            velocity: raw.velocity,
+            output,
+            components,
+            dt: raw.fe.dt,
+            variant,
+            duration: raw.fe.duration,
+            criterion,
+            physics: raw.physics.clone(),
+        })
+    }
+}
