@@ -4,10 +4,16 @@
 //!
 //! CI-sized scenarios (debug profile): the timeline ends at 3 s (`physics.time_limit_s`)
 //! instead of record end + 5 s. The hybrid test uses the FEMA 356 drift criterion (4 %):
-//! frame3 reaches it in story 1 at Tc = 1.66 s, whereas the paper's default (vertical
-//! drop 0.25 m) is not reached by the disp-variant FE within the record's first seconds
-//! (docs/fe-verification.md). The snapshots hold the summary (without wall times) and the
-//! ruins table with positions rounded to 3 decimals (mm).
+//! frame3 reaches it in story 1 at Tc = 1.66 s, whereas with the paper's default (vertical
+//! drop 0.25 m) the force-based frame3 FE diverges at 3.22 s before the drop is reached
+//! (the disp-based variant reaches it at 4.735 s, as OpenSees; docs/fe-verification.md).
+//! The snapshots hold the summary (without wall times) and the ruins table with positions
+//! rounded to 3 decimals (mm).
+//!
+//! KNOWN WRONG: the ruin stage currently throws frame3's debris up to ~124 m (plastic
+//! springs too stiff on the angular axes; docs/scenario-format.md). These snapshots pin
+//! that state as a regression baseline; they must be re-accepted when the ruin stage is
+//! fixed, and they are not ruin results to quote.
 use fem2rbd::pipeline::{self, write, Scenario, Silent};
 use std::path::{Path, PathBuf};
 
