@@ -299,11 +299,8 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
         let mut bars = Vec::new();
         for z in [-az, az] {
             for k in 0..p.beam_bars {
-                let y = if p.beam_bars == 3 {
-                    [-ay, 0.0, ay][k as usize]
-                } else {
-                    -ay + k as f64 * 2.0 * ay / (p.beam_bars - 1) as f64
-                };
+                // Evenly spaced across the width; for 3 bars this is exactly −ay, 0, ay.
+                let y = -ay + k as f64 * 2.0 * ay / (p.beam_bars - 1) as f64;
                 bars.push(Bar(y, z, bar_area));
             }
         }
