@@ -169,7 +169,7 @@ fn two_runs_give_the_same_bytes() {
     let sc = Scenario::load(&p).unwrap();
     let a = write::contents(&pipeline::run(&sc, &Silent).unwrap(), false).unwrap();
     let b = write::contents(&pipeline::run(&sc, &Silent).unwrap(), false).unwrap();
-    assert_eq!(a.len(), 5);
+    assert_eq!(a.len(), 7);
     for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
         assert_eq!(na, nb);
         assert!(ba == bb, "{na} differs between two runs");
@@ -194,9 +194,16 @@ fn no_collapse_before_the_fe_ends_stops_after_the_fe_stage() {
     let names: Vec<&str> = files.iter().map(|f| f.0).collect();
     assert_eq!(
         names,
-        ["ruins.csv", "keyframes.csv", "summary.json", "collapse.glb"]
+        [
+            "ruins.csv",
+            "keyframes.csv",
+            "history.csv",
+            "bodies.csv",
+            "summary.json",
+            "collapse.glb"
+        ]
     );
-    let s = String::from_utf8(files[2].1.clone()).unwrap();
+    let s = String::from_utf8(files[4].1.clone()).unwrap();
     assert!(s.contains("\"tc_reason\": \"no_collapse\""), "{s}");
 }
 

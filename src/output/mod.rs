@@ -2,6 +2,7 @@
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
 pub mod gltf;
+pub mod history;
 pub mod keyframes;
 pub mod ruins;
 pub mod summary;

@@ -1,10 +1,12 @@
 //! Writes a run's outputs into its folder, each file atomically (temp name, then rename):
-//! `ruins.csv`, `keyframes.csv`, `connections.csv` (when a ruin stage ran),
-//! `summary.json` and `collapse.glb`. Formatting is fixed (decimals, key order), so the
+//! `ruins.csv`, `keyframes.csv`, `history.csv`, `bodies.csv`, `connections.csv` (when a
+//! ruin stage ran), `summary.json` and `collapse.glb` (formats: `docs/scenario-format.md`,
+//! [`crate::output::history`]). Formatting is fixed (decimals, key order), so the
 //! same input gives the same bytes; only `summary.json`'s `wall_time_s` differs between
 //! runs (left out with `timing = false`).
 use super::RunRecord;
 use crate::output::gltf::{encode_glb, AnimBody, AnimatedScene, GroundBox};
+use crate::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
 use crate::output::ruins::{ruins_csv, RuinRow};
 use crate::output::summary::summary;
@@ -38,6 +40,12 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let names: Vec<&str> = rec.bodies.iter().map(|b| b.name.as_str()).collect();
     let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
     out.push(("keyframes.csv", keyframes_csv(&names, &fr).into_bytes()));
+    let body_rows = body_rows(rec);
+    out.push((
+        "history.csv",
+        history_csv(&body_rows, &history_frames(rec, &frames)).into_bytes(),
+    ));
+    out.push(("bodies.csv", bodies_csv(&body_rows).into_bytes()));
     if let Some(r) = &rec.ruin {
         let mut s = String::from("a,b,start_state,final_state,time_broken_s\n");
         let st = |c: ConnectionState| match c {
@@ -77,6 +85,53 @@ pub fn timeline(rec: &RunRecord) -> Vec<(f64, Vec<Pose>)> {
         }
     }
     frames
+}
+
+/// The `bodies.csv` rows of a run.
+fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
+    rec.bodies
+        .iter()
+        .map(|b| BodyRow {
+            name: &b.name,
+            group: &b.group,
+            type_name: &b.type_name,
+            material: &b.material,
+            element: &b.element,
+            passive: b.passive,
+            pose0: b.pose0,
+            half_extents: b.half_extents,
+            mass_kg: b.mass_kg,
+        })
+        .collect()
+}
+
+/// The timeline's frames with their stage, connection counts and ground displacement.
+fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<HistoryFrame<'a>> {
+    let n_fe = rec.fe_frames.len();
+    let ruin = rec.ruin.as_ref();
+    frames
+        .iter()
+        .enumerate()
+        .map(|(k, (t, poses))| {
+            let counts = if k < n_fe {
+                None
+            } else {
+                ruin.and_then(|r| {
+                    r.frames
+                        .iter()
+                        .find(|f| (f.time_s - t).abs() < 1e-9)
+                        .map(|f| (f.counts.elastic, f.counts.plastic, f.counts.broken))
+                })
+            };
+            HistoryFrame {
+                t_s: *t,
+                fe: k < n_fe,
+                poses,
+                counts,
+                ground_m: rec.ground.ground_state_at(*t).0,
+            }
+        })
+        .collect()
 }
 
 fn glb(rec: &RunRecord, frames: &[(f64, Vec<Pose>)]) -> Result<Vec<u8>> {
