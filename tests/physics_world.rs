@@ -46,6 +46,11 @@ fn free_fall_is_symplectic_euler_at_every_step() {
 /// Sag [m] of a box of mass `m` hanging on a Spring2 constraint whose z axis is a spring
 /// (k, c) and whose other five axes are locked, after `t` seconds of substeps `h`.
 fn spring2_sag(m: f64, k: f64, c: f64, h: f64, t: f64) -> (f64, f64) {
+    spring2_sag_limited(m, k, c, h, t, false)
+}
+
+/// As [`spring2_sag`], with Bullet's `limitIfNeeded` set to `limit`.
+fn spring2_sag_limited(m: f64, k: f64, c: f64, h: f64, t: f64, limit: bool) -> (f64, f64) {
     let mut w = world();
     let anchor = w
         .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
@@ -57,6 +62,7 @@ fn spring2_sag(m: f64, k: f64, c: f64, h: f64, t: f64) -> (f64, f64) {
     let spring = Some(Spring {
         stiffness: k,
         damping: c,
+        limit_if_needed: limit,
     });
     let mut d = ConstraintDesc::new(
         ConstraintKind::Spring2 {
@@ -110,6 +116,24 @@ fn spring2_stiffness_is_not_auto_limited_at_coarse_steps() {
     let rel = (sag - expected).abs() / expected;
     println!("spring2 sag at h = 1/60: {sag:.12} m (relative error {rel:e})");
     assert!(rel < 1e-6, "sag {sag} vs {expected}: stiffness was limited");
+}
+
+/// The same spring with `limit_if_needed` (Blender's and BCB's setting): at h = 1/60 s Bullet
+/// caps the stiffness at m/(16·h²) = 225 N/m, so the sag is 16·g·h² = 43.6 mm (bullet-ffi.md
+/// §2.5); at h = 1/240 s, k·h² = 0.017 < m/16 and the spring is left alone (m·g/k).
+#[test]
+fn spring2_limit_if_needed_caps_stiffness_at_m_over_16_h_squared() {
+    let (m, k) = (1.0, 1000.0);
+    let h = 1.0 / 60.0;
+    let expected = m * G / (m / (16.0 * h * h));
+    let (sag, vz) = spring2_sag_limited(m, k, 20.0, h, 20.0, true);
+    let rel = (sag - expected).abs() / expected;
+    println!("limited spring2 sag at h = 1/60: {sag:.12} m vs 16·g·h² = {expected:.12} m");
+    assert!(rel < 1e-6, "sag {sag} vs {expected}");
+    assert!(vz.abs() < 1e-6);
+    let (sag, _) = spring2_sag_limited(m, k, 20.0, 1.0 / 240.0, 5.0, true);
+    let rel = (sag - m * G / k).abs() / (m * G / k);
+    assert!(rel < 1e-6, "unlimited regime: sag {sag}");
 }
 
 /// A 2 kg box is held at its centre by a fixed constraint to a static anchor while gravity

@@ -80,7 +80,22 @@ fn worked_example_forces_thresholds_stiffness() {
     let k = f.spring_stiffness.unwrap();
     assert_eq!(sig(k, 4), 756300.0);
     let spring = &c.constraints[6];
-    assert_eq!(spring.stiffness, [k; 6]);
+    // Angular axes (default `AngularSpring::Lever`): k·(0.2 m)² about x and y (the lever
+    // is half the 0.4 m contact side), k·(0.4² + 0.4²)/4 about the normal z.
+    let want = [k, k, k, k * 0.04, k * 0.04, k * 0.08];
+    for i in 0..6 {
+        assert!(
+            (spring.stiffness[i] - want[i]).abs() <= 1e-9 * want[i],
+            "axis {i}"
+        );
+    }
+    // BCB's own rule: the same number on all six axes.
+    let bcb = RuinSettings {
+        angular_spring: fem2rbd::ruin::connection::AngularSpring::Bcb,
+        ..RuinSettings::default()
+    };
+    let c_bcb = connect(&bodies, &[beam_group("beams")], &bcb);
+    assert_eq!(c_bcb.constraints[6].stiffness, [k; 6]);
     assert_eq!(spring.damping, [20.0; 6]);
     assert_eq!(spring.spring, [true; 6]);
     assert!(!spring.enabled);

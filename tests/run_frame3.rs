@@ -10,10 +10,11 @@
 //! The snapshots hold the summary (without wall times) and the ruins table with positions
 //! rounded to 3 decimals (mm).
 //!
-//! KNOWN WRONG: the ruin stage currently throws frame3's debris up to ~124 m (plastic
-//! springs too stiff on the angular axes; docs/scenario-format.md). These snapshots pin
-//! that state as a regression baseline; they must be re-accepted when the ruin stage is
-//! fixed, and they are not ruin results to quote.
+//! Besides the snapshots, both tests assert physical bounds that the exploding ruin stage
+//! of session 1 broke by two orders of magnitude (debris thrown 124 m): no debris above
+//! the 3 m roof and none farther than one building height beyond the footprint. The cause
+//! was the plastic springs (Bullet's stiffness cap off, and BCB's angular stiffness k read
+//! as N·m/rad; docs/ruin-model.md "Plastic-spring stability").
 use fem2rbd::pipeline::{self, write, Scenario, Silent};
 use std::path::{Path, PathBuf};
 
@@ -95,6 +96,24 @@ fn round_json(v: &mut serde_json::Value) {
     }
 }
 
+/// Debris of frame3 (3 m high) stays below the roof and within one building height of
+/// the footprint carried by the ground (the summary's extent is measured from the
+/// original footprint, so the ground's horizontal displacement at the end is added).
+fn assert_debris_physical(summary: &serde_json::Value, rec: &pipeline::RunRecord) {
+    let r = &summary["ruins"];
+    let extent = r["extent_beyond_footprint_m"]["max"].as_f64().unwrap();
+    let height = r["max_debris_height_m"].as_f64().unwrap();
+    let end = rec.ruin.as_ref().unwrap().end_time_s;
+    let g = rec.ground.ground_state_at(end).0;
+    let shift = g[0].hypot(g[1]);
+    eprintln!("debris extent beyond the footprint {extent} m (ground shift {shift:.3} m), height {height} m");
+    assert!(
+        extent < 3.0 + shift,
+        "debris thrown {extent} m beyond the footprint"
+    );
+    assert!(height < 3.1, "debris {height} m high, above the roof");
+}
+
 fn run_snapshot(sc: &Scenario) -> (serde_json::Value, String, pipeline::RunRecord) {
     let rec = pipeline::run(sc, &Silent).unwrap();
     let mut summary = fem2rbd::output::summary::summary(&rec, false);
@@ -125,6 +144,7 @@ fn physics_mode_lc5_ruin_distribution() {
         "physics: Bullet share of the ruin stage's run loop {:.4}",
         r.wall.bullet_share()
     );
+    assert_debris_physical(&summary, &rec);
     insta::assert_json_snapshot!("physics_lc5_summary", summary);
     insta::assert_snapshot!("physics_lc5_ruins", ruins);
 }
@@ -154,6 +174,7 @@ fn hybrid_mode_lc5_ruin_distribution() {
     assert!((r.frames[0].time_s - tc).abs() < 1e-9);
     // The ruin stage starts where the FE stage ended: body poses at Tc equal the last
     // keyframe's when Tc is on a frame, else lie within one frame's motion of it.
+    assert_debris_physical(&summary, &rec);
     insta::assert_json_snapshot!("hybrid_lc5_summary", summary);
     insta::assert_snapshot!("hybrid_lc5_ruins", ruins);
 }

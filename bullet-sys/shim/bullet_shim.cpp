@@ -621,8 +621,8 @@ int bs_constraint_add(bs_world *w, const bs_constraint_desc *d, int *out_index) 
                     if (d->has_limit[i]) g->setLimit(i, d->lower[i], d->upper[i]);
                     if (d->spring_enabled[i]) {
                         g->enableSpring(i, true);
-                        g->setStiffness(i, d->stiffness[i], false);
-                        g->setDamping(i, d->damping[i], false);
+                        g->setStiffness(i, d->stiffness[i], d->limit_if_needed[i] != 0);
+                        g->setDamping(i, d->damping[i], d->limit_if_needed[i] != 0);
                     }
                 }
                 if (d->set_equilibrium_point) g->setEquilibriumPoint();

@@ -83,8 +83,9 @@ typedef struct bs_constraint_desc {
     int has_limit[6];            /* 1: setLimit(i, lower[i], upper[i]); 0: leave the default */
     double lower[6], upper[6];   /* axes 0..2 linear [m], 3..5 angular [rad] */
     int spring_enabled[6];       /* spring2 only: enableSpring(i, true) */
-    double stiffness[6];         /* spring2: setStiffness(i, k, false) [N/m, N·m/rad] */
-    double damping[6];           /* spring2: setDamping(i, d, false) [N·s/m, N·m·s/rad] */
+    double stiffness[6];         /* spring2: setStiffness(i, k, limit[i]) [N/m, N·m/rad] */
+    double damping[6];           /* spring2: setDamping(i, d, limit[i]) [N·s/m, N·m·s/rad] */
+    int limit_if_needed[6];      /* spring2: Bullet's limitIfNeeded (stiffness to m/(16 h²), damping to m/h) */
     int set_equilibrium_point;   /* spring2: setEquilibriumPoint() after creation */
     double breaking_impulse_threshold; /* [N·s] per substep per row; +inf = unbreakable */
     int disable_collisions_between;    /* addConstraint(c, disable) */

@@ -138,14 +138,22 @@ impl BoxDesc {
     }
 }
 
-/// One Spring2 axis spring (`enableSpring(i, true)`, `setStiffness(i, k, false)`,
-/// `setDamping(i, d, false)`: never auto-limited by Bullet).
+/// One Spring2 axis spring (`enableSpring(i, true)`, `setStiffness(i, k, limit_if_needed)`,
+/// `setDamping(i, d, limit_if_needed)`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spring {
     /// Stiffness [N/m] on axes 0..2, [N·m/rad] on axes 3..5.
     pub stiffness: f64,
     /// Damping [N·s/m] or [N·m·s/rad].
     pub damping: f64,
+    /// Bullet's `limitIfNeeded` (its default, and what Blender — hence BCB — uses): each
+    /// substep h, with m the smaller effective mass of the two bodies on that axis
+    /// (linear: the mass; angular: m·r² + 1/|I⁻¹·axis| about the joint frame), the
+    /// stiffness is capped at m/(16·h²) (the spring is sampled at least 4 times per
+    /// radian of its period, ω·h ≤ 1/4) and the damping at m/h
+    /// (`btGeneric6DofSpring2Constraint::get_limit_motor_info2`). `false`: the springs act
+    /// with exactly the given numbers (and can be unstable).
+    pub limit_if_needed: bool,
 }
 
 /// The Bullet constraint class and its class-specific settings.

@@ -356,6 +356,7 @@ impl World {
                         desc.spring_enabled[i] = 1;
                         desc.stiffness[i] = s.stiffness;
                         desc.damping[i] = s.damping;
+                        desc.limit_if_needed[i] = s.limit_if_needed as i32;
                     }
                 }
                 desc.set_equilibrium_point = set_equilibrium_point as i32;

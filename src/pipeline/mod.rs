@@ -266,6 +266,9 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.angular_damping = p.angular_damping;
     s.ruin.spring_correction = p.spring_correction;
     s.ruin.spring_damping = p.spring_damping;
+    s.ruin.spring_limit_if_needed = p.spring_limit;
+    s.ruin.angular_spring = p.angular_spring;
+    s.world.solver.split_impulse = p.split_impulse;
     s
 }
 

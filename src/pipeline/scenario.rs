@@ -132,6 +132,15 @@ pub struct PhysicsSpec {
     pub spring_correction: f64,
     /// Plastic-spring damping (BCB 20).
     pub spring_damping: f64,
+    /// Bullet's per-substep cap of the plastic springs' stiffness and damping (true, as
+    /// Blender/BCB: `crate::ruin::connection::RuinSettings::spring_limit_if_needed`).
+    pub spring_limit: bool,
+    /// Angular stiffness of the plastic springs: `"lever"` (default, k·r²) or `"bcb"` (k as
+    /// N·m/rad) — `crate::ruin::connection::AngularSpring`.
+    pub angular_spring: crate::ruin::connection::AngularSpring,
+    /// Bullet's split impulse (false, as BCB): penetration recovery by a separate
+    /// position correction that adds no kinetic energy, instead of a velocity bias.
+    pub split_impulse: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -153,6 +162,9 @@ impl Default for PhysicsSpec {
             angular_damping: 0.1,
             spring_correction: 2.0,
             spring_damping: 20.0,
+            spring_limit: true,
+            angular_spring: crate::ruin::connection::AngularSpring::Lever,
+            split_impulse: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,

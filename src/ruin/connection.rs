@@ -186,6 +186,25 @@ impl GroupStrength {
     }
 }
 
+/// How the plastic spring's three angular axes get their stiffness from BCB's linear
+/// k = P/(L·tol2D)·… (N/m).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AngularSpring {
+    /// BCB: the same number, read as N·m/rad (bcb.md §4). Dimensionally inconsistent, so
+    /// it does not scale with the model: at full size (a 0.3 m column, 3 m long) the
+    /// angular spring is soft (ω ≈ 20 rad/s), at 1/4 scale 16 times stiffer relative to
+    /// the members' rotational inertia (ω ∝ scale⁻²) and beyond explicit stepping.
+    Bcb,
+    /// k_θ,i = k·r_i², the linear spring acting at the lever arm r_i of the contact
+    /// rectangle (h × w): r = w/2 for rotation about the h axis, h/2 about the w axis,
+    /// √(h² + w²)/2 about the normal (torsion). It is the stiffness BCB's own tolerances
+    /// imply: the moment P·h/2 is reached at the rotation tan θ = L·tol2D/(h/2), which is
+    /// BCB's Formula-Assistant tol2R = atan(tol2D·L/(h/2)) (bcb.md §4). Scales as
+    /// k_θ ∝ scale³ with I ∝ scale⁵, so ω ∝ 1/scale like the linear axes.
+    Lever,
+}
+
 /// Simulation settings that the constraint model depends on, with BCB's (HEAD) defaults.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -210,6 +229,16 @@ pub struct RuinSettings {
     pub weaker_group: bool,
     /// SPRING2 damping on every axis (20).
     pub spring_damping: f64,
+    /// Let Bullet cap each plastic spring's stiffness at m/(16·h²) and its damping at m/h
+    /// per substep (`setStiffness(i, k, limitIfNeeded = true)`, Bullet's default, which
+    /// Blender and hence BCB use; see [`crate::physics::Spring::limit_if_needed`]). On:
+    /// BCB's k = P/(L·tol2D) is applied as N·m/rad on the angular axes too, which for
+    /// small bodies is far beyond what explicit stepping at 200 substeps/s can carry
+    /// (frame3's 1/4-scale members: ω·h up to ~50 uncapped); uncapped, the springs of
+    /// plastic connections pump energy into the debris and throw it hundreds of metres.
+    pub spring_limit_if_needed: bool,
+    /// The plastic spring's angular stiffness (default [`AngularSpring::Lever`]).
+    pub angular_spring: AngularSpring,
     /// Disable collisions between connected bodies while a constraint is enabled (on).
     pub disable_collisions: bool,
     /// The connection search.
@@ -229,6 +258,8 @@ impl Default for RuinSettings {
             passive_multiplier: 2.0,
             weaker_group: true,
             spring_damping: 20.0,
+            spring_limit_if_needed: true,
+            angular_spring: AngularSpring::Lever,
             disable_collisions: true,
             search: super::search::SearchSettings::default(),
         }
@@ -761,7 +792,7 @@ fn constraint_specs(
             lower: [FREE.0; 6],
             upper: [FREE.1; 6],
             spring: [true; 6],
-            stiffness: [k; 6],
+            stiffness: spring_stiffness_axes(k, c, s.angular_spring),
             damping: [s.spring_damping; 6],
             breaking_impulse: p * s.spring_correction * dt,
             enabled: false,
@@ -770,9 +801,64 @@ fn constraint_specs(
     v
 }
 
+/// The plastic spring's stiffness on its six world-aligned axes (0–2 N/m, 3–5 N·m/rad)
+/// from the linear k (see [`AngularSpring`]). The spring frame is world-aligned in the
+/// undeformed configuration, so its axis i is the contact's normal, h or w axis.
+pub fn spring_stiffness_axes(k: f64, c: &Contact, rule: AngularSpring) -> [f64; 6] {
+    let mut out = [k; 6];
+    if rule == AngularSpring::Lever {
+        for i in 0..3 {
+            let r2 = if i == c.normal_axis {
+                (c.h * c.h + c.w * c.w) / 4.0
+            } else if i == c.h_axis {
+                c.w * c.w / 4.0
+            } else {
+                c.h * c.h / 4.0
+            };
+            out[3 + i] = k * r2;
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A column-on-column contact (normal Z, h along X = 0.1 m, w along Y = 0.2 m) with
+    /// k = 1000 N/m: Lever gives k·(w/2)² = 10 N·m/rad about X (the h axis), k·(h/2)² = 2.5
+    /// about Y (the w axis), k·(h² + w²)/4 = 12.5 about Z (torsion); BCB gives 1000 on all.
+    #[test]
+    fn lever_angular_spring_by_hand() {
+        let c = Contact {
+            a: 0,
+            b: 1,
+            pivot: [0.0; 3],
+            normal_axis: 2,
+            normal_sign: 1.0,
+            h_axis: 0,
+            w_axis: 1,
+            h: 0.1,
+            w: 0.2,
+            normal_overlap: 0.0,
+            area: 0.02,
+            centre_distance: 0.5,
+        };
+        let k = spring_stiffness_axes(1000.0, &c, AngularSpring::Lever);
+        let want = [1000.0, 1000.0, 1000.0, 10.0, 2.5, 12.5];
+        for i in 0..6 {
+            assert!(
+                (k[i] - want[i]).abs() < 1e-12,
+                "axis {i}: {} vs {}",
+                k[i],
+                want[i]
+            );
+        }
+        assert_eq!(
+            spring_stiffness_axes(1000.0, &c, AngularSpring::Bcb),
+            [1000.0; 6]
+        );
+    }
 
     #[test]
     fn normal_rotation_maps_x_onto_normal_and_is_proper() {

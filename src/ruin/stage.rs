@@ -552,6 +552,7 @@ impl RuinStage {
                                 *s = Some(Spring {
                                     stiffness: spec.stiffness[k],
                                     damping: spec.damping[k],
+                                    limit_if_needed: settings.ruin.spring_limit_if_needed,
                                 });
                             }
                         }

@@ -484,6 +484,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
                                     &item,
                                 )?,
                                 damping: nonneg(s.damping, &format!("{what}.damping"), &item)?,
+                                limit_if_needed: s.limit_if_needed,
                             });
                         }
                     }

@@ -149,6 +149,10 @@ pub struct SpringSpec {
     /// [N·s/m] or [N·m·s/rad]; default 0.
     #[serde(default)]
     pub damping: f64,
+    /// Bullet's `limitIfNeeded` for this spring (see [`crate::physics::Spring`]); default
+    /// false (the exact stiffness, as pybullet's `changeConstraint` gives it).
+    #[serde(default)]
+    pub limit_if_needed: bool,
 }
 
 /// One constraint.
