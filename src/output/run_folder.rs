@@ -5,8 +5,8 @@
 //!
 //! Parsing is strict: every file's header must be the writer's header exactly, every row
 //! must have the header's number of fields, numbers must be finite, quaternions of unit
-//! length (|‖q‖ − 1| ≤ [`QUATERNION_NORM_TOL`]; the files hold 8 decimals), half extents
-//! > 0 and masses ≥ 0. The body names of each `keyframes.csv` frame and of `ruins.csv`
+//! length (|‖q‖ − 1| ≤ [`QUATERNION_NORM_TOL`]; the files hold 8 decimals), positive
+//! half extents and masses ≥ 0. The body names of each `keyframes.csv` frame and of `ruins.csv`
 //! must be those of `bodies.csv`, in its order; frame times must increase strictly, and
 //! `history.csv` must have one row per frame with the same time. Every error names the
 //! file and line (`path/keyframes.csv:12: column x: "1.2.3" is not a number`).
