@@ -1,15 +1,59 @@
-//! `fem2rbd export opensees`: write an openseespy script of a model and its analysis.
+//! `fem2rbd export`: `opensees` writes an openseespy script of a model and its analysis;
+//! `gltf` and `vtk` turn a run folder (what `fem2rbd run` wrote) into an animated glTF
+//! binary or a ParaView time series, without the model.
 use crate::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};
 use crate::model::Model;
+use crate::output::gltf::{encode_glb, run_scene, AnimatedScene};
+use crate::output::run_folder::RunFolder;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Export targets.
 #[derive(Debug, Subcommand)]
 pub enum ExportCommand {
     /// A self-contained openseespy script (`python3 out.py eigen|gravity|th`).
     Opensees(OpenSeesArgs),
+    /// An animated glTF 2.0 binary of a run folder's whole timeline (the run's own
+    /// collapse.glb, rebuilt from bodies.csv, keyframes.csv and history.csv).
+    Gltf(GltfArgs),
+    /// A ParaView time series (.pvd + one .vtu per frame) of a run folder's timeline.
+    Vtk(VtkArgs),
+}
+
+/// Options of `export gltf`.
+#[derive(Debug, Args)]
+pub struct GltfArgs {
+    /// Run folder written by `fem2rbd run`.
+    pub run_dir: PathBuf,
+    /// Output file; default RUN_DIR/collapse.glb.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+/// Options of `export vtk`.
+#[derive(Debug, Args)]
+pub struct VtkArgs {
+    /// Run folder written by `fem2rbd run`.
+    pub run_dir: PathBuf,
+    /// Output .pvd file; the .vtu files go into the folder beside it named after its
+    /// stem. Default RUN_DIR/vtk/collapse.pvd (frames in RUN_DIR/vtk/collapse/).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+/// The animated scene of the run folder `dir` ([`run_scene`] of its tables).
+pub fn run_folder_scene(dir: &Path) -> Result<AnimatedScene> {
+    let rf = RunFolder::load(dir)?;
+    run_scene(&rf.bodies, &rf.frames, &rf.ground_per_frame())
+        .with_context(|| format!("cannot build the scene of run folder {}", dir.display()))
+}
+
+/// The bytes of the glTF binary of the run folder `dir`: the same as the run's own
+/// `collapse.glb`.
+pub fn run_folder_glb(dir: &Path) -> Result<Vec<u8>> {
+    encode_glb(&run_folder_scene(dir)?)
+        .with_context(|| format!("cannot encode the glTF of run folder {}", dir.display()))
 }
 
 /// Options of `export opensees`.
@@ -90,6 +134,25 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
             let text = opensees_script(&model, &a.model.display().to_string(), &opts)?;
             crate::output::write_atomic(&a.output, text.as_bytes())
                 .with_context(|| format!("cannot write {}", a.output.display()))
+        }
+        ExportCommand::Gltf(a) => {
+            let out = a
+                .output
+                .clone()
+                .unwrap_or_else(|| a.run_dir.join("collapse.glb"));
+            let bytes = run_folder_glb(&a.run_dir)?;
+            crate::output::write_atomic(&out, &bytes)
+                .with_context(|| format!("cannot write {}", out.display()))
+        }
+        ExportCommand::Vtk(a) => {
+            let out = a
+                .output
+                .clone()
+                .unwrap_or_else(|| a.run_dir.join("vtk").join("collapse.pvd"));
+            let scene = run_folder_scene(&a.run_dir)?;
+            crate::output::vtk::write_pvd(&scene, &out)
+                .with_context(|| format!("cannot write {}", out.display()))?;
+            Ok(())
         }
     }
 }

@@ -37,7 +37,7 @@ pub enum Command {
     /// Write a building model file (e.g. a regular RC frame).
     #[command(subcommand)]
     Generate(generate::GenerateCommand),
-    /// Export a model to another program (openseespy script).
+    /// Export a model (openseespy script) or a run folder (animated glTF, ParaView VTK).
     #[command(subcommand)]
     Export(export::ExportCommand),
     /// Map a model's elements to rigid boxes and write the rigid-body table (CSV).

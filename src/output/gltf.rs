@@ -36,7 +36,9 @@
 //! name, everything else in input order; `serde_json` writes the JSON).
 //!
 //! Checked by tests/gltf_roundtrip.rs (own GLB reader), tests/gltf_validator.rs (Khronos
-//! validator: no errors, no warnings) and tests/gltf_three.rs (three.js plays the file).
+//! validator: no errors, no warnings) and tests/gltf_three.rs (three.js plays the file);
+//! [`run_scene`] (a run's timeline) by tests/export_gltf.rs.
+use crate::output::run_folder::BodyInfo;
 use crate::output::AtomicFile;
 use anyhow::{bail, ensure, Context, Result};
 use serde_json::{json, Map, Value};
@@ -251,6 +253,110 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
     out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
     out.extend_from_slice(&data);
     Ok(out)
+}
+
+/// Half thickness of the ground slab of [`run_scene`], m.
+pub const RUN_GROUND_HALF_THICKNESS_M: f64 = 0.05;
+
+/// Margin of the ground slab of [`run_scene`] around the bodies' plan extent, m.
+pub const RUN_GROUND_MARGIN_M: f64 = 2.0;
+
+/// The animated scene of a run's timeline (what `collapse.glb` shows; used by
+/// `fem2rbd run` and by `fem2rbd export gltf`, which rebuilds it from a run folder):
+///
+/// * one box per body of `bodies` (node name = body name, material = its type, scale =
+///   its half extents) with the poses of `frames` (time s, one pose per body in body
+///   order); a frame whose time rounds to the same `f32` as the previous one is left out
+///   (glTF times must increase strictly in `f32`);
+/// * a ground slab, half extents (a_x/2 + m, a_y/2 + m, t) with margin
+///   m = [`RUN_GROUND_MARGIN_M`] and t = [`RUN_GROUND_HALF_THICKNESS_M`], where a is the
+///   size of the box around the bodies' undeformed centres ± their largest half extent;
+///   its top at the base level (the highest top of a passive body, else the bottom of
+///   that box), centred under the bodies, moved at each frame by `ground_m` (the ground
+///   displacement, m, one per frame).
+pub fn run_scene(
+    bodies: &[BodyInfo],
+    frames: &[(f64, Vec<crate::physics::Pose>)],
+    ground_m: &[[f64; 3]],
+) -> Result<AnimatedScene> {
+    ensure!(
+        ground_m.len() == frames.len(),
+        "{} ground displacements for {} frames",
+        ground_m.len(),
+        frames.len()
+    );
+    let mut times: Vec<f64> = Vec::new();
+    let mut keep: Vec<usize> = Vec::new();
+    for (k, (t, poses)) in frames.iter().enumerate() {
+        ensure!(
+            poses.len() == bodies.len(),
+            "frame {k} (t = {t} s) has {} poses for {} bodies",
+            poses.len(),
+            bodies.len()
+        );
+        if times.last().is_none_or(|p| (*t as f32) > (*p as f32)) {
+            times.push(*t);
+            keep.push(k);
+        }
+    }
+    let anim = bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| AnimBody {
+            name: b.name.clone(),
+            type_name: b.type_name.clone(),
+            half_extents: b.half_extents,
+            poses: keep
+                .iter()
+                .map(|&k| (frames[k].1[i].position, frames[k].1[i].orientation))
+                .collect(),
+        })
+        .collect();
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for b in bodies {
+        let r = b.half_extents.iter().copied().fold(0.0, f64::max);
+        for k in 0..3 {
+            lo[k] = lo[k].min(b.pose0.position[k] - r);
+            hi[k] = hi[k].max(b.pose0.position[k] + r);
+        }
+    }
+    let ground = if bodies.is_empty() {
+        None
+    } else {
+        let he = [
+            (hi[0] - lo[0]) / 2.0 + RUN_GROUND_MARGIN_M,
+            (hi[1] - lo[1]) / 2.0 + RUN_GROUND_MARGIN_M,
+            RUN_GROUND_HALF_THICKNESS_M,
+        ];
+        let base_z = bodies
+            .iter()
+            .filter(|b| b.passive)
+            .map(|b| b.pose0.position[2] + b.half_extents[2])
+            .fold(lo[2], f64::max);
+        let c = [
+            (lo[0] + hi[0]) / 2.0,
+            (lo[1] + hi[1]) / 2.0,
+            base_z - RUN_GROUND_HALF_THICKNESS_M,
+        ];
+        Some(GroundBox {
+            half_extents: he,
+            poses: keep
+                .iter()
+                .map(|&k| {
+                    let d = ground_m[k];
+                    (
+                        [c[0] + d[0], c[1] + d[1], c[2] + d[2]],
+                        [1.0, 0.0, 0.0, 0.0],
+                    )
+                })
+                .collect(),
+        })
+    };
+    Ok(AnimatedScene {
+        bodies: anim,
+        ground,
+        times_s: times,
+    })
 }
 
 /// Base colour (linear RGB, 0..1) of an element type's material. Known types have fixed

@@ -5,10 +5,13 @@
 //! same input gives the same bytes; only `summary.json`'s `wall_time_s` differs between
 //! runs (left out with `timing = false`).
 use super::RunRecord;
-use crate::output::gltf::{encode_glb, AnimBody, AnimatedScene, GroundBox};
+use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
 use crate::output::ruins::{ruins_csv, RuinRow};
+use crate::output::run_folder::{
+    check_history_times, parse_bodies, parse_history, parse_keyframes,
+};
 use crate::output::summary::summary;
 use crate::output::write_atomic;
 use crate::physics::Pose;
@@ -39,13 +42,15 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let frames = timeline(rec);
     let names: Vec<&str> = rec.bodies.iter().map(|b| b.name.as_str()).collect();
     let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
-    out.push(("keyframes.csv", keyframes_csv(&names, &fr).into_bytes()));
+    let keyframes_text = keyframes_csv(&names, &fr);
     let body_rows = body_rows(rec);
-    out.push((
-        "history.csv",
-        history_csv(&body_rows, &history_frames(rec, &frames)).into_bytes(),
-    ));
-    out.push(("bodies.csv", bodies_csv(&body_rows).into_bytes()));
+    let history_text = history_csv(&body_rows, &history_frames(rec, &frames));
+    let bodies_text = bodies_csv(&body_rows);
+    let glb = glb(&bodies_text, &keyframes_text, &history_text)
+        .context("cannot build collapse.glb from the run's own tables")?;
+    out.push(("keyframes.csv", keyframes_text.into_bytes()));
+    out.push(("history.csv", history_text.into_bytes()));
+    out.push(("bodies.csv", bodies_text.into_bytes()));
     if let Some(r) = &rec.ruin {
         let mut s = String::from("a,b,start_state,final_state,time_broken_s\n");
         let st = |c: ConnectionState| match c {
@@ -68,7 +73,7 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     }
     let js = serde_json::to_string_pretty(&summary(rec, timing))? + "\n";
     out.push(("summary.json", js.into_bytes()));
-    out.push(("collapse.glb", glb(rec, &frames)?));
+    out.push(("collapse.glb", glb));
     Ok(out)
 }
 
@@ -134,69 +139,18 @@ fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<Hi
         .collect()
 }
 
-fn glb(rec: &RunRecord, frames: &[(f64, Vec<Pose>)]) -> Result<Vec<u8>> {
-    let mut times: Vec<f64> = Vec::new();
-    let mut keep: Vec<usize> = Vec::new();
-    for (k, (t, _)) in frames.iter().enumerate() {
-        if times.last().is_none_or(|p| (*t as f32) > (*p as f32)) {
-            times.push(*t);
-            keep.push(k);
-        }
-    }
-    let bodies = rec
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(i, b)| AnimBody {
-            name: b.name.clone(),
-            type_name: b.type_name.clone(),
-            half_extents: b.half_extents,
-            poses: keep
-                .iter()
-                .map(|&k| (frames[k].1[i].position, frames[k].1[i].orientation))
-                .collect(),
-        })
-        .collect();
-    // A ground slab under the footprint with 2 m margin, moved by the record.
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for b in &rec.bodies {
-        for k in 0..3 {
-            lo[k] =
-                lo[k].min(b.pose0.position[k] - b.half_extents.iter().copied().fold(0.0, f64::max));
-            hi[k] =
-                hi[k].max(b.pose0.position[k] + b.half_extents.iter().copied().fold(0.0, f64::max));
-        }
-    }
-    let he = [
-        (hi[0] - lo[0]) / 2.0 + 2.0,
-        (hi[1] - lo[1]) / 2.0 + 2.0,
-        0.05,
-    ];
-    let base_z = rec
-        .bodies
-        .iter()
-        .filter(|b| b.passive)
-        .map(|b| b.pose0.position[2] + b.half_extents[2])
-        .fold(lo[2], f64::max);
-    let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, base_z - 0.05];
-    let ground = GroundBox {
-        half_extents: he,
-        poses: times
-            .iter()
-            .map(|t| {
-                let d = rec.ground.ground_state_at(*t).0;
-                (
-                    [c[0] + d[0], c[1] + d[1], c[2] + d[2]],
-                    [1.0, 0.0, 0.0, 0.0],
-                )
-            })
-            .collect(),
-    };
-    encode_glb(&AnimatedScene {
-        bodies,
-        ground: Some(ground),
-        times_s: times,
-    })
+/// `collapse.glb`, built from the run's own `bodies.csv`, `keyframes.csv` and
+/// `history.csv` texts read back with [`crate::output::run_folder`]'s parsers: the file
+/// is a function of those three files alone, so `fem2rbd export gltf` on the run folder
+/// writes the same bytes. (The positions therefore carry the CSVs' 6 decimals, 0.5 µm,
+/// about the `f32` resolution of glTF at a few metres.)
+fn glb(bodies: &str, keyframes: &str, history: &str) -> Result<Vec<u8>> {
+    let bodies = parse_bodies(bodies, "bodies.csv")?;
+    let frames = parse_keyframes(keyframes, "keyframes.csv", &bodies)?;
+    let history = parse_history(history, "history.csv")?;
+    check_history_times(&history, &frames, "history.csv", "keyframes.csv")?;
+    let ground: Vec<[f64; 3]> = history.iter().map(|h| h.ground_m).collect();
+    encode_glb(&run_scene(&bodies, &frames, &ground)?)
 }
 
 /// Writes the outputs into `dir` (created if missing); returns the paths written.
