@@ -6,7 +6,7 @@ use crate::pipeline::{self, Mode, Progress, Scenario};
 use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -30,6 +30,20 @@ pub struct RunArgs {
 struct Bars {
     visible: bool,
     bar: RefCell<Option<ProgressBar>>,
+    /// The current stage's simulated time span, s.
+    span: Cell<(f64, f64)>,
+}
+
+impl Bars {
+    /// Position of simulated time `t` in the stage's span, ‰.
+    fn permille(&self, t: f64) -> u64 {
+        let (a, b) = self.span.get();
+        if b > a {
+            ((t - a) / (b - a) * 1000.0).clamp(0.0, 1000.0) as u64
+        } else {
+            1000
+        }
+    }
 }
 
 impl Progress for Bars {
@@ -37,30 +51,30 @@ impl Progress for Bars {
         if !self.visible {
             return;
         }
-        let b = if name == "fe" {
-            let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template("{prefix} {bar:40} {msg} [{elapsed_precise}]")
-                    .expect("valid template"),
-            );
-            b
-        } else {
-            let b = ProgressBar::new_spinner();
-            b.set_style(
-                ProgressStyle::with_template("{prefix} {spinner} {msg} [{elapsed_precise}]")
-                    .expect("valid template"),
-            );
-            b.set_message(format!("t = {from:.2} → ≤ {to:.2} s"));
-            b.enable_steady_tick(std::time::Duration::from_millis(200));
-            b
-        };
+        // Both stages: a bar over the simulated time span (the physics stage may stop
+        // earlier, when the debris is at rest).
+        let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("{prefix:>13} {bar:40} {msg} [{elapsed_precise}]")
+                .expect("valid template"),
+        );
+        b.set_message(format!("t = {from:.2} / {to:.2} s"));
         b.set_prefix(format!("{name} stage"));
+        self.span.set((from, to));
         *self.bar.borrow_mut() = Some(b);
     }
     fn fe(&self, t: f64, t_end: f64) {
         if let Some(b) = self.bar.borrow().as_ref() {
-            b.set_position((t / t_end * 1000.0) as u64);
+            b.set_position(self.permille(t));
             b.set_message(format!("t = {t:.3} / {t_end:.3} s"));
+        }
+    }
+    fn physics(&self, t: f64, t_end: f64, (intact, plastic, broken): (usize, usize, usize)) {
+        if let Some(b) = self.bar.borrow().as_ref() {
+            b.set_position(self.permille(t));
+            b.set_message(format!(
+                "t = {t:.2} / ≤ {t_end:.2} s, connections {intact} intact / {plastic} plastic / {broken} broken"
+            ));
         }
     }
     fn done(&self) {
@@ -89,6 +103,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     let bars = Bars {
         visible: !quiet && std::io::stderr().is_terminal(),
         bar: RefCell::new(None),
+        span: Cell::new((0.0, 0.0)),
     };
     let rec = pipeline::run(&sc, &bars)?;
     let written = pipeline::write::write(&rec, &sc.output, true)?;

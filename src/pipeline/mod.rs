@@ -131,6 +131,9 @@ pub struct RunRecord {
 pub trait Progress {
     /// FE stage: simulated time `t` of `t_end` s.
     fn fe(&self, _t: f64, _t_end: f64) {}
+    /// Physics stage: frame at simulated time `t` of at most `t_end` s, with the
+    /// connection counts (intact, plastic, broken) after it.
+    fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
     /// A stage begins (`"fe"`, `"physics"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
     /// A stage ends.
@@ -554,7 +557,12 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
         &settings,
     )
     .context("building the ruin stage")?;
-    let result = stage.run(&stop).context("running the ruin stage")?;
+    let result = stage
+        .run_with(&stop, &mut |f| {
+            let c = f.counts;
+            progress.physics(f.time_s, limit, (c.elastic, c.plastic, c.broken));
+        })
+        .context("running the ruin stage")?;
     progress.done();
     rec.ruin_wall = t0.elapsed();
     rec.ruin_in_bullet = result.wall.in_bullet;

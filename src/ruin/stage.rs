@@ -786,6 +786,15 @@ impl RuinStage {
 
     /// Runs frame by frame until `stop` (module docs) and returns the record.
     pub fn run(&mut self, stop: &StopRule) -> Result<RuinResult, StageError> {
+        self.run_with(stop, &mut |_| {})
+    }
+
+    /// As [`RuinStage::run`], calling `on_frame` after every recorded frame (progress).
+    pub fn run_with(
+        &mut self,
+        stop: &StopRule,
+        on_frame: &mut dyn FnMut(&Frame),
+    ) -> Result<RuinResult, StageError> {
         let start = Instant::now();
         let bullet_before = self.in_bullet;
         if !stop.max_time_s.is_finite() {
@@ -842,6 +851,7 @@ impl RuinStage {
                 poses: self.body_poses()?,
                 counts: self.monitor.counts(),
             });
+            on_frame(frames.last().expect("just pushed"));
             if let (Some(r), Some(eb), Some(hf)) = (rest, energy_bound, hold_frames) {
                 let (e, vmax, _) = self.motion_measures()?;
                 if t >= motion_end - 1e-12 && e < eb && vmax < r.max_speed_mps {
