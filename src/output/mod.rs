@@ -5,6 +5,7 @@ pub mod gltf;
 pub mod history;
 pub mod keyframes;
 pub mod ruins;
+pub mod run_folder;
 pub mod summary;
 pub mod vtk;
 
