@@ -1,7 +1,7 @@
 //! `connections`: the numbers of intact, plastic and broken connections against time over
 //! the ruin stage (the `history.csv` rows that carry counts), Tc marked as in
 //! [`super::history`]. A run without a ruin stage gets the figure with a note instead.
-use super::history::{panel, time_range};
+use super::history::{legend_entries, panel, time_range, LEGEND_W};
 use super::style;
 use super::{font::FAMILY, run_label, tc_s, Figure, RunFolder};
 use anyhow::Result;
@@ -66,6 +66,8 @@ impl Figure for ConnectionsFigure<'_> {
             run_label(self.run)
         );
         let root = root.titled(&title, (FAMILY, style::TITLE_PX))?;
+        let (w, _) = root.dim_in_pixel();
+        let (main, legend) = root.split_horizontally(w.saturating_sub(LEGEND_W));
         let tc = tc_s(self.run);
         let phys: Vec<_> = self
             .run
@@ -76,12 +78,14 @@ impl Figure for ConnectionsFigure<'_> {
             .collect();
         let t = time_range(&phys, tc);
         panel(
-            &root,
+            &main,
             t,
             tc,
             "connections",
             &curves,
             "no ruin stage in this run: no connection counts",
-        )
+        )?;
+        style::draw_legend(&legend, &legend_entries("Connections", &[&curves], tc))?;
+        Ok(())
     }
 }

@@ -165,18 +165,25 @@ impl Bounds {
         }
     }
 
-    /// Widened about its centre so that one metre spans the same number of pixels on both
-    /// axes of a `px_w` × `px_h` plotting area (equal aspect).
-    pub fn equal_aspect(&self, px_w: u32, px_h: u32) -> Bounds {
+    /// Widened so that one metre spans the same number of pixels on both axes of a
+    /// `px_w` × `px_h` plotting area (equal aspect): horizontally about the centre,
+    /// vertically about the centre or, with `keep_bottom`, upwards only (elevations: the
+    /// ground stays near the bottom).
+    pub fn equal_aspect(&self, px_w: u32, px_h: u32, keep_bottom: bool) -> Bounds {
         let (w, h) = (self.x[1] - self.x[0], self.y[1] - self.y[0]);
         let (pw, ph) = (f64::from(px_w.max(1)), f64::from(px_h.max(1)));
         // metres per pixel: the larger of the two fits both
         let m = (w / pw).max(h / ph);
         let (cx, cy) = (0.5 * (self.x[0] + self.x[1]), 0.5 * (self.y[0] + self.y[1]));
         let (hw, hh) = (0.5 * m * pw, 0.5 * m * ph);
+        let y = if keep_bottom {
+            [self.y[0], self.y[0] + 2.0 * hh]
+        } else {
+            [cy - hh, cy + hh]
+        };
         Bounds {
             x: [cx - hw, cx + hw],
-            y: [cy - hh, cy + hh],
+            y,
         }
     }
 }
@@ -295,12 +302,22 @@ mod tests {
             x: [0.0, 10.0],
             y: [0.0, 2.0],
         };
-        let e = b.equal_aspect(500, 400);
+        let e = b.equal_aspect(500, 400, false);
         let mx = (e.x[1] - e.x[0]) / 500.0;
         let my = (e.y[1] - e.y[0]) / 400.0;
         assert!((mx - my).abs() < 1e-12);
         assert!((mx - 0.02).abs() < 1e-12);
         assert!((e.y[0] + 3.0).abs() < 1e-12 && (e.y[1] - 5.0).abs() < 1e-12);
+        let e = b.equal_aspect(500, 400, true);
+        assert!(e.y[0].abs() < 1e-12 && (e.y[1] - 8.0).abs() < 1e-12);
+        // a tall box widens horizontally about its centre
+        let t = Bounds {
+            x: [0.0, 1.0],
+            y: [0.0, 8.0],
+        }
+        .equal_aspect(500, 400, true);
+        assert!((t.x[0] + 4.5).abs() < 1e-12 && (t.x[1] - 5.5).abs() < 1e-12);
+        assert!(t.y[0].abs() < 1e-12 && (t.y[1] - 8.0).abs() < 1e-12);
     }
 
     #[test]

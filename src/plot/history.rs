@@ -3,12 +3,13 @@
 //! axis; FE-stage points ([`style::FE_STAGE`]) and ruin-stage points
 //! ([`style::PHYSICS_STAGE`]) are separate curves; a curve breaks where a value is
 //! missing; Tc (`summary.json` `tc_s`) is a dashed vertical line with its value.
-use super::style;
+use super::style::{self, Swatch};
 use super::{font::FAMILY, run_label, tc_s, Figure, HistoryRow, RunFolder};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// The history figure of a run.
 pub struct HistoryFigure<'a> {
@@ -68,7 +69,11 @@ pub fn time_range(rows: &[HistoryRow], tc: Option<f64>) -> (f64, f64) {
     }
 }
 
-/// One time-history panel: the curves of `value`, Tc marked.
+/// Width of the legend strip of the time-history figures, px.
+pub const LEGEND_W: u32 = 210;
+
+/// One time-history panel: the curves (colour, label, points) and Tc; `empty_note` is
+/// written in the middle when there is no point at all.
 pub(super) fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     t: (f64, f64),
@@ -86,10 +91,14 @@ where
         .x_label_area_size(45)
         .y_label_area_size(75)
         .build_cartesian_2d(t.0..t.1, y.0..y.1)?;
+    let fx = style::tick_format(t.1 - t.0);
+    let fy = style::tick_format(y.1 - y.0);
     chart
         .configure_mesh()
         .x_desc("t (s)")
         .y_desc(y_desc)
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
         .label_style((FAMILY, style::TICK_PX))
         .axis_desc_style((FAMILY, style::LABEL_PX))
         .light_line_style(style::GRID_LIGHT)
@@ -107,43 +116,50 @@ where
                 + Text::new(
                     format!("Tc = {tc:.3} s"),
                     (6, 4),
-                    (FAMILY, style::LABEL_PX).into_font().color(&style::TC_MARKER),
+                    (FAMILY, style::LABEL_PX)
+                        .into_font()
+                        .color(&style::TC_MARKER),
                 ),
         ))?;
     }
-    let mut any = false;
-    let mut labelled: Vec<String> = Vec::new();
-    for (colour, label, pts) in curves {
-        if pts.is_empty() {
-            continue;
-        }
-        any = true;
-        let c = *colour;
-        let series = chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
-        if !labelled.contains(label) {
-            labelled.push(label.clone());
-            series.label(label.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-            });
-        }
+    for (colour, _, pts) in curves.iter().filter(|c| !c.2.is_empty()) {
+        chart.draw_series(LineSeries::new(
+            pts.iter().copied(),
+            colour.stroke_width(2),
+        ))?;
     }
-    if any {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font((FAMILY, style::LABEL_PX))
-            .background_style(style::BACKGROUND)
-            .border_style(style::GRID_BOLD)
-            .draw()?;
-    } else {
+    if curves.iter().all(|c| c.2.is_empty()) {
         let (w, h) = area.dim_in_pixel();
         area.draw(&Text::new(
             empty_note.to_string(),
-            (w as i32 / 2 - 150, h as i32 / 2),
-            (FAMILY, style::LABEL_PX).into_font(),
+            (w as i32 / 2, h as i32 / 2),
+            TextStyle::from((FAMILY, style::LABEL_PX).into_font())
+                .pos(Pos::new(HPos::Center, VPos::Center)),
         ))?;
     }
     Ok(())
+}
+
+/// Legend entries of the non-empty `curves` (one per label, first colour) and Tc.
+pub(super) fn legend_entries(
+    heading: &str,
+    curves: &[&[(RGBColor, String, Vec<(f64, f64)>)]],
+    tc: Option<f64>,
+) -> Vec<(Swatch, String)> {
+    let mut e = vec![(Swatch::Heading, heading.to_string())];
+    for (colour, label, _) in curves
+        .iter()
+        .flat_map(|c| c.iter())
+        .filter(|c| !c.2.is_empty())
+    {
+        if !e.iter().any(|(_, l)| l == label) {
+            e.push((Swatch::Line(*colour), label.clone()));
+        }
+    }
+    if let Some(tc) = tc {
+        e.push((Swatch::Dashed(style::TC_MARKER), format!("Tc = {tc:.3} s")));
+    }
+    e
 }
 
 /// Curves of one quantity: the FE and ruin-stage segments of `value`, coloured by stage.
@@ -179,17 +195,20 @@ impl Figure for HistoryFigure<'_> {
         root.fill(&style::BACKGROUND)?;
         let title = format!("Roof drift and maximum drop - {}", run_label(self.run));
         let root = root.titled(&title, (FAMILY, style::TITLE_PX))?;
-        let (_, h) = root.dim_in_pixel();
-        let (top, bottom) = root.split_vertically(h / 2);
+        let (w, h) = root.dim_in_pixel();
+        let (main, legend) = root.split_horizontally(w.saturating_sub(LEGEND_W));
+        let (top, bottom) = main.split_vertically(h / 2);
         let rows = &self.run.history;
         let tc = tc_s(self.run);
         let t = time_range(rows, tc);
+        let drift = stage_curves(rows, |r| r.roof_drift.map(|d| 100.0 * d));
+        let drop = stage_curves(rows, |r| r.max_drop_m);
         panel(
             &top,
             t,
             tc,
             "roof drift (%)",
-            &stage_curves(rows, |r| r.roof_drift.map(|d| 100.0 * d)),
+            &drift,
             "no roof drift in history.csv",
         )?;
         panel(
@@ -197,9 +216,10 @@ impl Figure for HistoryFigure<'_> {
             t,
             tc,
             "max vertical drop (m)",
-            &stage_curves(rows, |r| r.max_drop_m),
+            &drop,
             "no maximum drop in history.csv",
         )?;
+        style::draw_legend(&legend, &legend_entries("Stage", &[&drift, &drop], tc))?;
         Ok(())
     }
 }

@@ -21,10 +21,9 @@ pub mod font;
 pub mod geometry;
 pub mod history;
 pub mod ruin;
-mod run_folder_stub;
 pub mod style;
 
-pub use run_folder_stub::{BodyInfo, HistoryRow, RunFolder};
+pub use crate::output::run_folder::{BodyInfo, HistoryRow, RunFolder};
 
 use crate::output::write_atomic;
 use anyhow::{Context, Result};

@@ -42,9 +42,9 @@ pub const LOWEST_STORY_SHADE: f64 = 0.5;
 /// Title text size, px.
 pub const TITLE_PX: u32 = 20;
 /// Axis label and legend text size, px.
-pub const LABEL_PX: u32 = 15;
+pub const LABEL_PX: u32 = 16;
 /// Tick label text size, px.
-pub const TICK_PX: u32 = 13;
+pub const TICK_PX: u32 = 14;
 
 /// The known element types in legend order.
 pub const KNOWN_TYPES: [&str; 5] = ["Column", "Beam", "Slab", "Wall", "Foundation"];
@@ -112,6 +112,21 @@ pub fn legend_types<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String>
     }
     out.extend(set.into_iter().map(str::to_string));
     out
+}
+
+/// A tick-label formatter with as many decimals as a span of `span` m needs (steps of
+/// about a tenth of it): 0 from 20 m, 1 from 2 m, 2 from 0.2 m, else 3.
+pub fn tick_format(span: f64) -> impl Fn(&f64) -> String {
+    let d = if span >= 20.0 {
+        0
+    } else if span >= 2.0 {
+        1
+    } else if span >= 0.2 {
+        2
+    } else {
+        3
+    };
+    move |v: &f64| format!("{:.*}", d, v + 0.0)
 }
 
 /// A legend symbol.
@@ -194,5 +209,13 @@ mod tests {
         let t = legend_types(["Slab", "Zeta", "Column", "Alpha", "Slab"]);
         assert_eq!(t, vec!["Column", "Slab", "Alpha", "Zeta"]);
         assert_eq!(type_colour("Zeta"), type_colour("Zeta"));
+    }
+
+    #[test]
+    fn tick_decimals() {
+        assert_eq!(tick_format(943.0)(&-400.0), "-400");
+        assert_eq!(tick_format(7.7)(&1.5), "1.5");
+        assert_eq!(tick_format(0.5)(&0.25), "0.25");
+        assert_eq!(tick_format(0.05)(&-0.0), "0.000");
     }
 }
