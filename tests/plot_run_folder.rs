@@ -193,7 +193,9 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
     std::fs::write(dir.join("ruins.csv"), ruins_csv(&ruins)).unwrap();
     std::fs::write(
         dir.join("summary.json"),
-        format!("{{\n  \"mode\": \"{mode}\",\n  \"tc_s\": {tc},\n  \"tc_reason\": \"{reason}\"\n}}\n"),
+        format!(
+            "{{\n  \"mode\": \"{mode}\",\n  \"tc_s\": {tc},\n  \"tc_reason\": \"{reason}\"\n}}\n"
+        ),
     )
     .unwrap();
 }
@@ -271,7 +273,10 @@ fn plan_png_pixels_have_the_body_colours() {
     assert_eq!(col3, rgb(style::type_colour("Column")));
     assert_eq!(col1, rgb(style::body_fill("Column", 1, 2)));
     for (a, b) in [(col1.0, col3.0), (col1.1, col3.1), (col1.2, col3.2)] {
-        assert!((f64::from(a) - 0.5 * f64::from(b)).abs() <= 0.5, "{col1:?} {col3:?}");
+        assert!(
+            (f64::from(a) - 0.5 * f64::from(b)).abs() <= 0.5,
+            "{col1:?} {col3:?}"
+        );
     }
     assert_eq!(beam, rgb(style::type_colour("Beam")));
     assert_eq!(slab4, rgb(style::type_colour("Slab")));
@@ -319,7 +324,10 @@ fn plan_svg_polygons_map_back_to_the_corners() {
             .iter()
             .map(|g| (g[0] - w[0]).hypot(g[1] - w[1]))
             .fold(f64::INFINITY, f64::min);
-        assert!(d <= 1.5 * m_per_px, "corner {w:?}: nearest {d} m, got {got:?}");
+        assert!(
+            d <= 1.5 * m_per_px,
+            "corner {w:?}: nearest {d} m, got {got:?}"
+        );
     }
     // the original footprint: dashed, from the undeformed corners x, y ∈ [−0.2, 2.2]
     assert!(svg.contains("original footprint"));
@@ -366,7 +374,10 @@ fn far_debris_gives_an_overview_and_a_near_panel() {
     // overview holds the beam at 100 m; near window = footprint ± its side (2.4 m)
     assert!(panels[0].data.x[1] > 101.0 && panels[0].data.y[1] > 51.0);
     let w = panels[1].data;
-    assert!((w.x[0] + 2.6).abs() < 1e-6 && (w.x[1] - 4.6).abs() < 1e-6, "{w:?}");
+    assert!(
+        (w.x[0] + 2.6).abs() < 1e-6 && (w.x[1] - 4.6).abs() < 1e-6,
+        "{w:?}"
+    );
     let svg = plot::svg_string(&fig).unwrap();
     // 5 polygons in the overview, 4 in the near panel (the beam is far); a dot per body
     assert_eq!(svg.matches("<polygon").count(), 9);
@@ -378,7 +389,10 @@ fn far_debris_gives_an_overview_and_a_near_panel() {
     assert_eq!(pixel(&img, x, y), rgb(style::body_fill("Column", 1, 2)));
     let (x, y) = maps[0].to_px([100.0, 50.0]);
     assert_eq!(pixel(&img, x, y), rgb(style::type_colour("Beam")));
-    assert!(maps[1].px[0] > maps[0].px[1], "near panel right of the overview");
+    assert!(
+        maps[1].px[0] > maps[0].px[1],
+        "near panel right of the overview"
+    );
 }
 
 /// Every `<polyline>` stroke colour of an SVG with its count.
@@ -397,13 +411,17 @@ fn histories_draw_both_stages_and_tc() {
     assert_eq!(polylines_with_stroke(&svg, &hex(style::FE_STAGE)), 3);
     assert_eq!(polylines_with_stroke(&svg, &hex(style::PHYSICS_STAGE)), 3);
     // Tc: a label in each panel and in the legend
-    assert_eq!(svg.matches("Tc = 1.000 s").count(), 4, "title + 2 panels + legend");
+    assert_eq!(
+        svg.matches("Tc = 1.000 s").count(),
+        4,
+        "title + 2 panels + legend"
+    );
     let c = plot::connections::ConnectionsFigure::new(&run);
     let curves = c.curves();
     // ruin-stage frames only: t = 1.04 … 2.0 s, 25 frames; last counts (1, 1, 5)
-    assert_eq!(curves[0].2.len(), 25);
-    assert_eq!(curves[0].2.last(), Some(&(2.0, 1.0)));
-    assert_eq!(curves[2].2.last(), Some(&(2.0, 5.0)));
+    assert_eq!(curves[0].points.len(), 25);
+    assert_eq!(curves[0].points.last(), Some(&(2.0, 1.0)));
+    assert_eq!(curves[2].points.last(), Some(&(2.0, 5.0)));
     let svg = plot::svg_string(&c).unwrap();
     for col in [style::INTACT, style::PLASTIC, style::BROKEN] {
         assert_eq!(polylines_with_stroke(&svg, &hex(col)), 2, "curve + legend");

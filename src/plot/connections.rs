@@ -1,7 +1,7 @@
 //! `connections`: the numbers of intact, plastic and broken connections against time over
 //! the ruin stage (the `history.csv` rows that carry counts), Tc marked as in
 //! [`super::history`]. A run without a ruin stage gets the figure with a note instead.
-use super::history::{legend_entries, panel, time_range, LEGEND_W};
+use super::history::{legend_entries, panel, time_range, Curve, LEGEND_W};
 use super::style;
 use super::{font::FAMILY, run_label, tc_s, Figure, RunFolder};
 use anyhow::Result;
@@ -19,8 +19,8 @@ impl<'a> ConnectionsFigure<'a> {
         ConnectionsFigure { run }
     }
 
-    /// The curves: (colour, label, points (t s, count)) for intact, plastic, broken.
-    pub fn curves(&self) -> Vec<(RGBColor, String, Vec<(f64, f64)>)> {
+    /// The curves (t s, count) of intact, plastic and broken connections.
+    pub fn curves(&self) -> Vec<Curve> {
         let rows: Vec<(f64, (usize, usize, usize))> = self
             .run
             .history
@@ -30,10 +30,15 @@ impl<'a> ConnectionsFigure<'a> {
         let pick = |f: fn((usize, usize, usize)) -> usize| -> Vec<(f64, f64)> {
             rows.iter().map(|&(t, c)| (t, f(c) as f64)).collect()
         };
+        let curve = |colour, label: &str, points| Curve {
+            colour,
+            label: label.to_string(),
+            points,
+        };
         vec![
-            (style::INTACT, "intact".to_string(), pick(|c| c.0)),
-            (style::PLASTIC, "plastic".to_string(), pick(|c| c.1)),
-            (style::BROKEN, "broken".to_string(), pick(|c| c.2)),
+            curve(style::INTACT, "intact", pick(|c| c.0)),
+            curve(style::PLASTIC, "plastic", pick(|c| c.1)),
+            curve(style::BROKEN, "broken", pick(|c| c.2)),
         ]
     }
 }
@@ -61,10 +66,7 @@ impl Figure for ConnectionsFigure<'_> {
             .map(|c| c.0 + c.1 + c.2)
             .max()
             .unwrap_or(0);
-        let title = format!(
-            "Connections ({total}) - {}",
-            run_label(self.run)
-        );
+        let title = format!("Connections ({total}) - {}", run_label(self.run));
         let root = root.titled(&title, (FAMILY, style::TITLE_PX))?;
         let (w, _) = root.dim_in_pixel();
         let (main, legend) = root.split_horizontally(w.saturating_sub(LEGEND_W));

@@ -24,7 +24,10 @@ impl<'a> HistoryFigure<'a> {
 }
 
 /// Runs of consecutive rows with a value and the same stage: (FE?, points (t, value)).
-pub fn segments(rows: &[HistoryRow], value: impl Fn(&HistoryRow) -> Option<f64>) -> Vec<(bool, Vec<(f64, f64)>)> {
+pub fn segments(
+    rows: &[HistoryRow],
+    value: impl Fn(&HistoryRow) -> Option<f64>,
+) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut out: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
     let mut open = false;
     for r in rows {
@@ -59,7 +62,9 @@ pub fn value_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
 /// The time range of `rows` (and Tc), s.
 pub fn time_range(rows: &[HistoryRow], tc: Option<f64>) -> (f64, f64) {
     let ts = rows.iter().map(|r| r.t_s).chain(tc);
-    let (lo, hi) = ts.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| (a.min(t), b.max(t)));
+    let (lo, hi) = ts.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+        (a.min(t), b.max(t))
+    });
     if !(lo.is_finite() && hi.is_finite()) {
         (0.0, 1.0)
     } else if hi > lo {
@@ -67,6 +72,17 @@ pub fn time_range(rows: &[HistoryRow], tc: Option<f64>) -> (f64, f64) {
     } else {
         (lo, lo + 1.0)
     }
+}
+
+/// One curve of a time-history panel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// Line colour.
+    pub colour: RGBColor,
+    /// Legend label.
+    pub label: String,
+    /// Points (t s, value).
+    pub points: Vec<(f64, f64)>,
 }
 
 /// Width of the legend strip of the time-history figures, px.
@@ -79,13 +95,13 @@ pub(super) fn panel<DB: DrawingBackend>(
     t: (f64, f64),
     tc: Option<f64>,
     y_desc: &str,
-    curves: &[(RGBColor, String, Vec<(f64, f64)>)],
+    curves: &[Curve],
     empty_note: &str,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
-    let y = value_range(curves.iter().flat_map(|c| c.2.iter().map(|p| p.1)));
+    let y = value_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)));
     let mut chart = ChartBuilder::on(area)
         .margin(12)
         .x_label_area_size(45)
@@ -122,13 +138,13 @@ where
                 ),
         ))?;
     }
-    for (colour, _, pts) in curves.iter().filter(|c| !c.2.is_empty()) {
+    for c in curves.iter().filter(|c| !c.points.is_empty()) {
         chart.draw_series(LineSeries::new(
-            pts.iter().copied(),
-            colour.stroke_width(2),
+            c.points.iter().copied(),
+            c.colour.stroke_width(2),
         ))?;
     }
-    if curves.iter().all(|c| c.2.is_empty()) {
+    if curves.iter().all(|c| c.points.is_empty()) {
         let (w, h) = area.dim_in_pixel();
         area.draw(&Text::new(
             empty_note.to_string(),
@@ -143,17 +159,17 @@ where
 /// Legend entries of the non-empty `curves` (one per label, first colour) and Tc.
 pub(super) fn legend_entries(
     heading: &str,
-    curves: &[&[(RGBColor, String, Vec<(f64, f64)>)]],
+    curves: &[&[Curve]],
     tc: Option<f64>,
 ) -> Vec<(Swatch, String)> {
     let mut e = vec![(Swatch::Heading, heading.to_string())];
-    for (colour, label, _) in curves
+    for c in curves
         .iter()
         .flat_map(|c| c.iter())
-        .filter(|c| !c.2.is_empty())
+        .filter(|c| !c.points.is_empty())
     {
-        if !e.iter().any(|(_, l)| l == label) {
-            e.push((Swatch::Line(*colour), label.clone()));
+        if !e.iter().any(|(_, l)| *l == c.label) {
+            e.push((Swatch::Line(c.colour), c.label.clone()));
         }
     }
     if let Some(tc) = tc {
@@ -163,17 +179,19 @@ pub(super) fn legend_entries(
 }
 
 /// Curves of one quantity: the FE and ruin-stage segments of `value`, coloured by stage.
-fn stage_curves(
-    rows: &[HistoryRow],
-    value: impl Fn(&HistoryRow) -> Option<f64>,
-) -> Vec<(RGBColor, String, Vec<(f64, f64)>)> {
+fn stage_curves(rows: &[HistoryRow], value: impl Fn(&HistoryRow) -> Option<f64>) -> Vec<Curve> {
     segments(rows, value)
         .into_iter()
-        .map(|(fe, pts)| {
-            if fe {
-                (style::FE_STAGE, "FE stage".to_string(), pts)
+        .map(|(fe, points)| {
+            let (colour, label) = if fe {
+                (style::FE_STAGE, "FE stage")
             } else {
-                (style::PHYSICS_STAGE, "ruin stage (Bullet)".to_string(), pts)
+                (style::PHYSICS_STAGE, "ruin stage (Bullet)")
+            };
+            Curve {
+                colour,
+                label: label.to_string(),
+                points,
             }
         })
         .collect()

@@ -125,9 +125,17 @@ pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<Path
         geometry::View::ElevationXz,
         geometry::View::ElevationYz,
     ] {
-        files.extend(write_figure(&ruin::RuinFigure::new(run, view), out, format)?);
+        files.extend(write_figure(
+            &ruin::RuinFigure::new(run, view),
+            out,
+            format,
+        )?);
     }
-    files.extend(write_figure(&history::HistoryFigure::new(run), out, format)?);
+    files.extend(write_figure(
+        &history::HistoryFigure::new(run),
+        out,
+        format,
+    )?);
     files.extend(write_figure(
         &connections::ConnectionsFigure::new(run),
         out,
@@ -154,7 +162,8 @@ pub fn tc_s(run: &RunFolder) -> Option<f64> {
 
 /// The run folder's name for titles (its last path component).
 pub fn run_name(run: &RunFolder) -> String {
-    run.dir
-        .file_name()
-        .map_or_else(|| run.dir.display().to_string(), |n| n.to_string_lossy().into_owned())
+    run.dir.file_name().map_or_else(
+        || run.dir.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }

@@ -166,7 +166,7 @@ impl<'a> RuinFigure<'a> {
         &self,
         root: &DrawingArea<DB, Shift>,
         panels: &[Panel],
-    ) -> Result<(Vec<DrawingArea<DB, Shift>>, DrawingArea<DB, Shift>)>
+    ) -> Result<Areas<DB>>
     where
         DB::ErrorType: 'static,
     {
@@ -295,7 +295,11 @@ impl<'a> RuinFigure<'a> {
             )))?;
         }
 
-        let order: Vec<usize> = self.active_order().into_iter().filter(|&i| shown(i)).collect();
+        let order: Vec<usize> = self
+            .active_order()
+            .into_iter()
+            .filter(|&i| shown(i))
+            .collect();
         for &i in &order {
             let p = self.projection(i);
             let fill = self.fill(i);
@@ -373,10 +377,7 @@ impl<'a> RuinFigure<'a> {
             for s in (1..=n).rev() {
                 let level = self.stories.levels.get(s - 1).copied().unwrap_or(f64::NAN);
                 e.push((
-                    Swatch::Fill(style::scaled(
-                        style::STORY_SWATCH,
-                        style::story_shade(s, n),
-                    )),
+                    Swatch::Fill(style::scaled(style::STORY_SWATCH, style::story_shade(s, n))),
                     format!("story {s} (floor {level:.2} m)"),
                 ));
             }
@@ -394,6 +395,9 @@ impl<'a> RuinFigure<'a> {
         e
     }
 }
+
+/// The panel areas and the legend area of a ruin figure.
+type Areas<DB> = (Vec<DrawingArea<DB, Shift>>, DrawingArea<DB, Shift>);
 
 /// One panel of a ruin figure (module docs).
 #[derive(Debug, Clone, PartialEq)]

@@ -180,9 +180,10 @@ where
                 3,
                 c.stroke_width(2),
             ))?,
-            Swatch::Line(c) => {
-                area.draw(&PathElement::new(vec![(x0, mid), (x0 + 18, mid)], c.stroke_width(2)))?
-            }
+            Swatch::Line(c) => area.draw(&PathElement::new(
+                vec![(x0, mid), (x0 + 18, mid)],
+                c.stroke_width(2),
+            ))?,
         }
         area.draw(&Text::new(label.clone(), (x0 + 26, y), text.clone()))?;
         y += 22;
