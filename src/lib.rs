@@ -25,5 +25,6 @@ pub mod output;
 #[allow(unsafe_code)]
 pub mod physics;
 pub mod pipeline;
+pub mod plot;
 pub mod ruin;
 pub mod scene;

@@ -7,6 +7,7 @@ pub mod fe;
 pub mod generate;
 pub mod map;
 pub mod modal;
+pub mod plot;
 pub mod run;
 pub mod scene;
 
@@ -48,6 +49,8 @@ pub enum Command {
     Fe(fe::FeArgs),
     /// Run a scenario: FE until collapse, then the Bullet ruin stage (or one of them).
     Run(run::RunArgs),
+    /// Figures of a run folder: ruin plan and elevations, drift/drop and connection histories.
+    Plot(plot::PlotArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -66,5 +69,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Modal(args) => modal::run(&args),
         Command::Fe(args) => fe::run(&args, cli.quiet),
         Command::Run(args) => run::run(&args, cli.quiet),
+        Command::Plot(args) => plot::run(&args, cli.quiet),
     }
 }

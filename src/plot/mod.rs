@@ -1,0 +1,169 @@
+//! Figures of a run folder (`fem2rbd plot`), PNG and SVG, drawn with plotters.
+//!
+//! Figures (file stems):
+//!
+//! * `ruin_plan` — the final pose of every body projected on the ground plane (convex hull
+//!   of its 8 corners), filled by element type, darker for lower stories, drawn bottom to
+//!   top; passive foundations outlined; the original footprint dashed; equal aspect;
+//! * `ruin_elevation_xz`, `ruin_elevation_yz` — the same bodies on x–z (seen from −y) and
+//!   y–z (seen from +x), back to front, with the final ground line;
+//! * `history` — roof drift (%) and maximum vertical drop (m) against time, FE and ruin
+//!   stage in different colours, Tc marked;
+//! * `connections` — intact / plastic / broken connection counts against time over the
+//!   ruin stage, Tc marked.
+//!
+//! Definitions of the drawn quantities: [`geometry`] and [`crate::output::history`].
+//! Text uses the bundled DejaVu Sans ([`font`]), never a system font. Same run folder,
+//! same bytes: drawing orders are sorted, PNGs are encoded in memory with fixed settings
+//! and every file is written atomically.
+pub mod connections;
+pub mod font;
+pub mod geometry;
+pub mod history;
+pub mod ruin;
+pub mod style;
+
+pub use crate::output::run_folder::{BodyInfo, HistoryRow, RunFolder};
+
+use crate::output::write_atomic;
+use anyhow::{Context, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// Which files to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// PNG only.
+    Png,
+    /// SVG only.
+    Svg,
+    /// PNG and SVG.
+    Both,
+}
+
+impl Format {
+    fn png(self) -> bool {
+        matches!(self, Format::Png | Format::Both)
+    }
+    fn svg(self) -> bool {
+        matches!(self, Format::Svg | Format::Both)
+    }
+}
+
+/// A figure that can be drawn on any plotters backend.
+pub trait Figure {
+    /// File stem (`ruin_plan`, ...).
+    fn name(&self) -> &'static str;
+    /// Size in pixels (width, height); the SVG uses the same user units.
+    fn size(&self) -> (u32, u32);
+    /// Draws the whole figure on `root` (of [`Figure::size`]).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static;
+}
+
+/// The figure as PNG bytes (8-bit RGB).
+pub fn png_bytes<F: Figure>(fig: &F) -> Result<Vec<u8>> {
+    font::ensure_registered()?;
+    let (w, h) = fig.size();
+    let mut rgb = vec![0u8; w as usize * h as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        fig.draw(&root)
+            .with_context(|| format!("drawing {}", fig.name()))?;
+        root.present()?;
+    }
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header()?;
+        writer.write_image_data(&rgb)?;
+        writer.finish()?;
+    }
+    Ok(out)
+}
+
+/// The figure as SVG text.
+pub fn svg_string<F: Figure>(fig: &F) -> Result<String> {
+    font::ensure_registered()?;
+    let mut s = String::new();
+    {
+        let root = SVGBackend::with_string(&mut s, fig.size()).into_drawing_area();
+        fig.draw(&root)
+            .with_context(|| format!("drawing {}", fig.name()))?;
+        root.present()?;
+    }
+    Ok(s)
+}
+
+fn write_figure<F: Figure>(fig: &F, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    if format.png() {
+        let p = out.join(format!("{}.png", fig.name()));
+        write_atomic(&p, &png_bytes(fig)?).with_context(|| format!("writing {}", p.display()))?;
+        files.push(p);
+    }
+    if format.svg() {
+        let p = out.join(format!("{}.svg", fig.name()));
+        write_atomic(&p, svg_string(fig)?.as_bytes())
+            .with_context(|| format!("writing {}", p.display()))?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+/// Writes every figure of `run` into `out` (created) and returns the files written.
+pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
+    let mut files = Vec::new();
+    for view in [
+        geometry::View::Plan,
+        geometry::View::ElevationXz,
+        geometry::View::ElevationYz,
+    ] {
+        files.extend(write_figure(
+            &ruin::RuinFigure::new(run, view),
+            out,
+            format,
+        )?);
+    }
+    files.extend(write_figure(
+        &history::HistoryFigure::new(run),
+        out,
+        format,
+    )?);
+    files.extend(write_figure(
+        &connections::ConnectionsFigure::new(run),
+        out,
+        format,
+    )?);
+    Ok(files)
+}
+
+/// The run's mode and collapse moment for titles, from `summary.json`:
+/// `mode physics, no Tc (physics_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
+pub fn run_label(run: &RunFolder) -> String {
+    let mode = run.summary["mode"].as_str().unwrap_or("?");
+    let reason = run.summary["tc_reason"].as_str().unwrap_or("?");
+    match tc_s(run) {
+        Some(tc) => format!("mode {mode}, Tc = {tc:.3} s ({reason})"),
+        None => format!("mode {mode}, no Tc ({reason})"),
+    }
+}
+
+/// Tc from `summary.json` (`tc_s`), s; None when null or absent.
+pub fn tc_s(run: &RunFolder) -> Option<f64> {
+    run.summary["tc_s"].as_f64()
+}
+
+/// The run folder's name for titles (its last path component).
+pub fn run_name(run: &RunFolder) -> String {
+    run.dir.file_name().map_or_else(
+        || run.dir.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
