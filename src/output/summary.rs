@@ -331,6 +331,8 @@ pub fn summary(rec: &RunRecord, timing: bool) -> Value {
                 "stop": ruin_stop_name(r.stop),
                 "frames": r.frames.len(),
                 "bodies_at_rest": r.at_rest.iter().filter(|b| **b).count(),
+                "first_frame_penetration_m": r6(r.first_frame_penetration_m),
+                "max_penetration_m": r6(r.max_penetration_m),
             }),
         );
         m.insert(

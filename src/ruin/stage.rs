@@ -269,6 +269,12 @@ pub struct RuinResult {
     pub at_rest: Vec<bool>,
     /// Per connection (in [`RuinStage::connections`] order).
     pub connections: Vec<ConnectionOutcome>,
+    /// Deepest penetration between any two bodies (ground included) at the end of the
+    /// first frame, m (≥ 0; Bullet's most negative contact distance, negated). Large
+    /// values mean the start poses overlap (e.g. deformed boxes at Tc).
+    pub first_frame_penetration_m: f64,
+    /// Deepest penetration at the end of any frame, m.
+    pub max_penetration_m: f64,
     /// Why it ended.
     pub stop: StopReason,
     /// End time, s.
@@ -784,6 +790,17 @@ impl RuinStage {
         Ok((e, vmax, speeds))
     }
 
+    /// The deepest penetration between any two bodies after the last substep, m (≥ 0).
+    pub fn deepest_penetration(&self) -> Result<f64, StageError> {
+        Ok(self
+            .world
+            .contact_pairs()?
+            .iter()
+            .map(|p| -p.contact.min_distance)
+            .filter(|d| d.is_finite())
+            .fold(0.0, f64::max))
+    }
+
     /// Runs frame by frame until `stop` (module docs) and returns the record.
     pub fn run(&mut self, stop: &StopRule) -> Result<RuinResult, StageError> {
         self.run_with(stop, &mut |_| {})
@@ -834,6 +851,8 @@ impl RuinStage {
         }];
         let mut quiet = 0u64;
         let mut reason = StopReason::TimeLimit;
+        let mut first_pen: Option<f64> = None;
+        let mut max_pen = 0.0_f64;
         while self.time_s() < stop.max_time_s - 1e-9 * frame_dt {
             self.substeps(self.substeps_per_frame)?;
             let t = self.time_s();
@@ -852,6 +871,9 @@ impl RuinStage {
                 counts: self.monitor.counts(),
             });
             on_frame(frames.last().expect("just pushed"));
+            let pen = self.deepest_penetration()?;
+            first_pen.get_or_insert(pen);
+            max_pen = max_pen.max(pen);
             if let (Some(r), Some(eb), Some(hf)) = (rest, energy_bound, hold_frames) {
                 let (e, vmax, _) = self.motion_measures()?;
                 if t >= motion_end - 1e-12 && e < eb && vmax < r.max_speed_mps {
@@ -885,6 +907,8 @@ impl RuinStage {
             final_velocities: self.body_velocities()?,
             at_rest,
             connections: outcomes,
+            first_frame_penetration_m: first_pen.unwrap_or(0.0),
+            max_penetration_m: max_pen,
             stop: reason,
             end_time_s: self.time_s(),
             wall,
