@@ -350,3 +350,36 @@ fn unknown_top_level_key_is_an_error() {
         "{e}"
     );
 }
+
+/// A misspelt key inside a material, a section or an element (flattened `type` data) is
+/// an error naming the line, the item and the key — not silently ignored.
+#[test]
+fn unknown_key_inside_material_section_element_is_an_error() {
+    let cases = [
+        (
+            "ft = 1.8e6, Ets",
+            "ft = 1.8e6, ftt = 2.0, Ets",
+            "material item 1",
+            "unknown field `ftt`",
+        ),
+        (
+            "cover = 0.03, core_material",
+            "cover = 0.03, cvr = 0.04, core_material",
+            "section item 1",
+            "unknown field `cvr`",
+        ),
+        (
+            "formulation = \"disp\", points = 4",
+            "formulation = \"disp\", point = 4",
+            "element item 2",
+            "unknown field `point`",
+        ),
+    ];
+    for (from, to, item, msg) in cases {
+        let t = edit(from, to);
+        let e = err(&t);
+        let line = line_of(&t, to);
+        assert!(e.starts_with(&format!("bad.toml:{line}:")), "{e}");
+        assert!(e.contains(item) && e.contains(msg), "{e}");
+    }
+}

@@ -124,7 +124,7 @@ fn is_true(b: &bool) -> bool {
 /// Element kinds (`type = "beam_column" | "elastic_beam_column" | "elastic_strip" | "shell" |
 /// "panel"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case")]
+#[serde(tag = "type", deny_unknown_fields, rename_all = "snake_case")]
 pub enum ElementKind {
     /// Nonlinear beam-column with a fiber, RC or elastic section.
     BeamColumn {

@@ -27,7 +27,7 @@ fn is_zero(x: &f64) -> bool {
 
 /// The uniaxial laws; the `type` key selects one. Field names are OpenSees' argument names.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type")]
+#[serde(tag = "type", deny_unknown_fields)]
 pub enum MaterialLaw {
     /// Linear elastic: σ = E ε (`uniaxialMaterial Elastic tag E <eta> <Eneg>`).
     Elastic {

@@ -49,7 +49,7 @@ pub struct Section {
 
 /// Section kinds (`type = "fiber" | "rc_rect" | "elastic" | "plate"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case")]
+#[serde(tag = "type", deny_unknown_fields, rename_all = "snake_case")]
 pub enum SectionKind {
     /// Explicit fiber list plus elastic torsion GJ (OpenSees `section Fiber tag -GJ GJ`).
     Fiber {
@@ -122,6 +122,7 @@ pub enum SectionKind {
 /// `cover_layers` × `nz` fibers. Bars are added as point fibers (their area is not
 /// subtracted from the concrete, as in OpenSees fiber sections).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RcRect {
     /// Width along local y (m).
     pub b: f64,
