@@ -44,8 +44,7 @@ fn python(script: &Path, args: &[&str]) -> Value {
     );
     let last = stdout
         .lines()
-        .filter(|l| l.starts_with('{'))
-        .last()
+        .rfind(|l| l.starts_with('{'))
         .expect("JSON line");
     serde_json::from_str(last).unwrap()
 }

@@ -240,7 +240,7 @@ fn generator_defaults_reproduce_reference_frame3() {
     let above: f64 = m
         .lumped_masses()
         .iter()
-        .filter(|(t, _)| m.fixity().get(t).is_none())
+        .filter(|(t, _)| !m.fixity().contains_key(t))
         .map(|(_, v)| v[2])
         .sum();
     close(

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 pub enum GenerateCommand {
     /// A regular RC frame: bays in X and Y, stories, fiber columns and beams, slab as mass
     /// plus diagonal elastic strips. The defaults reproduce the reference frame3.
-    Frame(FrameArgs),
+    Frame(Box<FrameArgs>),
 }
 
 fn list(s: &str) -> Result<Vec<f64>> {

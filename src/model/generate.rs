@@ -232,7 +232,7 @@ fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()>
             ("core", p.core_epscu, p.confinement),
         ] {
             let eps0 = -2.0 * k * f / e;
-            if !(eps < eps0) {
+            if eps.partial_cmp(&eps0) != Some(std::cmp::Ordering::Less) {
                 bail!(
                     "story {}: {what} crushing strain {eps} must be negative and beyond the \
                      peak strain {eps0:.5}",
@@ -245,6 +245,8 @@ fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()>
 }
 
 /// Builds the frame model. Errors on inconsistent parameters.
+// The story loops index several per-story arrays (concrete, heights, masses) and tags.
+#[allow(clippy::needless_range_loop)]
 pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
     use anyhow::bail;
     let ns = p.story_heights.len();
