@@ -4,7 +4,10 @@ use fem2rbd::collapse::{
 };
 use fem2rbd::model::Model;
 
-const TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/frame3/model.toml");
+const TOML: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/frame3-standin/model.toml"
+);
 
 fn frame3() -> Model {
     Model::load(TOML).unwrap()

@@ -4,7 +4,10 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const MODEL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/frame3/model.toml");
+const MODEL: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/frame3-standin/model.toml"
+);
 const BIN: &str = env!("CARGO_BIN_EXE_fem2rbd");
 
 fn export(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
@@ -41,8 +44,7 @@ fn python(script: &Path, args: &[&str]) -> Value {
     );
     let last = stdout
         .lines()
-        .filter(|l| l.starts_with('{'))
-        .last()
+        .rfind(|l| l.starts_with('{'))
         .expect("JSON line");
     serde_json::from_str(last).unwrap()
 }

@@ -1,4 +1,4 @@
-//! frame3 (the OpenSees reference model, `data/frame3/reference-frame3.json`, a copy
+//! frame3 (the OpenSees reference model, `data/frame3-standin/reference-frame3.json`, a copy
 //! of `shared/reference/opensees-frame3/frame3.json`; records from
 //! `data/ground-motions/`) with linear-elastic elements on
 //! each section's elastic equivalent (the reference's `elastic` variant): eigen
@@ -49,8 +49,8 @@ fn f(v: &Value) -> f64 {
 /// Builds frame3 with the elastic-equivalent elements. Returns the domain and the
 /// node index by tag.
 fn frame3() -> (Domain, BTreeMap<i64, usize>, Value) {
-    let text = std::fs::read_to_string(root("data/frame3/reference-frame3.json"))
-        .expect("data/frame3/reference-frame3.json");
+    let text = std::fs::read_to_string(root("data/frame3-standin/reference-frame3.json"))
+        .expect("data/frame3-standin/reference-frame3.json");
     let m: Value = serde_json::from_str(&text).unwrap();
     let mut d = Domain::new();
     let mut idx = BTreeMap::new();

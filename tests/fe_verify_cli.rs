@@ -22,7 +22,7 @@ fn gm(dir: &str, file: &str, pga: f64) -> String {
 fn modal_prints_frame3_periods_and_characters() {
     let out = bin()
         .args(["modal", "--modes", "4", "--variant", "force"])
-        .arg(root().join("data/frame3/model.toml"))
+        .arg(root().join("data/frame3-standin/model.toml"))
         .output()
         .unwrap();
     assert!(
@@ -56,7 +56,7 @@ fn fe_lc1_elastic_two_seconds_matches_opensees() {
     let out_dir = dir.path().join("run");
     let out = bin()
         .args(["--quiet", "fe"])
-        .arg(root().join("data/frame3/model.toml"))
+        .arg(root().join("data/frame3-standin/model.toml"))
         .args(["--gm", &gm("X", "RSN6_IMPVALL.I_I-ELC180.AT2", 0.10)])
         .args(["--gm", &gm("Y", "RSN6_IMPVALL.I_I-ELC270.AT2", 0.08)])
         .args(["--gm", &gm("Z", "RSN6_IMPVALL.I_I-ELC-UP.AT2", 0.06)])
@@ -108,7 +108,7 @@ fn fe_lc1_elastic_two_seconds_matches_opensees() {
 fn fe_bad_input_is_refused_and_nothing_written() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("run");
-    let model = root().join("data/frame3/model.toml");
+    let model = root().join("data/frame3-standin/model.toml");
     let cases: [(Vec<String>, &str); 4] = [
         (
             vec!["--gm".into(), "W=x.at2".into()],

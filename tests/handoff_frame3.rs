@@ -4,7 +4,10 @@ use fem2rbd::mapping::{self, MapOptions, Mapping};
 use fem2rbd::model::Model;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
-const TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/frame3/model.toml");
+const TOML: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/frame3-standin/model.toml"
+);
 
 fn setup() -> (Model, Mapping, Handoff) {
     let model = Model::load(TOML).unwrap();

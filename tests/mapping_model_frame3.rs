@@ -3,7 +3,10 @@ use fem2rbd::mapping::{self, overlap::max_pairwise_overlap, BodyKind, MapOptions
 use fem2rbd::model::{ElementKind, Model, SectionKind};
 use std::collections::BTreeSet;
 
-const TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/frame3/model.toml");
+const TOML: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/frame3-standin/model.toml"
+);
 
 fn frame3() -> Model {
     Model::load(TOML).unwrap()

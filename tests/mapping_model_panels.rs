@@ -7,7 +7,10 @@ use fem2rbd::mapping::handoff::{node_states, translations, GroundState, Handoff}
 use fem2rbd::mapping::{self, MapOptions};
 use fem2rbd::model::{ElementKind, Model};
 
-const TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/frame3/model.toml");
+const TOML: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/frame3-standin/model.toml"
+);
 
 #[test]
 fn frame3_panels_and_fe_only_strips_in_the_file() {

@@ -120,3 +120,128 @@ fn bad_generator_parameters_are_errors() {
     .unwrap_err();
     assert!(e.to_string().contains("leaves no core"), "{e}");
 }
+
+#[test]
+fn reinforcement_concrete_and_ballast_options_reach_the_model() {
+    use fem2rbd::model::{MaterialLaw, SectionKind};
+    let base = FrameParams::default();
+    let p = FrameParams {
+        column_bar_diameter: 0.005,
+        beam_bar_diameter: 0.004,
+        column_bars_per_face: 4,
+        beam_bars: [5, 3],
+        cover_epscu: -0.0035,
+        core_epscu: -0.008,
+        residual: 0.1,
+        ballast_centre: 0.25,
+        ..base.clone()
+    };
+    let m = frame(&p).unwrap();
+    let pi = std::f64::consts::PI;
+    let (a_col, a_beam) = (pi * 0.005f64.powi(2) / 4.0, pi * 0.004f64.powi(2) / 4.0);
+    for s in &m.sections {
+        let SectionKind::RcRect(rc) = &s.kind else {
+            panic!("{}: not rc_rect", s.name)
+        };
+        if s.name.starts_with("column") {
+            // 4 per face: 12 bars on the perimeter at ±(0.05 − 0.013) m
+            assert_eq!(rc.bars.len(), 12, "{}", s.name);
+            assert!(rc.bars.iter().all(|b| (b.2 - a_col).abs() < 1e-15));
+            let a = 0.05 - 0.013;
+            assert!(rc
+                .bars
+                .iter()
+                .all(|b| (b.0.abs() - a).abs() < 1e-12 || (b.1.abs() - a).abs() < 1e-12));
+        } else {
+            // 3 bottom (local z < 0), 5 top, beam bar area
+            let bottom = rc.bars.iter().filter(|b| b.1 < 0.0).count();
+            let top = rc.bars.iter().filter(|b| b.1 > 0.0).count();
+            assert_eq!((top, bottom), (5, 3), "{}", s.name);
+            assert!(rc.bars.iter().all(|b| (b.2 - a_beam).abs() < 1e-15));
+        }
+    }
+    for mat in &m.materials {
+        if let MaterialLaw::Concrete02 {
+            fpc, fpcu, epscu, ..
+        } = mat.law
+        {
+            assert!((fpcu - 0.1 * fpc).abs() < 1e-6, "{}", mat.name);
+            let want = if mat.name.starts_with("core") {
+                -0.008
+            } else {
+                -0.0035
+            };
+            assert_eq!(epscu, want, "{}", mat.name);
+        }
+    }
+    // Ballast: the same total mass; the bay-centre node gets 1/2 of the slab and of the
+    // spread ballast plus the centre share, ms = ρ t L² + (1 − c) M.
+    let b = frame(&base).unwrap();
+    assert!((m.total_mass() / b.total_mass() - 1.0).abs() < 1e-12);
+    let centre = |mm: &fem2rbd::model::Model| {
+        mm.masses
+            .iter()
+            .filter(|x| x.node == 112)
+            .map(|x| x.m)
+            .sum::<f64>()
+    };
+    let slab = 2500.0 * 0.03 * 1.5 * 1.5;
+    let added = 2699.75;
+    let want = (slab + 0.75 * added) / 2.0 + 0.25 * added;
+    assert!((centre(&m) - want).abs() < 1e-9, "{} vs {want}", centre(&m));
+    assert!((centre(&b) - (slab + added) / 2.0).abs() < 1e-9);
+}
+
+#[test]
+fn bad_reinforcement_and_concrete_parameters_are_errors() {
+    let d = FrameParams::default();
+    let cases: Vec<(FrameParams, &str)> = vec![
+        (
+            FrameParams {
+                column_bars_per_face: 9,
+                column_bar_diameter: 0.01,
+                ..d.clone()
+            },
+            "9 column bars of 0.01 m do not fit",
+        ),
+        (
+            FrameParams {
+                beam_bar_diameter: 0.03,
+                ..d.clone()
+            },
+            "beam bars of 0.03 m stick out of the section",
+        ),
+        (
+            FrameParams {
+                beam_bars: [3, 1],
+                ..d.clone()
+            },
+            "2 beam bars per layer",
+        ),
+        (
+            FrameParams {
+                cover_epscu: -0.001,
+                ..d.clone()
+            },
+            "cover crushing strain -0.001",
+        ),
+        (
+            FrameParams {
+                residual: 1.2,
+                ..d.clone()
+            },
+            "residual share 1.2",
+        ),
+        (
+            FrameParams {
+                ballast_centre: -0.1,
+                ..d.clone()
+            },
+            "ballast centre share -0.1",
+        ),
+    ];
+    for (p, want) in cases {
+        let e = frame(&p).unwrap_err().to_string();
+        assert!(e.contains(want), "{e} (want {want:?})");
+    }
+}

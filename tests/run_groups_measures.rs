@@ -10,7 +10,7 @@ use fem2rbd::ruin::groups::{group_inputs, group_strengths, FOUNDATION_GROUP};
 fn frame3_group_strengths_come_from_its_column_sections() {
     let model = Model::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/data/frame3/model.toml"
+        "/data/frame3-standin/model.toml"
     ))
     .unwrap();
     let g = group_inputs(&model).unwrap();

@@ -56,7 +56,7 @@ fn main() -> Result<()> {
     };
     let with_opensees = !args.iter().any(|a| a == "--no-opensees");
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let model_path = root.join("data/frame3/model.toml");
+    let model_path = root.join("data/frame3-standin/model.toml");
     let model = Model::load(&model_path)?;
     let paths: Vec<PathBuf> = RECORDS
         .iter()

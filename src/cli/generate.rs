@@ -10,7 +10,7 @@ use std::path::PathBuf;
 pub enum GenerateCommand {
     /// A regular RC frame: bays in X and Y, stories, fiber columns and beams, slab as mass
     /// plus diagonal elastic strips. The defaults reproduce the reference frame3.
-    Frame(FrameArgs),
+    Frame(Box<FrameArgs>),
 }
 
 fn list(s: &str) -> Result<Vec<f64>> {
@@ -35,6 +35,23 @@ fn pair<T: std::str::FromStr>(s: &str) -> Result<[T; 2]> {
             .with_context(|| format!("{x:?} is not a number"))
     };
     Ok([p(v[0])?, p(v[1])?])
+}
+
+/// `N` (top and bottom) or `TOP,BOTTOM` bar counts.
+fn beam_bars(s: &str) -> Result<[u32; 2]> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<u32>()
+                .with_context(|| format!("{x:?} is not a bar count"))
+        })
+        .collect::<Result<_>>()?;
+    match v[..] {
+        [n] => Ok([n, n]),
+        [t, b] => Ok([t, b]),
+        _ => bail!("{s:?}: give N or TOP,BOTTOM"),
+    }
 }
 
 /// Options of `generate frame` (SI units; lists are comma-separated).
@@ -70,15 +87,21 @@ pub struct FrameArgs {
     /// Face to bar centre (m).
     #[arg(long, default_value_t = 0.013)]
     pub bar_offset: f64,
-    /// Bar diameter (m).
+    /// Longitudinal bar diameter of columns and beams (m).
     #[arg(long, default_value_t = 0.0035)]
     pub bar_diameter: f64,
+    /// Column bar diameter (m); default --bar-diameter.
+    #[arg(long)]
+    pub column_bar_diameter: Option<f64>,
+    /// Beam bar diameter (m); default --bar-diameter.
+    #[arg(long)]
+    pub beam_bar_diameter: Option<f64>,
     /// Column bars per face.
     #[arg(long, default_value_t = 3)]
     pub column_bars_per_face: u32,
-    /// Beam bars per layer (top and bottom).
-    #[arg(long, default_value_t = 3)]
-    pub beam_bars: u32,
+    /// Beam bars per layer: one count for top and bottom, or TOP,BOTTOM.
+    #[arg(long, default_value = "3")]
+    pub beam_bars: String,
     /// Concrete E per story (Pa), one value or one per story.
     #[arg(long, default_value = "25e9,27e9,23e9")]
     pub ec: String,
@@ -88,6 +111,15 @@ pub struct FrameArgs {
     /// Core confinement factor.
     #[arg(long, default_value_t = 1.1)]
     pub confinement: f64,
+    /// Cover concrete strain at the residual stress (negative).
+    #[arg(long, default_value_t = -0.004, allow_negative_numbers = true)]
+    pub cover_epscu: f64,
+    /// Core concrete strain at the residual stress (negative).
+    #[arg(long, default_value_t = -0.012, allow_negative_numbers = true)]
+    pub core_epscu: f64,
+    /// Concrete residual stress as a share of the peak (0..1).
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    pub residual: f64,
     /// Bar yield strength (Pa).
     #[arg(long, default_value_t = 457.7e6)]
     pub fy: f64,
@@ -103,6 +135,10 @@ pub struct FrameArgs {
     /// Added mass per floor (kg), one value or one per floor.
     #[arg(long, default_value = "2699.75")]
     pub added_mass: String,
+    /// Share of the added mass put on the bay-centre nodes (0..1); the rest is spread
+    /// like the slab.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub ballast_centre: f64,
     /// Elements per column per story.
     #[arg(long, default_value_t = 2)]
     pub column_elements: u32,
@@ -148,18 +184,23 @@ impl FrameArgs {
             slab_thickness: self.slab_thickness,
             cover: self.cover,
             bar_offset: self.bar_offset,
-            bar_diameter: self.bar_diameter,
+            column_bar_diameter: self.column_bar_diameter.unwrap_or(self.bar_diameter),
+            beam_bar_diameter: self.beam_bar_diameter.unwrap_or(self.bar_diameter),
             column_bars_per_face: self.column_bars_per_face,
-            beam_bars: self.beam_bars,
+            beam_bars: beam_bars(&self.beam_bars).context("--beam-bars")?,
             ec: list(&self.ec).context("--ec")?,
             fc: list(&self.fc).context("--fc")?,
             confinement: self.confinement,
+            cover_epscu: self.cover_epscu,
+            core_epscu: self.core_epscu,
+            residual: self.residual,
             nu: 0.2,
             fy: self.fy,
             es: self.es,
             concrete_density: self.concrete_density,
             steel_density: self.steel_density,
             added_mass: list(&self.added_mass).context("--added-mass")?,
+            ballast_centre: self.ballast_centre,
             column_elements: self.column_elements,
             beam_elements: self.beam_elements,
             column_fibers: pair(&self.column_fibers).context("--column-fibers")?,

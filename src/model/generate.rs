@@ -36,18 +36,26 @@ pub struct FrameParams {
     pub cover: f64,
     /// Face → longitudinal bar centre (m).
     pub bar_offset: f64,
-    /// Longitudinal bar diameter (m).
-    pub bar_diameter: f64,
+    /// Column longitudinal bar diameter (m).
+    pub column_bar_diameter: f64,
+    /// Beam longitudinal bar diameter (m).
+    pub beam_bar_diameter: f64,
     /// Column bars per face (corners counted on both faces); ≥ 2.
     pub column_bars_per_face: u32,
-    /// Beam bars at the top and at the bottom each; ≥ 2.
-    pub beam_bars: u32,
+    /// Beam bars in the top and in the bottom layer, [top, bottom]; each ≥ 2.
+    pub beam_bars: [u32; 2],
     /// Concrete Young's modulus per story/floor (Pa).
     pub ec: Vec<f64>,
     /// Concrete compressive strength per story/floor (Pa, positive).
     pub fc: Vec<f64>,
     /// Core confinement factor K (f'cc = K f'c).
     pub confinement: f64,
+    /// Strain at which the cover concrete reaches its residual stress (negative).
+    pub cover_epscu: f64,
+    /// Strain at which the core concrete reaches its residual stress (negative).
+    pub core_epscu: f64,
+    /// Residual stress of both concretes as a fraction of their peak, fpcu = r·fpc (0..1).
+    pub residual: f64,
     /// Concrete Poisson's ratio (G = E / (2(1+ν))).
     pub nu: f64,
     /// Bar yield strength (Pa).
@@ -60,6 +68,10 @@ pub struct FrameParams {
     pub steel_density: f64,
     /// Added mass per floor (kg), one value for all floors or one per floor.
     pub added_mass: Vec<f64>,
+    /// Share of each bay's added mass put on the bay-centre node (0..1); the rest is
+    /// spread like the slab (corners 1/24, edge mid-nodes 1/12, centre 1/2). 0 gives a
+    /// uniformly spread ballast; larger values lower the polar inertia (torsion period).
+    pub ballast_centre: f64,
     /// Elements per column per story.
     pub column_elements: u32,
     /// Elements per half beam span.
@@ -96,18 +108,23 @@ impl Default for FrameParams {
             slab_thickness: 0.030,
             cover: 0.012,
             bar_offset: 0.013,
-            bar_diameter: 0.0035,
+            column_bar_diameter: 0.0035,
+            beam_bar_diameter: 0.0035,
             column_bars_per_face: 3,
-            beam_bars: 3,
+            beam_bars: [3, 3],
             ec: vec![25.0e9, 27.0e9, 23.0e9],
             fc: vec![22.5e6, 23.9e6, 15.6e6],
             confinement: 1.1,
+            cover_epscu: -0.004,
+            core_epscu: -0.012,
+            residual: 0.2,
             nu: 0.2,
             fy: 457.7e6,
             es: 200.0e9,
             concrete_density: 2500.0,
             steel_density: 0.0,
             added_mass: vec![2699.75],
+            ballast_centre: 0.0,
             column_elements: 2,
             beam_elements: 1,
             column_fibers: [8, 8],
@@ -148,7 +165,88 @@ fn perimeter_bars(a: f64, n: u32, area: f64) -> Vec<Bar> {
     bars
 }
 
+/// Bars must be real, lie inside the section and not overlap: bar diameter > 0, the bar
+/// offset (face → bar centre) at least half a diameter, and the clear spacing between
+/// neighbouring bar centres along a face (2a/(n − 1) − d, a = half the face minus the
+/// offset) positive.
+fn check_reinforcement(p: &FrameParams) -> anyhow::Result<()> {
+    use anyhow::bail;
+    let faces = [
+        (
+            "column",
+            p.column[0].min(p.column[1]),
+            p.column_bar_diameter,
+            p.column_bars_per_face,
+        ),
+        (
+            "beam",
+            p.beam[0],
+            p.beam_bar_diameter,
+            p.beam_bars[0].max(p.beam_bars[1]),
+        ),
+    ];
+    for (what, side, d, n) in faces {
+        if !(d > 0.0 && d.is_finite()) {
+            bail!("{what} bar diameter {d} m must be positive");
+        }
+        if p.bar_offset < d / 2.0 {
+            bail!(
+                "{what} bars of {d} m stick out of the section: bar offset {} m < d/2",
+                p.bar_offset
+            );
+        }
+        let a = side / 2.0 - p.bar_offset;
+        if a <= 0.0 {
+            bail!(
+                "{what} section {side} m is too small for the bar offset {} m",
+                p.bar_offset
+            );
+        }
+        let clear = 2.0 * a / (n - 1) as f64 - d;
+        if clear <= 0.0 {
+            bail!(
+                "{n} {what} bars of {d} m do not fit on a {side} m face (clear spacing {clear:.4} m)"
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Concrete law parameters: 0 < K (confinement), 0 ≤ residual ≤ 1, and each crushing
+/// strain εcu negative and past the peak strain εc0 = −2f′c/Ec of every story (core:
+/// −2K·f′c/Ec).
+fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()> {
+    use anyhow::bail;
+    if !(p.confinement > 0.0 && p.confinement.is_finite()) {
+        bail!("confinement factor {} must be positive", p.confinement);
+    }
+    if !(0.0..=1.0).contains(&p.residual) {
+        bail!("concrete residual share {} must lie in 0..1", p.residual);
+    }
+    for (s, (&e, &f)) in ec.iter().zip(fc).enumerate() {
+        if !(e > 0.0 && f > 0.0) {
+            bail!("story {}: ec and fc must be positive", s + 1);
+        }
+        for (what, eps, k) in [
+            ("cover", p.cover_epscu, 1.0),
+            ("core", p.core_epscu, p.confinement),
+        ] {
+            let eps0 = -2.0 * k * f / e;
+            if eps.partial_cmp(&eps0) != Some(std::cmp::Ordering::Less) {
+                bail!(
+                    "story {}: {what} crushing strain {eps} must be negative and beyond the \
+                     peak strain {eps0:.5}",
+                    s + 1
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Builds the frame model. Errors on inconsistent parameters.
+// The story loops index several per-story arrays (concrete, heights, masses) and tags.
+#[allow(clippy::needless_range_loop)]
 pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
     use anyhow::bail;
     let ns = p.story_heights.len();
@@ -159,14 +257,20 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
     if p.column_elements == 0 || p.beam_elements == 0 {
         bail!("column and beam element counts must be at least 1");
     }
-    if p.column_bars_per_face < 2 || p.beam_bars < 2 {
+    if p.column_bars_per_face < 2 || p.beam_bars.iter().any(|&n| n < 2) {
         bail!("need at least 2 bars per column face and 2 beam bars per layer");
     }
     let ec = per_floor(&p.ec, ns, "ec")?;
     let fc = per_floor(&p.fc, ns, "fc")?;
     let added = per_floor(&p.added_mass, ns, "added mass")?;
+    check_reinforcement(p)?;
+    check_concrete(p, &ec, &fc)?;
+    if !(0.0..=1.0).contains(&p.ballast_centre) {
+        bail!("ballast centre share {} must lie in 0..1", p.ballast_centre);
+    }
     let pi = std::f64::consts::PI;
-    let bar_area = pi * p.bar_diameter.powi(2) / 4.0;
+    let col_bar_area = pi * p.column_bar_diameter.powi(2) / 4.0;
+    let beam_bar_area = pi * p.beam_bar_diameter.powi(2) / 4.0;
 
     // grid coordinates (half-span resolution)
     let grid = |spans: &[f64]| -> Vec<f64> {
@@ -211,8 +315,8 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
             law: MaterialLaw::Concrete02 {
                 fpc: -fcf,
                 epsc0: -2.0 * fcf / e,
-                fpcu: -0.2 * fcf,
-                epscu: -0.004,
+                fpcu: -p.residual * fcf,
+                epscu: p.cover_epscu,
                 lambda: 0.1,
                 ft,
                 ets: ft / 0.002,
@@ -226,8 +330,8 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
             law: MaterialLaw::Concrete02 {
                 fpc: -fcc,
                 epsc0: -2.0 * fcc / e,
-                fpcu: -0.2 * fcc,
-                epscu: -0.012,
+                fpcu: -p.residual * fcc,
+                epscu: p.core_epscu,
                 lambda: 0.1,
                 ft,
                 ets: ft / 0.002,
@@ -269,10 +373,10 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
             rect_j(cb, ch)
         };
         let bars = if cb == ch {
-            perimeter_bars(a, p.column_bars_per_face, bar_area)
+            perimeter_bars(a, p.column_bars_per_face, col_bar_area)
         } else {
             let (ay, az) = (cb / 2.0 - p.bar_offset, ch / 2.0 - p.bar_offset);
-            perimeter_bars(1.0, p.column_bars_per_face, bar_area)
+            perimeter_bars(1.0, p.column_bars_per_face, col_bar_area)
                 .into_iter()
                 .map(|b| Bar(b.0 * ay, b.1 * az, b.2))
                 .collect()
@@ -297,11 +401,12 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
         let ay = bb / 2.0 - p.bar_offset;
         let az = bh / 2.0 - p.bar_offset;
         let mut bars = Vec::new();
-        for z in [-az, az] {
-            for k in 0..p.beam_bars {
+        // bottom layer (local z = −az) first, then the top layer
+        for (z, n) in [(-az, p.beam_bars[1]), (az, p.beam_bars[0])] {
+            for k in 0..n {
                 // Evenly spaced across the width; for 3 bars this is exactly −ay, 0, ay.
-                let y = -ay + k as f64 * 2.0 * ay / (p.beam_bars - 1) as f64;
-                bars.push(Bar(y, z, bar_area));
+                let y = -ay + k as f64 * 2.0 * ay / (n - 1) as f64;
+                bars.push(Bar(y, z, beam_bar_area));
             }
         }
         sections.push(Section {
@@ -513,7 +618,9 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
                 };
                 panels.push((fl, q.map(|(a, b)| node_tag(fl, a, b))));
             }
-            let ms = p.concrete_density * t * lx * ly + added[f] * (lx * ly / total_area);
+            let share = added[f] * (lx * ly / total_area);
+            let ms = p.concrete_density * t * lx * ly + share * (1.0 - p.ballast_centre);
+            let centre_extra = share * p.ballast_centre;
             for &(i, j) in &corners {
                 masses.push(NodalMass {
                     node: node_tag(fl, i, j),
@@ -530,7 +637,7 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
             }
             masses.push(NodalMass {
                 node: centre,
-                m: ms / 2.0,
+                m: ms / 2.0 + centre_extra,
                 rotational: None,
             });
         }

@@ -41,7 +41,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--tmax", type=float, default=6.0)
     args = ap.parse_args()
-    with open(os.path.join(ROOT, "data", "frame3", "reference-frame3.json")) as fh:
+    with open(os.path.join(ROOT, "data", "frame3-standin", "reference-frame3.json")) as fh:
         model = json.load(fh)
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)

@@ -1,5 +1,5 @@
 //! Shared helpers of the frame3 verification tests (`tests/fe_verify_*.rs`): the
-//! project's frame3 model (`data/frame3/model.toml`), the El Centro records
+//! project's frame3 model (`data/frame3-standin/model.toml`), the El Centro records
 //! (`data/ground-motions/`) scaled to a load case, and the OpenSees reference
 //! series (`tests/fixtures/opensees-frame3/`, copied from
 //! `shared/reference/opensees-frame3/out/`, see its README).
@@ -22,7 +22,8 @@ pub fn fixture(name: &str) -> PathBuf {
 }
 
 pub fn frame3() -> Model {
-    Model::load(root().join("data/frame3/model.toml")).expect("data/frame3/model.toml")
+    Model::load(root().join("data/frame3-standin/model.toml"))
+        .expect("data/frame3-standin/model.toml")
 }
 
 /// El Centro 1940 (RSN6): X ← ELC180, Y ← ELC270, Z ← ELC-UP, each scaled to its PGA (g).
