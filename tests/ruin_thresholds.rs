@@ -83,11 +83,8 @@ fn worked_example_forces_thresholds_stiffness() {
     // Angular axes (default `AngularSpring::Lever`): k·(0.2 m)² about x and y (the lever
     // is half the 0.4 m contact side), k·(0.4² + 0.4²)/4 about the normal z.
     let want = [k, k, k, k * 0.04, k * 0.04, k * 0.08];
-    for i in 0..6 {
-        assert!(
-            (spring.stiffness[i] - want[i]).abs() <= 1e-9 * want[i],
-            "axis {i}"
-        );
+    for (i, (got, want)) in spring.stiffness.iter().zip(want).enumerate() {
+        assert!((got - want).abs() <= 1e-9 * want, "axis {i}");
     }
     // BCB's own rule: the same number on all six axes.
     let bcb = RuinSettings {
