@@ -1,5 +1,5 @@
 //! `fem2rbd export gltf RUN_DIR` (and `export vtk`) on real run folders: frame3 under LC5
-//! (hybrid, FEMA 356 4 % drift criterion: FE keyframes to Tc ≈ 1.66 s, then the ruin
+//! (hybrid, FEMA 356 4 % drift criterion: FE keyframes up to Tc, then the ruin
 //! stage to 2.5 s, three-component moving ground) and a no-collapse FE-only run.
 //!
 //! * the exported file is byte-identical to the run's own `collapse.glb` (both are built
