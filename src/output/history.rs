@@ -110,9 +110,21 @@ pub struct HistoryFrame<'a> {
     pub ground_m: [f64; 3],
 }
 
-/// The roof bodies (indices), their undeformed centroid and the roof height above the
-/// base (module docs). `None` when there are no active bodies.
-pub fn roof(rows: &[BodyRow]) -> Option<(Vec<usize>, [f64; 3], f64)> {
+/// The roof (module docs), or `None` when there are no active bodies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roof {
+    /// Body indices.
+    pub ids: Vec<usize>,
+    /// Their centroid weights (mass shares; equal shares if all masses are 0), sum 1.
+    pub weights: Vec<f64>,
+    /// Undeformed weighted centroid, m.
+    pub centroid0_m: [f64; 3],
+    /// Height of that centroid above the base, m.
+    pub height_m: f64,
+}
+
+/// The roof of a set of bodies (module docs).
+pub fn roof(rows: &[BodyRow]) -> Option<Roof> {
     let active: Vec<usize> = (0..rows.len()).filter(|&i| !rows[i].passive).collect();
     if active.is_empty() {
         return None;
@@ -139,23 +151,29 @@ pub fn roof(rows: &[BodyRow]) -> Option<(Vec<usize>, [f64; 3], f64)> {
         .copied()
         .filter(|&i| rows[i].pose0.position[2] >= top - tol - 1e-12)
         .collect();
-    let w: Vec<f64> = ids.iter().map(|&i| rows[i].mass_kg.max(0.0)).collect();
-    let wsum: f64 = w.iter().sum();
-    let weight = |k: usize| {
-        if wsum > 0.0 {
-            w[k] / wsum
-        } else {
-            1.0 / ids.len() as f64
-        }
-    };
+    let wsum: f64 = ids.iter().map(|&i| rows[i].mass_kg.max(0.0)).sum();
+    let weights: Vec<f64> = ids
+        .iter()
+        .map(|&i| {
+            if wsum > 0.0 {
+                rows[i].mass_kg.max(0.0) / wsum
+            } else {
+                1.0 / ids.len() as f64
+            }
+        })
+        .collect();
     let mut c = [0.0; 3];
-    for (k, &i) in ids.iter().enumerate() {
+    for (&i, w) in ids.iter().zip(&weights) {
         for (d, cd) in c.iter_mut().enumerate() {
-            *cd += weight(k) * rows[i].pose0.position[d];
+            *cd += w * rows[i].pose0.position[d];
         }
     }
-    let h = c[2] - base;
-    Some((ids, c, h))
+    Some(Roof {
+        ids,
+        weights,
+        centroid0_m: c,
+        height_m: c[2] - base,
+    })
 }
 
 /// The `history.csv` text.
@@ -163,25 +181,18 @@ pub fn history_csv(rows: &[BodyRow], frames: &[HistoryFrame]) -> String {
     let mut s = String::from(HISTORY_HEADER);
     s.push('\n');
     let roof = roof(rows);
-    let wsum: f64 = roof.as_ref().map_or(0.0, |(ids, _, _)| {
-        ids.iter().map(|&i| rows[i].mass_kg.max(0.0)).sum()
-    });
     for f in frames {
         let g = f.ground_m;
         let drift = match &roof {
-            Some((ids, c0, h)) if *h > 0.0 => {
+            Some(r) if r.height_m > 0.0 => {
                 let mut c = [0.0; 2];
-                for &i in ids {
-                    let w = if wsum > 0.0 {
-                        rows[i].mass_kg.max(0.0) / wsum
-                    } else {
-                        1.0 / ids.len() as f64
-                    };
+                for (&i, w) in r.ids.iter().zip(&r.weights) {
                     c[0] += w * f.poses[i].position[0];
                     c[1] += w * f.poses[i].position[1];
                 }
-                let (dx, dy) = (c[0] - c0[0] - g[0], c[1] - c0[1] - g[1]);
-                format!("{:.8}", (dx * dx + dy * dy).sqrt() / h)
+                let dx = c[0] - r.centroid0_m[0] - g[0];
+                let dy = c[1] - r.centroid0_m[1] - g[1];
+                format!("{:.8}", (dx * dx + dy * dy).sqrt() / r.height_m)
             }
             _ => String::new(),
         };
@@ -254,10 +265,11 @@ mod tests {
             row("R1", 3.0, false, 1.0),
             row("R2", 2.95, false, 3.0),
         ];
-        let (ids, c0, h) = roof(&rows).unwrap();
-        assert_eq!(ids, vec![2, 3]);
-        assert!((c0[2] - 2.9625).abs() < 1e-12);
-        assert!((h - 2.9625).abs() < 1e-12);
+        let r = roof(&rows).unwrap();
+        assert_eq!(r.ids, vec![2, 3]);
+        assert_eq!(r.weights, vec![0.25, 0.75]);
+        assert!((r.centroid0_m[2] - 2.9625).abs() < 1e-12);
+        assert!((r.height_m - 2.9625).abs() < 1e-12);
         let g = [0.1, 0.1, 0.01];
         let poses = vec![
             at([0.1, 0.1, -0.04]),

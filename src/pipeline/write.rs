@@ -113,21 +113,21 @@ fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
 /// The timeline's frames with their stage, connection counts and ground displacement.
 fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<HistoryFrame<'a>> {
     let n_fe = rec.fe_frames.len();
-    let ruin = rec.ruin.as_ref();
+    // [`timeline`] appends the ruin frames after the last FE keyframe in order, skipping
+    // those not later than it; the first appended one is at index `skip`.
+    let ruin = rec.ruin.as_ref().map(|r| {
+        let skip = r.frames.len() - (frames.len() - n_fe);
+        &r.frames[skip..]
+    });
     frames
         .iter()
         .enumerate()
         .map(|(k, (t, poses))| {
-            let counts = if k < n_fe {
-                None
-            } else {
-                ruin.and_then(|r| {
-                    r.frames
-                        .iter()
-                        .find(|f| (f.time_s - t).abs() < 1e-9)
-                        .map(|f| (f.counts.elastic, f.counts.plastic, f.counts.broken))
-                })
-            };
+            let counts = ruin.filter(|_| k >= n_fe).map(|r| {
+                let f = &r[k - n_fe];
+                debug_assert!((f.time_s - t).abs() < 1e-9);
+                (f.counts.elastic, f.counts.plastic, f.counts.broken)
+            });
             HistoryFrame {
                 t_s: *t,
                 fe: k < n_fe,

@@ -60,7 +60,8 @@
 //! * **constraints** (optional), created after the bodies: `kind` `"generic6dof"`
 //!   (btGeneric6DofConstraint; `use_linear_reference_frame_a`, default true), `"spring2"`
 //!   (btGeneric6DofSpring2Constraint; `springs`: six entries `null` or
-//!   `{"stiffness", "damping"}` set with Bullet's auto-limiting off; `set_equilibrium_point`
+//!   `{"stiffness", "damping", "limit_if_needed"}`, Bullet's auto-limiting off unless
+//!   `limit_if_needed` is true; `set_equilibrium_point`
 //!   default true) or `"fixed"` (btFixedConstraint). `body_a`, `body_b`: body names.
 //!   `frame_a`, `frame_b`: the joint frame in each body's local frame (`position`, optional
 //!   `orientation`). `limits`: six entries (x, y, z \[m\], rx, ry, rz \[rad\]) `null` (class
