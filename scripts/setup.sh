@@ -67,7 +67,7 @@ fi
 # ---- Rust ----------------------------------------------------------------------------
 if [ "$need_rust" -eq 1 ]; then
     log "installing Rust (rustup, stable, minimal profile)"
-    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal -c rustfmt,clippy
     # shellcheck disable=SC1091
     . "$HOME/.cargo/env"
 else

@@ -1,15 +1,15 @@
 //! `fem2rbd fe model.toml --gm X=path[,pga=G] ... --out DIR`: a nonlinear time history
-//! of a model under a ground motion ([`crate::fe::run::run_ground_motion`]). Writes
+//! of a model under a ground motion ([`fem2rbd::fe::run::run_ground_motion`]). Writes
 //! `DIR/nodes.csv` (time and the six displacements of every node) and
 //! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
 //! both atomically. All input is checked before anything is written.
-use crate::fe::analysis::transient::{StepControl, StopReason};
-use crate::fe::build::{BuildOptions, Variant};
-use crate::fe::run::{run_ground_motion, RunOptions, RunResult};
-use crate::model::Model;
-use crate::motion::{Format, GroundMotion};
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use fem2rbd::fe::analysis::transient::{StepControl, StopReason};
+use fem2rbd::fe::build::{BuildOptions, Variant};
+use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
+use fem2rbd::model::Model;
+use fem2rbd::motion::{Format, GroundMotion};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use std::fmt::Write as _;
@@ -235,11 +235,11 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let csv = args.out.join("nodes.csv");
-    crate::output::write_atomic(&csv, nodes_csv(&result).as_bytes())
+    fem2rbd::output::write_atomic(&csv, nodes_csv(&result).as_bytes())
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let js = args.out.join("fe_summary.json");
     let text = serde_json::to_string_pretty(&summary(&result, wall))? + "\n";
-    crate::output::write_atomic(&js, text.as_bytes())
+    fem2rbd::output::write_atomic(&js, text.as_bytes())
         .with_context(|| format!("cannot write {}", js.display()))?;
     if !quiet {
         match &result.transient.stop {

@@ -1,10 +1,10 @@
 //! `fem2rbd map model.toml -o bodies.csv`: the rigid-body table of a model (paper §3.1,
 //! issue 3 item 8), written atomically, with a one-line summary on stdout.
-use crate::mapping::{self, table, MapOptions};
-use crate::model::Model;
-use crate::output::atomic::write_atomic;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use fem2rbd::mapping::{self, table, MapOptions};
+use fem2rbd::model::Model;
+use fem2rbd::output::atomic::write_atomic;
 use std::path::PathBuf;
 
 /// Options of `map`.

@@ -12,16 +12,20 @@ pub mod run;
 pub mod scene;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
-const LONG_VERSION: &str = concat!(
-    env!("CARGO_PKG_VERSION"),
-    " (Bullet ",
-    env!("FEM2RBD_BULLET_VERSION"),
-    ", double precision, Debian libbullet)"
-);
+fn long_version() -> &'static str {
+    static TEXT: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+        format!(
+            "{} (Bullet {}, double precision, Debian libbullet)",
+            env!("CARGO_PKG_VERSION"),
+            fem2rbd::physics::LINKED_BULLET_PKG_VERSION
+        )
+    });
+    &TEXT
+}
 
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
-#[command(name = "fem2rbd", version, long_version = LONG_VERSION, about, long_about = None)]
+#[command(name = "fem2rbd", version, long_version = long_version(), about, long_about = None)]
 pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]

@@ -1,9 +1,9 @@
 //! `fem2rbd plot OUT_DIR [--out DIR] [--format png|svg|both]`: the figures of a run folder
 //! (`src/plot/`), written atomically into `OUT_DIR/plots` by default; the files written
 //! are listed on stdout (nothing with `--quiet`).
-use crate::plot::{self, Format, RunFolder};
 use anyhow::Result;
 use clap::Args;
+use fem2rbd::plot::{self, Format, RunFolder};
 use std::path::PathBuf;
 
 /// Options of `plot`.

@@ -1,10 +1,10 @@
 //! `fem2rbd run [scenario.toml] [--mode hybrid|physics|fe] [--out DIR]`: the whole
-//! pipeline ([`crate::pipeline`]). Without a scenario it runs the shipped frame3 LC5
+//! pipeline ([`fem2rbd::pipeline`]). Without a scenario it runs the shipped frame3 LC5
 //! example `data/frame3/lc5.toml`. The scenario is read and checked completely before
 //! anything runs; the outputs are written at the end, each atomically.
-use crate::pipeline::{self, Mode, Progress, Scenario};
 use anyhow::Result;
 use clap::Args;
+use fem2rbd::pipeline::{self, Mode, Progress, Scenario};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::cell::{Cell, RefCell};
 use std::io::IsTerminal;

@@ -17,5 +17,5 @@ pub struct SceneArgs {
 
 /// Runs the subcommand.
 pub fn run(args: SceneArgs) -> anyhow::Result<()> {
-    crate::scene::run_scene_file(&args.scene, &args.out, args.frames)
+    fem2rbd::scene::run_scene_file(&args.scene, &args.out, args.frames)
 }

@@ -35,9 +35,9 @@
 //! The output is deterministic: same scene, same bytes (materials are ordered by type
 //! name, everything else in input order; `serde_json` writes the JSON).
 //!
-//! Checked by tests/gltf_roundtrip.rs (own GLB reader), tests/gltf_validator.rs (Khronos
-//! validator: no errors, no warnings) and tests/gltf_three.rs (three.js plays the file);
-//! [`run_scene`] (a run's timeline) by tests/export_gltf.rs.
+//! Checked by tests/it/output/gltf_roundtrip.rs (own GLB reader), tests/it/output/gltf_validator.rs (Khronos
+//! validator: no errors, no warnings) and tests/it/output/gltf_three.rs (three.js plays the file);
+//! [`run_scene`] (a run's timeline) by tests/it/output/gltf_export.rs.
 use crate::output::run_folder::BodyInfo;
 use crate::output::AtomicFile;
 use anyhow::{bail, ensure, Context, Result};
