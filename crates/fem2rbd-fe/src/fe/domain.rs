@@ -23,6 +23,19 @@ pub const NDF: usize = 6;
 
 /// Equation number of a constrained (fixed) DOF.
 const FIXED: usize = usize::MAX;
+/// Fewest elements worth a thread of their own in [`Domain::update_elements`] (below it the
+/// spawn costs more than the fibre work it saves).
+const MIN_ELEMENTS_PER_THREAD: usize = 16;
+
+/// Threads for element state determination: `FEM2RBD_THREADS` when set to a whole number
+/// ≥ 1, else the machine's available parallelism. Results do not depend on it.
+pub fn default_threads() -> usize {
+    std::env::var("FEM2RBD_THREADS")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n >= 1)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
+}
 
 /// One node: its tag in the model and its coordinates (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +102,8 @@ pub struct Domain {
     acc_c: Vec<[f64; NDF]>,
     /// Displacements last handed to the elements (for `EndDisplacements::delta`).
     disp_seen: Vec<[f64; NDF]>,
+    /// Threads for element state determination ([`Domain::update_elements`]).
+    threads: usize,
 }
 
 fn finite(v: &[f64]) -> bool {
@@ -97,8 +112,12 @@ fn finite(v: &[f64]) -> bool {
 
 impl Domain {
     /// An empty domain.
+    /// Element state determination uses [`default_threads`] threads.
     pub fn new() -> Self {
-        Self::default()
+        Self {
+            threads: default_threads(),
+            ..Self::default()
+        }
     }
 
     /// Adds a node and returns its index. Invalidates the equation numbering.
@@ -446,26 +465,69 @@ impl Domain {
         self.update_elements()
     }
 
+    /// Element state determination for the current trial displacements: every element's
+    /// `set_trial` (fibre strains → stresses, section and element forces and tangents).
+    ///
+    /// This is most of an FE step's work, and each element depends only on its own end
+    /// displacements, so the elements are split into [`Domain::threads`] contiguous chunks
+    /// that run on scoped threads. The result is bit-for-bit the same for any thread
+    /// count: no element reads another's state, nothing is summed across elements here
+    /// (assembly stays sequential, in element order), and the error reported is the first
+    /// in element order, as in a sequential loop (which also updates every element).
     fn update_elements(&mut self) -> Result<(), ElementError> {
-        let mut result = Ok(());
-        for el in self.elements.iter_mut() {
+        let (disp, seen) = (&self.disp, &self.disp_seen);
+        let update = |el: &mut Box<dyn Element>| -> Result<(), ElementError> {
             let [a, b] = el.nodes();
             let mut total = Vec12::zeros();
             let mut delta = Vec12::zeros();
             for k in 0..NDF {
-                total[k] = self.disp[a][k];
-                total[NDF + k] = self.disp[b][k];
-                delta[k] = self.disp[a][k] - self.disp_seen[a][k];
-                delta[NDF + k] = self.disp[b][k] - self.disp_seen[b][k];
+                total[k] = disp[a][k];
+                total[NDF + k] = disp[b][k];
+                delta[k] = disp[a][k] - seen[a][k];
+                delta[NDF + k] = disp[b][k] - seen[b][k];
             }
-            if let Err(e) = el.set_trial(&EndDisplacements { total, delta }) {
-                if result.is_ok() {
-                    result = Err(e);
-                }
-            }
-        }
+            el.set_trial(&EndDisplacements { total, delta })
+        };
+        // Every element is updated even after an error; the first error in order wins.
+        let first_error = |chunk: &mut [Box<dyn Element>]| {
+            chunk
+                .iter_mut()
+                .map(update)
+                .fold(Ok(()), |first, r| first.and(r))
+        };
+        let n = self.elements.len();
+        let threads = self
+            .threads
+            .clamp(1, n.div_ceil(MIN_ELEMENTS_PER_THREAD).max(1));
+        let result = if threads == 1 {
+            first_error(&mut self.elements)
+        } else {
+            let chunk = n.div_ceil(threads);
+            std::thread::scope(|scope| {
+                let workers: Vec<_> = self
+                    .elements
+                    .chunks_mut(chunk)
+                    .map(|c| scope.spawn(move || first_error(c)))
+                    .collect();
+                workers
+                    .into_iter()
+                    .map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+                    .fold(Ok(()), |first, r| first.and(r))
+            })
+        };
         self.disp_seen.clone_from(&self.disp);
         result
+    }
+
+    /// Threads used for element state determination (1 = sequential). Results do not
+    /// depend on it.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Sets the threads used for element state determination (0 or 1 = sequential).
+    pub fn set_threads(&mut self, threads: usize) {
+        self.threads = threads.max(1);
     }
 
     /// Sets initial conditions: displacements, velocities and accelerations over the

@@ -3,6 +3,7 @@
 //! analyses with OpenSees, and so on. Shared helpers sit in each folder's `support.rs`.
 //! Files of the repository (models, records, OpenSees fixtures) are found from
 //! [`repo_root`].
+#![allow(clippy::needless_range_loop)]
 
 use std::path::PathBuf;
 
@@ -25,6 +26,7 @@ mod fe {
         mod modal;
         mod static_analysis;
         mod support;
+        mod threads;
         mod transient;
     }
     mod element {

@@ -25,14 +25,7 @@ fn run(model: &Model, args: &[&str]) -> Value {
         "script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_str(
-        stdout
-            .lines()
-            .filter(|l| l.starts_with('{'))
-            .last()
-            .unwrap(),
-    )
-    .unwrap()
+    serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap()
 }
 
 fn period(v: &Value, key: &str) -> f64 {
