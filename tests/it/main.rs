@@ -2,6 +2,7 @@
 //! out like `src/`: `cli/*` runs the real binary, `physics/*` includes the pybullet
 //! cross-checks, `pipeline/*` whole runs with insta snapshots. The structural stages are
 //! tested in `crates/fem2rbd-fe/tests/it`.
+#![allow(clippy::needless_range_loop)]
 
 mod support;
 
@@ -41,6 +42,7 @@ mod plot {
 }
 mod repo {
     mod no_unsafe;
+    mod test_layout;
 }
 mod ruin {
     mod contacts;
