@@ -2,11 +2,24 @@
 
 # --------------------------------------------------------------- analysis procedures
 
+# Dense generalized LAPACK up to this many DOFs (exact, handles massless DOFs; O(n^3):
+# over 10 minutes at 6 600 DOFs); above it OpenSees' default ARPACK (shift-invert
+# Lanczos on the banded/sparse system).
+FULL_LAPACK_MAX_DOF = 1500
+
+
+def eigen_solver():
+    """Solver flags for ops.eigen by model size (6 DOFs per not fully fixed node)."""
+    if 6 * len(FREE_NODES) <= FULL_LAPACK_MAX_DOF:
+        return ("-fullGenLapack",)
+    return ("-genBandArpack",)
+
+
 def eigen(n):
     """Periods (s) of the first n modes of the initial stiffness (no gravity), with each
     mode's effective-mass shares in X, Y, Z and about the vertical axis through the mass
     centre (RZ): share_d = (sum m phi.d)^2 / (sum m |phi|^2 * sum m |d|^2)."""
-    lam = ops.eigen("-fullGenLapack", n)
+    lam = ops.eigen(*eigen_solver(), n)
     tot = sum(m[2] for m in MASSES.values())
     xc = sum(m[2] * NODE_XYZ[t][0] for t, m in MASSES.items()) / tot
     yc = sum(m[2] * NODE_XYZ[t][1] for t, m in MASSES.items()) / tot

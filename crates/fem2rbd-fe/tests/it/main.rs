@@ -23,6 +23,7 @@ mod fe {
         mod algorithms;
         mod divergence;
         mod frame3;
+        mod lanczos;
         mod modal;
         mod static_analysis;
         mod support;

@@ -20,6 +20,7 @@
 //! All sparse work goes through [`crate::fe::linalg`]: the matrix pattern and the
 //! symbolic LU are computed once per analysis and reused by every iteration and step.
 pub mod algorithm;
+pub mod lanczos;
 pub mod modal;
 pub mod rayleigh;
 pub mod static_analysis;
