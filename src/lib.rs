@@ -15,6 +15,7 @@
 //! both are re-exported here under their module names. Units are SI throughout
 //! (m, kg, s, N, Pa). `unsafe` code lives only in `bullet-sys` and `fem2rbd-bullet`.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub use fem2rbd_bullet as physics;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};

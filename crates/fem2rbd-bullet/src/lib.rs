@@ -11,6 +11,8 @@
 //!   solver rows' impulse |λ| ≥ its breaking impulse threshold [N·s];
 //! - `gDbvtMargin` and `gContactBreakingThreshold` are process-global (see
 //!   [`set_global_dbvt_margin`], [`set_global_contact_breaking_threshold`]).
+#![warn(missing_docs)]
+
 pub mod settings;
 pub mod types;
 pub mod world;
