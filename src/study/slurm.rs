@@ -3,7 +3,9 @@
 //! [`write_batch`] takes the pending entries of the current plan (all runs of a stripe
 //! study; the frontier of an IDA — [`super::plan`]) and writes, in `<study>/slurm/`:
 //!
-//! * `batch-NNN.ids` — the entries' ids, one a line;
+//! * `batch-NNN.ids` — the entries' ids, one a line (when they are the same as the last
+//!   batch's, that batch is written again under its own number: calling `study slurm`
+//!   twice before submitting gives one batch);
 //! * `batch-NNN.sbatch` — an sbatch script for a job array of `ceil(n / shard)` tasks:
 //!   task k runs lines `k·shard + 1 … (k+1)·shard` of the ids file, each with
 //!   `fem2rbd --quiet study run-one STUDY ID --out DIR`, and exits with the last non-zero
@@ -69,10 +71,22 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     while dir.join(format!("batch-{k:03}.sbatch")).exists() {
         k += 1;
     }
+    let ids_text = ids.join("\n") + "\n";
+    // The same pending set as the last batch: that batch again (idempotent).
+    if k > 0 {
+        let last = format!("batch-{:03}", k - 1);
+        if std::fs::read_to_string(dir.join(format!("{last}.ids")))
+            .ok()
+            .as_deref()
+            == Some(ids_text.as_str())
+        {
+            k -= 1;
+        }
+    }
     let stem = format!("batch-{k:03}");
     let ids_file = dir.join(format!("{stem}.ids"));
     let script = dir.join(format!("{stem}.sbatch"));
-    write_atomic(&ids_file, (ids.join("\n") + "\n").as_bytes())?;
+    write_atomic(&ids_file, ids_text.as_bytes())?;
     let tasks = ids.len().div_ceil(spec.shard);
     let mut s = String::new();
     let _ = writeln!(s, "#!/bin/bash");
