@@ -26,3 +26,4 @@ pub mod pipeline;
 pub mod plot;
 pub mod ruin;
 pub mod scene;
+pub mod study;

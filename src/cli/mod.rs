@@ -10,6 +10,7 @@ pub mod modal;
 pub mod plot;
 pub mod run;
 pub mod scene;
+pub mod study;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
 fn long_version() -> &'static str {
@@ -55,6 +56,9 @@ pub enum Command {
     Run(run::RunArgs),
     /// Figures of a run folder: ruin plan and elevations, drift/drop and connection histories.
     Plot(plot::PlotArgs),
+    /// Batch studies: plan, run locally or on Slurm, collect (IDA, fragility, libraries).
+    #[command(subcommand)]
+    Study(study::StudyCommand),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -74,5 +78,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fe(args) => fe::run(&args, cli.quiet),
         Command::Run(args) => run::run(&args, cli.quiet),
         Command::Plot(args) => plot::run(&args, cli.quiet),
+        Command::Study(cmd) => study::run(&cmd, cli.quiet),
     }
 }
