@@ -54,3 +54,6 @@ mod ruin {
 mod scene {
     mod cli;
 }
+mod study {
+    mod slurm;
+}
