@@ -1,11 +1,11 @@
 //! `fem2rbd study plan|run|run-one|slurm|collect STUDY.toml`: batch studies
-//! ([`crate::study`], `docs/study-format.md`, `docs/studies.md`). Thin: options, the
+//! ([`fem2rbd::study`], `docs/study-format.md`, `docs/studies.md`). Thin: options, the
 //! study progress bar and the child-process runner; the logic is in the library.
-use crate::study::exec::{run_local, run_one};
-use crate::study::slurm::{submit_script, write_batch, SlurmOptions};
-use crate::study::{collect, Outcome, Store, Study};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
+use fem2rbd::study::exec::{run_local, run_one};
+use fem2rbd::study::slurm::{submit_script, write_batch, SlurmOptions};
+use fem2rbd::study::{collect, Outcome, Store, Study};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -133,7 +133,7 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                             "; IDA: {} of {} sequences finished (more rounds are planned as runs complete)",
                             plan.sequences
                                 .iter()
-                                .filter(|s| s.state != crate::study::plan::SequenceState::Running)
+                                .filter(|s| s.state != fem2rbd::study::plan::SequenceState::Running)
                                 .count(),
                             plan.sequences.len()
                         )
@@ -181,7 +181,7 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
             let exe = std::env::current_exe().context("cannot find the fem2rbd executable")?;
             let study_path = study.path.clone();
             let out = store.dir.clone();
-            let runner = |e: &crate::study::Entry| -> Result<()> {
+            let runner = |e: &fem2rbd::study::Entry| -> Result<()> {
                 let o = Command::new(&exe)
                     .arg("--quiet")
                     .args(["study", "run-one"])

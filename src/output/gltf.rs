@@ -82,7 +82,9 @@ pub struct GroundBox {
 /// Everything one animated glTF shows.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct AnimatedScene {
+    /// The boxes, one node each, in this order.
     pub bodies: Vec<AnimBody>,
+    /// The ground box (material [`GROUND_TYPE`]), if any.
     pub ground: Option<GroundBox>,
     /// Keyframe times (s): at least one, `>= 0`, strictly increasing (also once rounded to
     /// `f32`, glTF's time type).

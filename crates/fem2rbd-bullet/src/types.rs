@@ -34,7 +34,10 @@ impl ConstraintHandle {
 /// A rigid transform: position \[m\] and unit quaternion (w, x, y, z).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
+    /// Position of the frame origin \[m\] (a body's pose: its centre, world frame; a joint
+    /// frame: in the body's local frame).
     pub position: [f64; 3],
+    /// Unit quaternion (w, x, y, z) rotating the local frame into the reference frame.
     pub orientation: [f64; 4],
 }
 
@@ -57,7 +60,9 @@ impl Pose {
 /// Linear [m/s] and angular [rad/s] velocity, world frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Velocity {
+    /// Linear velocity of the centre [m/s], world frame.
     pub linear: [f64; 3],
+    /// Angular velocity [rad/s], world frame.
     pub angular: [f64; 3],
 }
 
@@ -76,6 +81,7 @@ pub enum BodyKind {
 /// A box body to create (`btBoxShape` + `btRigidBody`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoxDesc {
+    /// Static, kinematic or dynamic.
     pub kind: BodyKind,
     /// Outer half extents \[m\], margin included (Bullet keeps them when the margin changes).
     pub half_extents: [f64; 3],
@@ -84,15 +90,26 @@ pub struct BoxDesc {
     /// Mass \[kg\]: > 0 for dynamic bodies, 0 otherwise. Inertia comes from the box:
     /// I_x = m (l_y² + l_z²)/12 with full lengths l (`btBoxShape::calculateLocalInertia`).
     pub mass: f64,
+    /// Initial pose of the box centre, world frame.
     pub pose: Pose,
     /// Initial velocity (dynamic bodies only).
     pub velocity: Velocity,
+    /// Friction coefficient (`setFriction`, dimensionless); Bullet combines the two bodies'
+    /// values of a contact as the product.
     pub friction: f64,
+    /// Rolling friction coefficient (`setRollingFriction`): resists rolling about the
+    /// contact's tangent axes; 0 = none.
     pub rolling_friction: f64,
+    /// Spinning (torsional) friction coefficient (`setSpinningFriction`): resists spinning
+    /// about the contact normal; 0 = none.
     pub spinning_friction: f64,
+    /// Restitution coefficient (`setRestitution`, dimensionless; 0 = no bounce); Bullet
+    /// combines the two bodies' values of a contact as the product.
     pub restitution: f64,
     /// `btRigidBody::setDamping` linear factor in [0, 1] (velocity × (1−d)^h per substep).
     pub linear_damping: f64,
+    /// `btRigidBody::setDamping` angular factor in [0, 1] (angular velocity × (1−d)^h per
+    /// substep).
     pub angular_damping: f64,
     /// `DISABLE_DEACTIVATION` (never sleeps) instead of `ACTIVE_TAG`.
     pub disable_deactivation: bool,
@@ -160,11 +177,17 @@ pub struct Spring {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConstraintKind {
     /// `btGeneric6DofConstraint(A, B, frameA, frameB, use_linear_reference_frame_a)`.
-    Generic6Dof { use_linear_reference_frame_a: bool },
+    Generic6Dof {
+        /// Bullet's `useLinearReferenceFrameA`: the linear axes and limits are expressed in
+        /// frame A (`true`) or frame B (`false`).
+        use_linear_reference_frame_a: bool,
+    },
     /// `btGeneric6DofSpring2Constraint(A, B, frameA, frameB, RO_XYZ)`; then
     /// `setEquilibriumPoint()` when asked (the current relative pose becomes the rest pose).
     Spring2 {
+        /// Per-axis springs (0..2 linear, 3..5 angular); `None` = no spring on that axis.
         springs: [Option<Spring>; 6],
+        /// Call `setEquilibriumPoint()` after creation.
         set_equilibrium_point: bool,
     },
     /// `btFixedConstraint(A, B, frameA, frameB)` (a Spring2 with all six axes locked).
@@ -174,8 +197,11 @@ pub enum ConstraintKind {
 /// A constraint to create between two bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConstraintDesc {
+    /// The constraint class and its class-specific settings.
     pub kind: ConstraintKind,
+    /// Body A (the body of `frame_a`).
     pub body_a: BodyHandle,
+    /// Body B (the body of `frame_b`).
     pub body_b: BodyHandle,
     /// The joint frame in body A's local frame.
     pub frame_a: Pose,
@@ -226,9 +252,13 @@ impl ConstraintDesc {
 /// each body (Bullet sums the rows' impulse / h; the shim zeroes it before each substep).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct JointFeedback {
+    /// Force on body A \[N\], world frame.
     pub force_a: [f64; 3],
+    /// Torque on body A about its centre [N·m], world frame.
     pub torque_a: [f64; 3],
+    /// Force on body B \[N\], world frame.
     pub force_b: [f64; 3],
+    /// Torque on body B about its centre [N·m], world frame.
     pub torque_b: [f64; 3],
 }
 
@@ -255,8 +285,11 @@ impl ContactSummary {
 /// One pair of bodies in contact, `body_a.index() < body_b.index()`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPair {
+    /// The body with the smaller index.
     pub body_a: BodyHandle,
+    /// The body with the larger index.
     pub body_b: BodyHandle,
+    /// Their contact after the last substep.
     pub contact: ContactSummary,
 }
 
@@ -266,8 +299,11 @@ pub enum PhysicsError {
     /// The shim refused a call (bad argument) or caught a C++ exception.
     #[error("Bullet {call}: {message} (code {code})")]
     Bullet {
+        /// The shim call that failed (e.g. `feedback`).
         call: &'static str,
+        /// The shim's status code (`BS_ERR_*`).
         code: i32,
+        /// The shim's error message.
         message: String,
     },
     /// The linked library is not the double-precision Bullet 3.24 the shim was built for.
@@ -279,8 +315,11 @@ pub enum PhysicsError {
     /// A duration that is not a whole number of substeps.
     #[error("duration {duration} s is not a whole number of substeps of {substep} s ({ratio} substeps); no time is dropped silently")]
     NotWholeSubsteps {
+        /// The requested duration \[s\].
         duration: f64,
+        /// The substep h \[s\].
         substep: f64,
+        /// duration / substep (not a whole number).
         ratio: f64,
     },
     /// A bad argument caught on the Rust side.

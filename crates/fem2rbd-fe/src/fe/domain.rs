@@ -37,6 +37,18 @@ pub fn default_threads() -> usize {
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
 }
 
+/// The first error of `results`, after consuming all of them (no short cut: every item's
+/// side effect happens, as in a plain loop).
+fn first_err<E>(results: impl Iterator<Item = Result<(), E>>) -> Result<(), E> {
+    let mut first = Ok(());
+    for r in results {
+        if first.is_ok() {
+            first = r;
+        }
+    }
+    first
+}
+
 /// One node: its tag in the model and its coordinates (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Node {
@@ -489,12 +501,7 @@ impl Domain {
             el.set_trial(&EndDisplacements { total, delta })
         };
         // Every element is updated even after an error; the first error in order wins.
-        let first_error = |chunk: &mut [Box<dyn Element>]| {
-            chunk
-                .iter_mut()
-                .map(update)
-                .fold(Ok(()), |first, r| first.and(r))
-        };
+        let first_error = |chunk: &mut [Box<dyn Element>]| first_err(chunk.iter_mut().map(update));
         let n = self.elements.len();
         let threads = self
             .threads
@@ -509,10 +516,11 @@ impl Domain {
                     .chunks_mut(chunk)
                     .map(|c| scope.spawn(move || first_error(c)))
                     .collect();
-                workers
-                    .into_iter()
-                    .map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-                    .fold(Ok(()), |first, r| first.and(r))
+                first_err(
+                    workers
+                        .into_iter()
+                        .map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p))),
+                )
             })
         };
         self.disp_seen.clone_from(&self.disp);
