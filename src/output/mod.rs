@@ -4,6 +4,7 @@ pub mod atomic;
 pub mod gltf;
 pub mod history;
 pub mod keyframes;
+pub mod palette;
 pub mod ruins;
 pub mod run_folder;
 pub mod summary;
