@@ -236,10 +236,15 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                     files[0].parent().map_or(String::new(), |p| p.display().to_string())
                 );
             }
-            if s.failed > 0 {
+            let failed = store
+                .plan(&study)
+                .outcomes
+                .iter()
+                .filter(|o| matches!(o, Some(Outcome::Failed(_))))
+                .count();
+            if failed > 0 {
                 bail!(
-                    "{} run(s) failed (errors in runs/<id>/status.json and results/runs.csv)",
-                    s.failed
+                    "{failed} run(s) failed (errors in runs/<id>/status.json and results/runs.csv; `--retry-failed` runs them again)"
                 );
             }
             Ok(())

@@ -8,7 +8,7 @@
 //!   to Tc (the whole FE stage without collapse): horizontal roof-centroid displacement
 //!   relative to the ground over the roof height (`src/output/history.rs`), sampled at
 //!   25 fps. Ruin measures come from `summary.json` (`docs/scenario-format.md`) and are
-//!   empty without a ruin stage.
+//!   empty without a ruin stage; `error` is the failure message on one line.
 //! * `ida.csv` — the IDA curves: ok runs sorted by (model, mode, record, pga_g) with
 //!   `peak_roof_drift` and `collapse`.
 //! * `study.json` — counts, each IDA sequence's result (collapse bracket or censoring) and
@@ -174,7 +174,7 @@ pub fn runs_csv(rows: &[RunRow]) -> String {
             opt(r.debris_area_m2, 4),
             opt(r.debris_height_m, 4),
             opt(r.min_slab_overlap, 4),
-            field(r.error.as_deref().unwrap_or("")),
+            field(&r.error.as_deref().unwrap_or("").replace('\n', " ")),
         );
     }
     s

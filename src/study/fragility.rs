@@ -30,10 +30,13 @@ pub struct Fit {
     pub log_likelihood: f64,
 }
 
-/// erf(x) by its Maclaurin series (|x| < 3) or 1 − erfc by the continued fraction
-/// (Lentz), both to about 1e-15.
+/// erf(x): the Maclaurin series for |x| < 2, else 1 − erfc by the continued fraction
+/// (Lentz); both to about 1e-15.
 pub fn erf(x: f64) -> f64 {
-    if x.abs() < 3.0 {
+    if x == 0.0 {
+        return 0.0;
+    }
+    if x.abs() < 2.0 {
         // erf x = 2/√π Σ (−1)^n x^(2n+1) / (n! (2n+1))
         let mut term = x;
         let mut sum = x;
@@ -44,7 +47,7 @@ pub fn erf(x: f64) -> f64 {
             term *= -x2 / n;
             let add = term / (2.0 * n + 1.0);
             sum += add;
-            if add.abs() < 1e-17 * sum.abs() {
+            if add.abs() <= 1e-17 * sum.abs() || n > 200.0 {
                 break;
             }
         }
@@ -54,13 +57,14 @@ pub fn erf(x: f64) -> f64 {
     }
 }
 
-/// erfc(x) for x ≥ 3: e^(−x²)/√π · 1/(x + 1/2/(x + 1/(x + 3/2/(x + …)))), modified Lentz.
+/// erfc(x) for x ≥ 2: e^(−x²)/√π · 1/(x + (1/2)/(x + 1/(x + (3/2)/(x + …)))), modified
+/// Lentz.
 fn erfc_cf(x: f64) -> f64 {
     let tiny = 1e-300;
     let mut f = x;
     let mut c = x;
     let mut d = 0.0;
-    for k in 1..300 {
+    for k in 1..5000 {
         let a = k as f64 / 2.0;
         d = x + a * d;
         d = if d.abs() < tiny { tiny } else { d };
@@ -76,10 +80,12 @@ fn erfc_cf(x: f64) -> f64 {
     (-x * x).exp() / std::f64::consts::PI.sqrt() / f
 }
 
-/// erfc(x) = 1 − erf(x), accurate in the upper tail.
+/// erfc(x) = 1 − erf(x), accurate in both tails.
 pub fn erfc(x: f64) -> f64 {
-    if x >= 3.0 {
+    if x >= 2.0 {
         erfc_cf(x)
+    } else if x <= -2.0 {
+        2.0 - erfc_cf(-x)
     } else {
         1.0 - erf(x)
     }
@@ -134,7 +140,7 @@ fn nelder_mead(f: &dyn Fn([f64; 2]) -> f64, x0: [f64; 2], step: [f64; 2]) -> [f6
             .max((s[2][1] - s[0][1]).abs())
             .max((s[1][0] - s[0][0]).abs())
             .max((s[1][1] - s[0][1]).abs());
-        if spread < 1e-15 && size < 1e-12 {
+        if size < 1e-11 || spread <= 1e-16 * (1.0 + v[0].abs()) && size < 1e-8 {
             break;
         }
         let c = [(s[0][0] + s[1][0]) / 2.0, (s[0][1] + s[1][1]) / 2.0];

@@ -17,6 +17,7 @@ pub mod exec;
 pub mod format;
 pub mod fragility;
 pub mod plan;
+pub mod plot;
 pub mod slurm;
 
 pub use format::Study;

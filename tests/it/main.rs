@@ -55,5 +55,7 @@ mod scene {
     mod cli;
 }
 mod study {
+    mod fragility;
+    mod local;
     mod slurm;
 }
