@@ -7,7 +7,9 @@
 //! PGA, and integrates with Newmark (γ = 0.5, β = 0.25) + Newton and the fallbacks of the
 //! reference `run_frame3.py`. Commands: `eigen [N]`, `gravity`, `th [out.csv]`.
 //! openseespy 3.7.1 is imported after preloading its bundled BLAS/LAPACK.
-use crate::model::{strip_properties, ElementKind, Formulation, Integration, Model, SectionKind};
+use crate::model::{
+    strip_properties, ElementKind, Formulation, Integration, Model, SectionKind, ShellLayer,
+};
 use anyhow::{bail, Context, Result};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -292,6 +294,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
             params.join(", ")
         )?;
     }
+    let mut nd_tag = 1u32;
     for st in &used_secs {
         let sec = secs[st];
         match &sec.kind {
@@ -334,6 +337,67 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
                 f(*nu),
                 f(*h)
             )?,
+            SectionKind::LayeredShell { layers, .. } => {
+                // nDMaterial tags are their own namespace in OpenSees: numbered here in
+                // section and layer order.
+                let mut args = Vec::new();
+                for l in layers {
+                    let tag = match l {
+                        ShellLayer::Elastic { e, nu, .. } => {
+                            writeln!(
+                                w,
+                                "    ops.nDMaterial(\"ElasticIsotropic\", {nd_tag}, {}, {})",
+                                f(*e),
+                                f(*nu)
+                            )?;
+                            writeln!(
+                                w,
+                                "    ops.nDMaterial(\"PlateFiber\", {}, {nd_tag})",
+                                nd_tag + 1
+                            )?;
+                            nd_tag += 2;
+                            nd_tag - 1
+                        }
+                        ShellLayer::Concrete { e, nu, fc, ft, .. } => {
+                            writeln!(
+                                w,
+                                "    ops.nDMaterial(\"PlasticDamageConcretePlaneStress\", {nd_tag}, {}, {}, {}, {})",
+                                f(*e),
+                                f(*nu),
+                                f(*ft),
+                                f(*fc)
+                            )?;
+                            writeln!(
+                                w,
+                                "    ops.nDMaterial(\"PlateFromPlaneStress\", {}, {nd_tag}, {})  # G = E / (2 (1 + nu))",
+                                nd_tag + 1,
+                                f(e / (2.0 * (1.0 + nu)))
+                            )?;
+                            nd_tag += 2;
+                            nd_tag - 1
+                        }
+                        ShellLayer::Rebar {
+                            material, angle, ..
+                        } => {
+                            writeln!(
+                                w,
+                                "    ops.nDMaterial(\"PlateRebar\", {nd_tag}, {material}, {})",
+                                f(*angle)
+                            )?;
+                            nd_tag += 1;
+                            nd_tag - 1
+                        }
+                    };
+                    args.push(format!("{tag}, {}", f(l.thickness())));
+                }
+                writeln!(
+                    w,
+                    "    ops.section(\"LayeredShell\", {}, {}, {})  # layers bottom to top: nDMaterial, thickness (m)",
+                    sec.tag,
+                    layers.len(),
+                    args.join(", ")
+                )?;
+            }
         }
     }
     // beam integrations: one tag per (section, rule, points)
@@ -396,6 +460,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
             )?,
         }
     }
+    let xyz: BTreeMap<u32, [f64; 3]> = model.nodes.iter().map(|n| (n.tag, n.xyz())).collect();
     for e in &model.elements {
         match &e.kind {
             ElementKind::ElasticBeamColumn {
@@ -455,11 +520,46 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
                     f(*thickness)
                 )?;
             }
-            ElementKind::Shell { nodes, section } => writeln!(
-                w,
-                "    ops.element(\"ShellMITC4\", {}, {}, {}, {}, {}, {section})",
-                e.tag, nodes[0], nodes[1], nodes[2], nodes[3]
-            )?,
+            ElementKind::Shell {
+                nodes,
+                section,
+                local_x,
+                corotational,
+            } => {
+                if matches!(secs[section].kind, SectionKind::LayeredShell { .. }) || *corotational {
+                    // ASDShellQ4 with an explicit local x: without `-local`, OpenSees 3.7.1
+                    // swaps the 0° and 90° PlateRebar layers.
+                    let v = match local_x {
+                        Some(v) => *v,
+                        None => {
+                            let (Some(a), Some(b)) = (xyz.get(&nodes[0]), xyz.get(&nodes[1]))
+                            else {
+                                bail!("element {}: unknown node", e.tag);
+                            };
+                            [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
+                        }
+                    };
+                    writeln!(
+                        w,
+                        "    ops.element(\"ASDShellQ4\", {}, {}, {}, {}, {}, {section}{}, \"-local\", {}, {}, {})",
+                        e.tag,
+                        nodes[0],
+                        nodes[1],
+                        nodes[2],
+                        nodes[3],
+                        if *corotational { ", \"-corotational\"" } else { "" },
+                        f(v[0]),
+                        f(v[1]),
+                        f(v[2])
+                    )?;
+                } else {
+                    writeln!(
+                        w,
+                        "    ops.element(\"ShellMITC4\", {}, {}, {}, {}, {}, {section})",
+                        e.tag, nodes[0], nodes[1], nodes[2], nodes[3]
+                    )?;
+                }
+            }
             ElementKind::BeamColumn { .. } | ElementKind::Panel { .. } => {} // panels: no FE
         }
     }

@@ -106,8 +106,8 @@ fn section_prototype(
         SectionKind::Elastic {
             e, g, a, iy, iz, j, ..
         } => Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j))),
-        SectionKind::Plate { .. } => bail!(
-            "section {} is a plate section; beam-columns need a fiber, rc_rect or elastic section",
+        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => bail!(
+            "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
             s.tag
         ),
         _ => {

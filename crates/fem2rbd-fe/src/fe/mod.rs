@@ -9,4 +9,5 @@ pub mod linalg;
 pub mod material;
 pub mod run;
 pub mod section;
+pub mod shell;
 pub mod transform;

@@ -174,12 +174,21 @@ pub enum ElementKind {
         #[serde(default)]
         density: f64,
     },
-    /// Four-node quadrilateral shell/slab (nodes counter-clockwise) with a plate section.
+    /// Four-node quadrilateral shell/slab (nodes counter-clockwise) with a `plate` or a
+    /// `layered_shell` section.
     Shell {
         /// Corner nodes.
         nodes: [u32; 4],
-        /// Plate section tag.
+        /// Plate or layered-shell section tag.
         section: u32,
+        /// Direction of the element's local x axis (projected on its plane), from which
+        /// rebar-layer angles are measured; default the edge node 1 → node 2.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        local_x: Option<[f64; 3]>,
+        /// Large displacements and rotations (corotational, OpenSees
+        /// `ASDShellQ4 -corotational`); default false (small displacements).
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        corotational: bool,
     },
     /// Slab panel for the rigid-body model only: four corner nodes (cyclic order) and a
     /// thickness; no FE stiffness (the FE solver and the OpenSees export skip it). Its

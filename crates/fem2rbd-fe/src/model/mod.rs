@@ -18,7 +18,7 @@ pub use element::{
 };
 pub use material::{Material, MaterialLaw};
 pub use reference_json::import_reference_json;
-pub use section::{Bar, ElasticEquivalent, Fiber, RcRect, Section, SectionKind};
+pub use section::{Bar, ElasticEquivalent, Fiber, RcRect, Section, SectionKind, ShellLayer};
 pub use validate::ModelError;
 
 use anyhow::Context;
@@ -304,12 +304,12 @@ impl Model {
                 density,
                 ..
             } => density * width * thickness * self.element_length(e).unwrap_or(0.0),
-            ElementKind::Shell { section, .. } => match secs.get(section).map(|s| &s.kind) {
-                Some(SectionKind::Plate { h, density, .. }) => {
-                    density * h * self.shell_area(e).unwrap_or(0.0)
-                }
-                _ => 0.0,
-            },
+            ElementKind::Shell { section, .. } => {
+                secs.get(section)
+                    .and_then(|s| s.mass_per_area())
+                    .unwrap_or(0.0)
+                    * self.shell_area(e).unwrap_or(0.0)
+            }
             ElementKind::Panel {
                 thickness, density, ..
             } => density * thickness * self.shell_area(e).unwrap_or(0.0),

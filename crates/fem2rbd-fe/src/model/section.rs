@@ -1,5 +1,6 @@
 //! Cross-sections: fiber sections (explicit fiber list or a rectangular RC description
-//! that expands to fibers), elastic sections and elastic plate sections for shells.
+//! that expands to fibers), elastic sections, elastic plate sections for shells and
+//! layered shell sections (concrete and smeared-rebar layers, OpenSees `LayeredShell`).
 //!
 //! Section axes follow OpenSees: fiber coordinates (y, z) are in the element's local
 //! y and z axes (m); areas in m².
@@ -47,7 +48,7 @@ pub struct Section {
     pub kind: SectionKind,
 }
 
-/// Section kinds (`type = "fiber" | "rc_rect" | "elastic" | "plate"`).
+/// Section kinds (`type = "fiber" | "rc_rect" | "elastic" | "plate" | "layered_shell"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", deny_unknown_fields, rename_all = "snake_case")]
 pub enum SectionKind {
@@ -110,6 +111,113 @@ pub enum SectionKind {
         #[serde(default)]
         density: f64,
     },
+    /// Layered shell section (OpenSees `section LayeredShell`, Huang & Lu): layers listed
+    /// from the bottom face (local z = −h/2) to the top, each integrated at its
+    /// mid-thickness with weight = its thickness; h = Σ thicknesses. At least 3 layers.
+    LayeredShell {
+        /// The layers, bottom to top.
+        layers: Vec<ShellLayer>,
+        /// Density (kg/m³) over the whole thickness for self-weight ρ·h per unit area;
+        /// default 0.
+        #[serde(default)]
+        density: f64,
+    },
+}
+
+/// One layer of a [`SectionKind::LayeredShell`] (`type = "elastic" | "concrete" | "rebar"`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", deny_unknown_fields, rename_all = "snake_case")]
+pub enum ShellLayer {
+    /// Linear elastic isotropic plate layer (OpenSees `nDMaterial ElasticIsotropic E nu`
+    /// wrapped in `PlateFiber`): plane stress plus transverse shear G = E/(2(1+ν)).
+    Elastic {
+        /// Thickness (m).
+        thickness: f64,
+        /// Young's modulus (Pa).
+        #[serde(rename = "E")]
+        e: f64,
+        /// Poisson's ratio.
+        nu: f64,
+    },
+    /// Plane-stress concrete with cracking and crushing (OpenSees
+    /// `nDMaterial PlasticDamageConcretePlaneStress E nu ft fc` with its default
+    /// β, Ap, An, Bn, wrapped in `PlateFromPlaneStress` with elastic transverse shear
+    /// G = E/(2(1+ν))).
+    Concrete {
+        /// Thickness (m).
+        thickness: f64,
+        /// Young's modulus (Pa).
+        #[serde(rename = "E")]
+        e: f64,
+        /// Poisson's ratio.
+        nu: f64,
+        /// Compressive strength (Pa, positive).
+        fc: f64,
+        /// Tensile strength (Pa, positive).
+        ft: f64,
+    },
+    /// Smeared bars (OpenSees `nDMaterial PlateRebar matTag angle`): a uniaxial material
+    /// along the direction at `angle` degrees from the element's local x axis, in the
+    /// plane: ε = εxx c² + εyy s² + γxy c s. Thickness = bar area per unit width
+    /// (As / spacing, m).
+    Rebar {
+        /// Smeared thickness As/s (m).
+        thickness: f64,
+        /// Uniaxial material tag (e.g. Steel02).
+        material: u32,
+        /// Bar direction from the local x axis (degrees): 0 along x, 90 along y.
+        angle: f64,
+    },
+}
+
+impl ShellLayer {
+    /// The layer's thickness (m).
+    pub fn thickness(&self) -> f64 {
+        match self {
+            ShellLayer::Elastic { thickness, .. }
+            | ShellLayer::Concrete { thickness, .. }
+            | ShellLayer::Rebar { thickness, .. } => *thickness,
+        }
+    }
+
+    /// Checks ranges; returns a message for the first violation.
+    fn check(&self) -> Result<(), String> {
+        let t = self.thickness();
+        if !(t.is_finite() && t > 0.0) {
+            return Err(format!("thickness = {t} must be positive"));
+        }
+        let elastic = |e: f64, nu: f64| -> Result<(), String> {
+            if !(e.is_finite() && e > 0.0) {
+                return Err(format!("E = {e} must be positive"));
+            }
+            if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
+                return Err(format!("nu = {nu} must be in [0, 0.5)"));
+            }
+            Ok(())
+        };
+        match self {
+            ShellLayer::Elastic { e, nu, .. } => elastic(*e, *nu),
+            ShellLayer::Concrete { e, nu, fc, ft, .. } => {
+                elastic(*e, *nu)?;
+                if !(fc.is_finite() && *fc > 0.0) {
+                    return Err(format!(
+                        "fc = {fc} must be positive (compression positive here)"
+                    ));
+                }
+                if !(ft.is_finite() && *ft > 0.0 && ft < fc) {
+                    return Err(format!("ft = {ft} must be positive and below fc = {fc}"));
+                }
+                Ok(())
+            }
+            ShellLayer::Rebar { angle, .. } => {
+                if angle.is_finite() {
+                    Ok(())
+                } else {
+                    Err(format!("angle = {angle} is not finite"))
+                }
+            }
+        }
+    }
 }
 
 /// A rectangular RC section of width `b` (along local y) and depth `h` (along local z).
@@ -222,13 +330,45 @@ impl Section {
             SectionKind::Fiber { gj, .. } => Some(*gj),
             SectionKind::RcRect(rc) => Some(rc.gj),
             SectionKind::Elastic { g, j, .. } => Some(g * j),
-            SectionKind::Plate { .. } => None,
+            SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => None,
         }
     }
 
     /// Whether this section can serve a line (beam-column) element.
     pub fn is_beam_section(&self) -> bool {
-        !matches!(self.kind, SectionKind::Plate { .. })
+        !self.is_shell_section()
+    }
+
+    /// Whether this section serves shell elements (`plate` or `layered_shell`).
+    pub fn is_shell_section(&self) -> bool {
+        matches!(
+            self.kind,
+            SectionKind::Plate { .. } | SectionKind::LayeredShell { .. }
+        )
+    }
+
+    /// Thickness h (m) of a shell section (Σ layer thicknesses for a layered one);
+    /// `None` for beam sections.
+    pub fn shell_thickness(&self) -> Option<f64> {
+        match &self.kind {
+            SectionKind::Plate { h, .. } => Some(*h),
+            SectionKind::LayeredShell { layers, .. } => {
+                Some(layers.iter().map(ShellLayer::thickness).sum())
+            }
+            _ => None,
+        }
+    }
+
+    /// Self-weight mass per unit area (kg/m²) of a shell section, ρ·h; `None` for beam
+    /// sections.
+    pub fn mass_per_area(&self) -> Option<f64> {
+        match &self.kind {
+            SectionKind::Plate { h, density, .. } => Some(density * h),
+            SectionKind::LayeredShell { density, .. } => {
+                Some(density * self.shell_thickness().unwrap_or(0.0))
+            }
+            _ => None,
+        }
     }
 
     /// Outline `(width along local y, depth along local z)` in m, if known: b × h of an
@@ -239,7 +379,7 @@ impl Section {
             SectionKind::Fiber { width, depth, .. } | SectionKind::Elastic { width, depth, .. } => {
                 Some(((*width)?, (*depth)?))
             }
-            SectionKind::Plate { .. } => None,
+            SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => None,
         }
     }
 
@@ -250,7 +390,7 @@ impl Section {
             SectionKind::Elastic {
                 mass_per_length, ..
             } => *mass_per_length,
-            SectionKind::Plate { .. } => 0.0,
+            SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => 0.0,
             _ => self
                 .fibers()
                 .unwrap_or_default()
@@ -271,7 +411,7 @@ impl Section {
                 eiy: e * iy,
                 gj: g * j,
             },
-            SectionKind::Plate { .. } => ElasticEquivalent {
+            SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => ElasticEquivalent {
                 ea: 0.0,
                 eiz: 0.0,
                 eiy: 0.0,
@@ -299,6 +439,13 @@ impl Section {
         match &self.kind {
             SectionKind::Fiber { fibers, .. } => fibers.iter().map(|f| f.material()).collect(),
             SectionKind::RcRect(rc) => vec![rc.core_material, rc.cover_material, rc.bar_material],
+            SectionKind::LayeredShell { layers, .. } => layers
+                .iter()
+                .filter_map(|l| match l {
+                    ShellLayer::Rebar { material, .. } => Some(*material),
+                    _ => None,
+                })
+                .collect(),
             _ => Vec::new(),
         }
     }
@@ -401,6 +548,20 @@ impl Section {
                 pos("h", *h)?;
                 if !nu.is_finite() || !(-1.0..0.5).contains(nu) {
                     return Err(format!("nu = {nu} must be in (-1, 0.5)"));
+                }
+                if !density.is_finite() || *density < 0.0 {
+                    return Err(format!("density = {density} must be finite and >= 0"));
+                }
+            }
+            SectionKind::LayeredShell { layers, density } => {
+                if layers.len() < 3 {
+                    return Err(format!(
+                        "has {} layers; a layered shell needs at least 3 (OpenSees LayeredShell)",
+                        layers.len()
+                    ));
+                }
+                for (k, l) in layers.iter().enumerate() {
+                    l.check().map_err(|e| format!("layer {}: {e}", k + 1))?;
                 }
                 if !density.is_finite() || *density < 0.0 {
                     return Err(format!("density = {density} must be finite and >= 0"));

@@ -259,11 +259,11 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
                 return Err(err(format!("unknown section {st}")));
             };
             let ok = match (&e.kind, &sec.kind) {
-                (ElementKind::BeamColumn { .. }, k) => !matches!(k, SectionKind::Plate { .. }),
+                (ElementKind::BeamColumn { .. }, _) => sec.is_beam_section(),
                 (ElementKind::ElasticBeamColumn { .. }, k) => {
                     matches!(k, SectionKind::Elastic { .. })
                 }
-                (ElementKind::Shell { .. }, k) => matches!(k, SectionKind::Plate { .. }),
+                (ElementKind::Shell { .. }, _) => sec.is_shell_section(),
                 (ElementKind::ElasticStrip { .. } | ElementKind::Panel { .. }, _) => true,
             };
             if !ok {
@@ -364,9 +364,35 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
                     return Err(err("has zero area".into()));
                 }
             }
-            ElementKind::Shell { .. } => {
+            ElementKind::Shell { local_x, .. } => {
                 if m.shell_area(e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
                     return Err(err("has zero area".into()));
+                }
+                if let Some(v) = local_x {
+                    finite(&[
+                        ("local_x[0]", v[0]),
+                        ("local_x[1]", v[1]),
+                        ("local_x[2]", v[2]),
+                    ])
+                    .map_err(err)?;
+                    // Normal of the quadrilateral: cross product of its diagonals.
+                    let d1: Vec<f64> = (0..3).map(|k| pts[2][k] - pts[0][k]).collect();
+                    let d2: Vec<f64> = (0..3).map(|k| pts[3][k] - pts[1][k]).collect();
+                    let nrm = [
+                        d1[1] * d2[2] - d1[2] * d2[1],
+                        d1[2] * d2[0] - d1[0] * d2[2],
+                        d1[0] * d2[1] - d1[1] * d2[0],
+                    ];
+                    let dot =
+                        |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+                    let (vn, nn) = (dot(v, v).sqrt(), dot(&nrm, &nrm).sqrt());
+                    if vn == 0.0 {
+                        return Err(err("local_x is zero".into()));
+                    }
+                    let in_plane = (1.0 - (dot(v, &nrm) / (vn * nn)).powi(2)).max(0.0).sqrt();
+                    if in_plane < 1e-6 {
+                        return Err(err(format!("local_x {v:?} is normal to the shell's plane")));
+                    }
                 }
             }
             ElementKind::ElasticBeamColumn { .. } => {}

@@ -44,6 +44,10 @@ mod fe {
         mod opensees;
         mod protocol;
     }
+    mod shell {
+        mod model;
+        mod stiffness;
+    }
     mod verify {
         mod case1;
         mod lc1;
