@@ -97,9 +97,13 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     if let Some(o) = &args.out {
         sc.output = o.clone();
     }
-    if sc.output.exists() && !sc.output.is_dir() {
-        anyhow::bail!("output {} exists and is not a folder", sc.output.display());
-    }
+    // The output location and the work are checked before anything runs.
+    crate::output::location::check_output_dir(&sc.output, "output folder")?;
+    crate::output::location::check_replaceable(
+        &sc.output,
+        pipeline::write::RUN_OWNED,
+        "output folder",
+    )?;
     let bars = Bars {
         visible: !quiet && std::io::stderr().is_terminal(),
         bar: RefCell::new(None),

@@ -124,6 +124,7 @@ impl Locator {
 impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
+        crate::model::limits::check_input_file(path, "scene file")?;
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read scene file {}", path.display()))?;
         Scene::from_json(&text).with_context(|| format!("scene file {}", path.display()))
