@@ -422,6 +422,23 @@ fn cases() -> Vec<Case> {
         )
         .with("model.toml", model("name = ", "nmae = ")),
         case(
+            "model JSON misspelt top-level key",
+            "modal {w}/mis.json",
+            1,
+            &["mis.json:", "top level: unknown field `supprt`"],
+        )
+        .with(
+            "mis.json",
+            "{\"name\": \"x\",\n \"node\": [{\"tag\": 1, \"x\": 0, \"y\": 0, \"z\": 0}],\n \"mass\": [{\"node\": 1, \"m\": 1.0}],\n \"supprt\": []}\n",
+        ),
+        case(
+            "empty model",
+            "modal {w}/empty.toml",
+            1,
+            &["model \"empty\" has no structural elements"],
+        )
+        .with("empty.toml", "name = \"empty\"\n"),
+        case(
             "map -o a folder",
             "map {w}/model.toml -o {w}/adir",
             1,

@@ -63,6 +63,13 @@ impl Progress for Bars {
         self.span.set((from, to));
         *self.bar.borrow_mut() = Some(b);
     }
+    fn plan(&self, fe_steps: u64, substeps: u64) {
+        if self.visible {
+            eprintln!(
+                "work: {fe_steps} FE steps, at most {substeps} physics substeps (bounds: docs/reliability.md)"
+            );
+        }
+    }
     fn fe(&self, t: f64, t_end: f64) {
         if let Some(b) = self.bar.borrow().as_ref() {
             b.set_position(self.permille(t));

@@ -40,9 +40,12 @@ pub(super) fn parse_and_validate(
     let (model, map) = if is_json {
         let map = SourceMap::from_json(text);
         let model: Model = serde_json::from_str(text).map_err(|e| {
-            let item = map
-                .item_at(e.line())
-                .map(|(k, i)| format!("{k} item {}", i + 1));
+            let item = if top_level_key_error(&e.to_string()) {
+                Some("top level".to_string())
+            } else {
+                map.item_at(e.line())
+                    .map(|(k, i)| format!("{k} item {}", i + 1))
+            };
             ModelError {
                 file: file.to_string(),
                 line: Some(e.line()),
@@ -55,9 +58,12 @@ pub(super) fn parse_and_validate(
         let map = SourceMap::from_toml(text);
         let model: Model = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of(text, s.start));
-            let item = line
-                .and_then(|l| map.item_at(l))
-                .map(|(k, i)| format!("{k} item {}", i + 1));
+            let item = if top_level_key_error(e.message()) {
+                Some("top level".to_string())
+            } else {
+                line.and_then(|l| map.item_at(l))
+                    .map(|(k, i)| format!("{k} item {}", i + 1))
+            };
             ModelError {
                 file: file.to_string(),
                 line,
@@ -69,6 +75,13 @@ pub(super) fn parse_and_validate(
     };
     validate(&model, file, &map)?;
     Ok(model)
+}
+
+/// An unknown key at the top level (serde lists the top-level keys): it must not be
+/// attributed to the array item that happens to precede it in the file.
+fn top_level_key_error(message: &str) -> bool {
+    message.contains("unknown field")
+        && message.contains("`transformation`, `node`, `support`, `element`, `mass`")
 }
 
 struct Ctx<'a> {

@@ -136,6 +136,9 @@ pub trait Progress {
     fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
     /// A stage begins (`"fe"`, `"physics"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
+    /// The work ahead, once checked against the resource bounds ([`check_budget`]):
+    /// FE steps and physics substeps (at most; the physics stage may stop at rest).
+    fn plan(&self, _fe_steps: u64, _physics_substeps: u64) {}
     /// A stage ends.
     fn done(&self) {}
 }
@@ -389,7 +392,8 @@ pub fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64)> {
 pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
     let gm = ground_motion(sc)?;
-    check_budget(sc, &gm)?;
+    let (fe_steps, substeps) = check_budget(sc, &gm)?;
+    progress.plan(fe_steps, substeps);
     let ground = gm
         .integrate(sc.dt, Baseline::default())
         .context("integrating the ground motion")?;
