@@ -112,7 +112,7 @@ fn main() -> Result<()> {
             .map(|k| GroundMotionInput {
                 direction: k as u8 + 1,
                 path: paths[k].clone(),
-                pga_g: PGA_G[k],
+                pga_g: Some(PGA_G[k]),
             })
             .collect(),
         dt: DT,

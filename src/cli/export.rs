@@ -6,6 +6,7 @@ use clap::{Args, Subcommand};
 use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};
 use fem2rbd::model::Model;
 use fem2rbd::output::gltf::{encode_glb, run_scene, AnimatedScene};
+use fem2rbd::output::location::check_output_file;
 use fem2rbd::output::run_folder::RunFolder;
 use std::path::{Path, PathBuf};
 
@@ -61,9 +62,10 @@ pub fn run_folder_glb(dir: &Path) -> Result<Vec<u8>> {
 pub struct OpenSeesArgs {
     /// Model file (.toml or .json).
     pub model: PathBuf,
-    /// Ground-motion component DIR=path,pga_g (DIR = X, Y or Z; AT2 file; PGA in g);
-    /// repeat for several components.
-    #[arg(long = "gm", value_name = "DIR=PATH,PGA_G")]
+    /// Ground-motion component `DIR=PATH[,pga=G]` (DIR = X, Y or Z; PATH an AT2 file; G
+    /// the target PGA in g, default as recorded), the syntax of `fem2rbd fe`; repeat for
+    /// several components.
+    #[arg(long = "gm", value_name = "DIR=PATH[,pga=G]")]
     pub gm: Vec<String>,
     /// Time-scale factor on the records' time step.
     #[arg(long, default_value_t = 1.0)]
@@ -86,28 +88,14 @@ pub struct OpenSeesArgs {
     pub output: PathBuf,
 }
 
-/// Parses `X=path,0.3`.
+/// Parses one `--gm` value: the syntax shared with `fem2rbd fe`
+/// ([`fem2rbd::motion::spec`]), `DIR=PATH[,pga=G]`.
 pub fn parse_gm(s: &str) -> Result<GroundMotionInput> {
-    let (dir, rest) = s
-        .split_once('=')
-        .with_context(|| format!("--gm {s:?}: expected DIR=PATH,PGA_G"))?;
-    let direction = match dir.trim().to_ascii_uppercase().as_str() {
-        "X" => 1,
-        "Y" => 2,
-        "Z" => 3,
-        o => bail!("--gm {s:?}: direction {o:?} must be X, Y or Z"),
-    };
-    let (path, pga) = rest
-        .rsplit_once(',')
-        .with_context(|| format!("--gm {s:?}: expected DIR=PATH,PGA_G"))?;
-    let pga_g: f64 = pga
-        .trim()
-        .parse()
-        .with_context(|| format!("--gm {s:?}: PGA {pga:?} is not a number"))?;
+    let c = fem2rbd::motion::spec::parse_component(s)?;
     Ok(GroundMotionInput {
-        direction,
-        path: PathBuf::from(path),
-        pga_g,
+        direction: c.axis as u8 + 1,
+        path: c.path,
+        pga_g: c.pga_g,
     })
 }
 
@@ -115,6 +103,7 @@ pub fn parse_gm(s: &str) -> Result<GroundMotionInput> {
 pub fn run(cmd: &ExportCommand) -> Result<()> {
     match cmd {
         ExportCommand::Opensees(a) => {
+            check_output_file(&a.output, "--output")?;
             let model = Model::load(&a.model)?;
             let variant = match a.variant.as_deref() {
                 None => None,
@@ -140,6 +129,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 .output
                 .clone()
                 .unwrap_or_else(|| a.run_dir.join("collapse.glb"));
+            check_output_file(&out, "--output")?;
             let bytes = run_folder_glb(&a.run_dir)?;
             fem2rbd::output::write_atomic(&out, &bytes)
                 .with_context(|| format!("cannot write {}", out.display()))

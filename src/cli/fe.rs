@@ -2,19 +2,26 @@
 //! of a model under a ground motion ([`fem2rbd::fe::run::run_ground_motion`]). Writes
 //! `DIR/nodes.csv` (time and the six displacements of every node) and
 //! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
-//! both atomically. All input is checked before anything is written.
-use anyhow::{bail, Context, Result};
+//! as one folder replaced as a whole ([`fem2rbd::output::location`]). All input and the
+//! output location are checked before anything runs. The exit code is non-zero when a
+//! step diverges (the outputs then hold the history up to the last converged step).
+use anyhow::{bail, Result};
 use clap::Args;
 use fem2rbd::fe::analysis::transient::{StepControl, StopReason};
 use fem2rbd::fe::build::{BuildOptions, Variant};
 use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
+use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
 use fem2rbd::model::Model;
 use fem2rbd::motion::{Format, GroundMotion};
+use fem2rbd::output::location::{check_output_dir, check_replaceable, replace_dir};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+/// What `fe --out DIR` owns: a non-empty DIR holding none of these is refused.
+pub const FE_OWNED: &[&str] = &["fe_summary.json", "nodes.csv"];
 
 /// Options of `fe`.
 #[derive(Debug, Args)]
@@ -45,76 +52,17 @@ pub struct FeArgs {
     pub out: PathBuf,
 }
 
-/// One `--gm` component.
-#[derive(Debug, Clone, PartialEq)]
-pub struct GmSpec {
-    /// 0 = X, 1 = Y, 2 = Z.
-    pub axis: usize,
-    /// Record file.
-    pub path: PathBuf,
-    /// Target PGA (g), if scaling.
-    pub pga_g: Option<f64>,
-}
+/// One `--gm` component (the shared syntax of [`fem2rbd::motion::spec`]).
+pub type GmSpec = fem2rbd::motion::spec::ComponentArg;
 
-/// Parses `X=path`, `X=path,pga=0.93` (or `X=path,0.93`).
+/// Parses `X=path`, `X=path,pga=0.93` (or `X=path,0.93`): [`fem2rbd::motion::spec`].
 pub fn parse_gm(s: &str) -> Result<GmSpec> {
-    let (dir, rest) = s
-        .split_once('=')
-        .with_context(|| format!("--gm {s:?}: expected DIR=PATH[,pga=G]"))?;
-    let axis = match dir.trim().to_ascii_uppercase().as_str() {
-        "X" => 0,
-        "Y" => 1,
-        "Z" => 2,
-        o => bail!("--gm {s:?}: unknown direction {o:?} (use X, Y or Z)"),
-    };
-    let mut parts = rest.split(',');
-    let path = parts.next().unwrap_or("").trim();
-    if path.is_empty() {
-        bail!("--gm {s:?}: no record file given");
-    }
-    let mut pga_g = None;
-    for p in parts {
-        let value = match p.split_once('=') {
-            Some((k, v)) if k.trim().eq_ignore_ascii_case("pga") => v,
-            Some((k, _)) => bail!("--gm {s:?}: unknown option {k:?} (only pga=G)"),
-            None => p,
-        };
-        let g: f64 = value
-            .trim()
-            .parse()
-            .with_context(|| format!("--gm {s:?}: PGA {value:?} is not a number"))?;
-        if !(g > 0.0 && g.is_finite()) {
-            bail!("--gm {s:?}: PGA must be positive, got {g}");
-        }
-        pga_g = Some(g);
-    }
-    Ok(GmSpec {
-        axis,
-        path: PathBuf::from(path),
-        pga_g,
-    })
+    Ok(fem2rbd::motion::spec::parse_component(s)?)
 }
 
 /// Reads, scales and time-scales the ground motion of the `--gm` components.
 pub fn ground_motion(specs: &[GmSpec], time_scale: f64) -> Result<GroundMotion> {
-    let mut paths: [Option<&Path>; 3] = [None; 3];
-    let mut pga = [None; 3];
-    for s in specs {
-        if paths[s.axis].is_some() {
-            bail!("--gm: direction {} given twice", ["X", "Y", "Z"][s.axis]);
-        }
-        if !s.path.is_file() {
-            bail!("--gm: record file {} does not exist", s.path.display());
-        }
-        paths[s.axis] = Some(s.path.as_path());
-        pga[s.axis] = s.pga_g;
-    }
-    let mut gm = GroundMotion::from_files(paths, Format::Auto)?;
-    gm.scale_to_pga(pga)?;
-    if time_scale != 1.0 {
-        gm.time_scale(time_scale)?;
-    }
-    Ok(gm)
+    fem2rbd::motion::spec::read_components(specs, time_scale, Format::Auto)
 }
 
 /// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times
@@ -185,22 +133,17 @@ pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
 
 /// Runs `fe`.
 pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
+    check_output_dir(&args.out, "--out")?;
+    check_replaceable(&args.out, FE_OWNED, "--out")?;
     let model = Model::load(&args.model)?;
     let specs: Vec<GmSpec> = args.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?;
     let gm = ground_motion(&specs, args.time_scale)?;
-    if !(args.dt > 0.0 && args.dt.is_finite()) {
-        bail!("--dt must be positive, got {}", args.dt);
-    }
+    check_range("--dt", args.dt, FE_DT.0, false, FE_DT.1, "s")?;
     if args.every == 0 {
         bail!("--every must be at least 1");
     }
     if let Some(d) = args.duration {
-        if !(d > 0.0 && d.is_finite()) {
-            bail!("--duration must be positive, got {d}");
-        }
-    }
-    if args.out.exists() && !args.out.is_dir() {
-        bail!("--out {} exists and is not a folder", args.out.display());
+        check_range("--duration", d, 0.0, true, MAX_TIME_S, "s")?;
     }
     let t_end = args.duration.unwrap_or_else(|| gm.duration_s());
     let options = RunOptions {
@@ -232,25 +175,34 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
     })?;
     bar.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
-    let csv = args.out.join("nodes.csv");
-    fem2rbd::output::write_atomic(&csv, nodes_csv(&result).as_bytes())
-        .with_context(|| format!("cannot write {}", csv.display()))?;
-    let js = args.out.join("fe_summary.json");
     let text = serde_json::to_string_pretty(&summary(&result, wall))? + "\n";
-    fem2rbd::output::write_atomic(&js, text.as_bytes())
-        .with_context(|| format!("cannot write {}", js.display()))?;
+    replace_dir(
+        &args.out,
+        FE_OWNED,
+        &[
+            ("nodes.csv", nodes_csv(&result).as_bytes()),
+            ("fe_summary.json", text.as_bytes()),
+        ],
+    )?;
     if !quiet {
         match &result.transient.stop {
-            StopReason::Diverged { time, reason, .. } => {
-                eprintln!("fe: stopped at t = {time:.3} s, a step did not converge: {reason}")
-            }
+            // Reported as the error below.
+            StopReason::Diverged { .. } => {}
             _ => eprintln!(
                 "fe: t = {:.3} s in {} steps ({} with fallbacks), {wall:.1} s",
                 result.transient.end_time, result.transient.steps, result.transient.fallback_steps
             ),
         }
+    }
+    if let StopReason::Diverged { time, reason, .. } = &result.transient.stop {
+        // The outputs hold the history up to the last converged step; the exit code
+        // says the analysis did not reach its end.
+        bail!(
+            "the analysis diverged at t = {time:.4} s ({reason}); {} and {} hold the \
+             history up to the last converged step",
+            args.out.join("nodes.csv").display(),
+            args.out.join("fe_summary.json").display()
+        );
     }
     Ok(())
 }

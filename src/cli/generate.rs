@@ -229,6 +229,7 @@ impl FrameArgs {
 pub fn run(cmd: &GenerateCommand) -> Result<()> {
     match cmd {
         GenerateCommand::Frame(args) => {
+            fem2rbd::output::location::check_output_file(&args.output, "--output")?;
             let model = frame(&args.params()?)?;
             let is_json = args
                 .output

@@ -32,6 +32,7 @@ pub fn run(args: &MapArgs, quiet: bool) -> Result<()> {
             args.overlap_tolerance
         );
     }
+    fem2rbd::output::location::check_output_file(&args.output, "--output")?;
     let model = Model::load(&args.model)?;
     let input =
         mapping::from_model(&model).with_context(|| format!("mapping {}", args.model.display()))?;

@@ -63,6 +63,13 @@ impl Progress for Bars {
         self.span.set((from, to));
         *self.bar.borrow_mut() = Some(b);
     }
+    fn plan(&self, fe_steps: u64, substeps: u64) {
+        if self.visible {
+            eprintln!(
+                "work: {fe_steps} FE steps, at most {substeps} physics substeps (bounds: docs/reliability.md)"
+            );
+        }
+    }
     fn fe(&self, t: f64, t_end: f64) {
         if let Some(b) = self.bar.borrow().as_ref() {
             b.set_position(self.permille(t));
@@ -97,9 +104,13 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     if let Some(o) = &args.out {
         sc.output = o.clone();
     }
-    if sc.output.exists() && !sc.output.is_dir() {
-        anyhow::bail!("output {} exists and is not a folder", sc.output.display());
-    }
+    // The output location and the work are checked before anything runs.
+    fem2rbd::output::location::check_output_dir(&sc.output, "output folder")?;
+    fem2rbd::output::location::check_replaceable(
+        &sc.output,
+        pipeline::write::RUN_OWNED,
+        "output folder",
+    )?;
     let bars = Bars {
         visible: !quiet && std::io::stderr().is_terminal(),
         bar: RefCell::new(None),

@@ -14,12 +14,9 @@ use std::fmt::Write;
 pub const HEADER: &str =
     "name,group,type,material,element,kind,cx,cy,cz,qw,qx,qy,qz,hx,hy,hz,mass_kg,ixx,iyy,izz";
 
+/// RFC 4180 quoting, as every table fem2rbd writes ([`crate::output::csv_text`]).
 fn field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+    crate::output::csv_text::field(s).into_owned()
 }
 
 /// The whole table, header first, one line per body in the given order.

@@ -21,6 +21,10 @@ impl AtomicFile {
             .with_context(|| format!("output path {} has no file name", target.display()))?
             .to_string_lossy()
             .into_owned();
+        if target.is_dir() {
+            anyhow::bail!("output {} is a folder, not a file", target.display());
+        }
+        super::location::sweep_stale(&target);
         let tmp = target.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
         let file = File::create(&tmp)
             .with_context(|| format!("cannot create temporary file {}", tmp.display()))?;
@@ -31,24 +35,30 @@ impl AtomicFile {
         })
     }
 
-    /// Flushes, syncs and renames the temporary file onto the target.
+    /// Flushes, syncs and renames the temporary file onto the target. On any failure
+    /// (a full disk, a target that is a folder) the temporary file is removed.
     pub fn commit(mut self) -> Result<()> {
         let writer = self.writer.take().expect("writer present until commit");
-        let file = writer
-            .into_inner()
-            .map_err(|e| e.into_error())
-            .with_context(|| format!("cannot write {}", self.tmp.display()))?;
-        file.sync_all()
-            .with_context(|| format!("cannot sync {}", self.tmp.display()))?;
-        drop(file);
-        fs::rename(&self.tmp, &self.target).with_context(|| {
-            format!(
-                "cannot rename {} to {}",
-                self.tmp.display(),
-                self.target.display()
-            )
-        })?;
-        Ok(())
+        let result = (|| {
+            let file = writer
+                .into_inner()
+                .map_err(|e| e.into_error())
+                .with_context(|| format!("cannot write {}", self.tmp.display()))?;
+            file.sync_all()
+                .with_context(|| format!("cannot sync {}", self.tmp.display()))?;
+            drop(file);
+            fs::rename(&self.tmp, &self.target).with_context(|| {
+                format!(
+                    "cannot rename {} to {}",
+                    self.tmp.display(),
+                    self.target.display()
+                )
+            })
+        })();
+        if result.is_err() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+        result
     }
 }
 
@@ -101,5 +111,22 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("a.csv")]);
+    }
+
+    #[test]
+    fn a_failed_rename_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("t");
+        let mut f = AtomicFile::create(&target).unwrap();
+        f.write_all(b"x").unwrap();
+        // The target becomes a non-empty folder between create and commit: rename fails.
+        fs::create_dir(&target).unwrap();
+        fs::write(target.join("inside"), "y").unwrap();
+        assert!(f.commit().is_err());
+        let names: Vec<_> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("t")]);
     }
 }

@@ -27,6 +27,7 @@
 //!
 //! Numbers use fixed decimals (times 4, lengths 6, ratios 8, quaternions 8), so the same
 //! run gives the same bytes.
+use crate::output::csv_text::field;
 use crate::physics::Pose;
 use std::fmt::Write as _;
 
@@ -70,11 +71,11 @@ pub fn bodies_csv(rows: &[BodyRow]) -> String {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.6},{:.6},{:.6},{:.6}",
-            r.name,
-            r.group,
-            r.type_name,
-            r.material,
-            r.element,
+            field(r.name),
+            field(r.group),
+            field(r.type_name),
+            field(r.material),
+            field(r.element),
             u8::from(r.passive),
             p[0] + 0.0,
             p[1] + 0.0,

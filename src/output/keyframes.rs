@@ -2,6 +2,7 @@
 //! keyframes (from the FE state, up to Tc) then the physics stage's frames (after Tc).
 //! Columns `t,name,x,y,z,qw,qx,qy,qz`: time s (4 decimals), position m (6 decimals),
 //! unit quaternion (8 decimals); rows by time, then body order.
+use crate::output::csv_text::field;
 use crate::physics::Pose;
 use std::fmt::Write as _;
 
@@ -12,6 +13,7 @@ pub const HEADER: &str = "t,name,x,y,z,qw,qx,qy,qz";
 pub fn keyframes_csv(names: &[&str], frames: &[(f64, &[Pose])]) -> String {
     let mut s = String::from(HEADER);
     s.push('\n');
+    let names: Vec<_> = names.iter().map(|n| field(n)).collect();
     for (t, poses) in frames {
         for (name, p) in names.iter().zip(poses.iter()) {
             let (x, q) = (p.position, p.orientation);

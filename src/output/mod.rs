@@ -1,9 +1,11 @@
 //! Everything the program writes. Files are written atomically: to a temporary name in
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
+pub mod csv_text;
 pub mod gltf;
 pub mod history;
 pub mod keyframes;
+pub mod location;
 pub mod palette;
 pub mod ruins;
 pub mod run_folder;

@@ -2,6 +2,7 @@
 //! `name,group,type,material,element,x,y,z,qw,qx,qy,qz,at_rest` — position in m
 //! (6 decimals), orientation as a unit quaternion (8 decimals), `at_rest` 1/0 (the ruin
 //! stage's rest test per body; `-` when no ruin stage ran).
+use crate::output::csv_text::field;
 use crate::physics::Pose;
 use std::fmt::Write as _;
 
@@ -42,11 +43,11 @@ pub fn ruins_csv(rows: &[RuinRow]) -> String {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{rest}",
-            r.name,
-            r.group,
-            r.type_name,
-            r.material,
-            r.element,
+            field(r.name),
+            field(r.group),
+            field(r.type_name),
+            field(r.material),
+            field(r.element),
             p[0] + 0.0,
             p[1] + 0.0,
             p[2] + 0.0,

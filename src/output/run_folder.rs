@@ -166,7 +166,7 @@ struct Row<'a> {
     file: &'a str,
     line: usize,
     header: &'static str,
-    fields: Vec<&'a str>,
+    fields: Vec<String>,
 }
 
 impl Row<'_> {
@@ -186,7 +186,7 @@ impl Row<'_> {
     }
 
     fn text(&self, i: usize) -> Result<&str> {
-        let s = self.fields[i];
+        let s = self.fields[i].as_str();
         if s.is_empty() {
             return Err(self.err(i, "is empty"));
         }
@@ -194,7 +194,7 @@ impl Row<'_> {
     }
 
     fn f64(&self, i: usize) -> Result<f64> {
-        let s = self.fields[i];
+        let s = self.fields[i].as_str();
         match s.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
             _ => Err(self.err(i, format!("{s:?} is not a finite number"))),
@@ -242,7 +242,7 @@ impl Row<'_> {
     }
 
     fn flag(&self, i: usize) -> Result<bool> {
-        match self.fields[i] {
+        match self.fields[i].as_str() {
             "1" => Ok(true),
             "0" => Ok(false),
             s => Err(self.err(i, format!("{s:?} must be 1 or 0"))),
@@ -262,21 +262,31 @@ fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Ro
         }
         Some(_) => {}
     }
+    // RFC 4180 records (quoted fields may hold commas, quotes and newlines:
+    // crate::output::csv_text), read with the `csv` crate; errors name the line where
+    // the record starts.
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(true)
+        .from_reader(text.as_bytes());
     let mut out = Vec::new();
-    for (k, line) in lines.enumerate() {
-        let n = k + 2;
-        let fields: Vec<&str> = line.split(',').collect();
-        if fields.len() != n_columns {
+    for rec in reader.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line());
+            anyhow!("{file}:{line}: not a CSV row: {e}")
+        })?;
+        let n = rec.position().map_or(0, |p| p.line() as usize);
+        if rec.len() != n_columns {
             bail!(
                 "{file}:{n}: {} fields, expected {n_columns} ({header})",
-                fields.len()
+                rec.len()
             );
         }
         out.push(Row {
             file,
             line: n,
             header,
-            fields,
+            fields: rec.iter().map(str::to_owned).collect(),
         });
     }
     Ok(out)
@@ -338,7 +348,7 @@ pub fn parse_keyframes(
     for (k, r) in rows.iter().enumerate() {
         let i = k % n;
         let t = r.f64(0)?;
-        let name = r.fields[1];
+        let name = r.fields[1].as_str();
         if name != bodies[i].name {
             return Err(r.err(
                 1,
@@ -389,7 +399,7 @@ pub fn parse_keyframes(
 pub fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
     let mut out = Vec::new();
     for r in rows(text, file, HISTORY_HEADER)? {
-        let fe = match r.fields[1] {
+        let fe = match r.fields[1].as_str() {
             "fe" => true,
             "physics" => false,
             s => return Err(r.err(1, format!("stage {s:?} must be fe or physics"))),
@@ -399,7 +409,7 @@ pub fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
         } else {
             let mut c = [0usize; 3];
             for (d, cd) in c.iter_mut().enumerate() {
-                let s = r.fields[4 + d];
+                let s = r.fields[4 + d].as_str();
                 *cd = s
                     .parse()
                     .map_err(|_| r.err(4 + d, format!("{s:?} is not a count")))?;
@@ -479,7 +489,7 @@ pub fn parse_ruins(
             }
         }
         poses.push(r.pose(5)?);
-        at_rest.push(match r.fields[12] {
+        at_rest.push(match r.fields[12].as_str() {
             "1" => Some(true),
             "0" => Some(false),
             "-" => None,

@@ -19,7 +19,6 @@
 //! very f64 values back and the same scene always gives the same bytes. Every file is
 //! written atomically, the `.pvd` last, so it never lists a file that is not there yet.
 use crate::output::gltf::{AnimatedScene, Pose, GROUND_TYPE};
-use crate::output::write_atomic;
 use anyhow::{ensure, Context, Result};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -52,8 +51,23 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
         .into_owned();
     let folder = pvd_path.with_file_name(&stem);
     check_scene(scene)?;
-    std::fs::create_dir_all(&folder)
-        .with_context(|| format!("cannot create folder {}", folder.display()))?;
+    crate::output::location::check_output_file(pvd_path, "VTK output").or_else(|e| {
+        // The .pvd's folder may not exist yet; it is created below.
+        match pvd_path.parent() {
+            Some(p) if !p.as_os_str().is_empty() && !p.exists() => {
+                crate::output::location::check_output_dir(p, "VTK output folder")
+            }
+            _ => Err(e),
+        }
+    })?;
+    if let Some(p) = pvd_path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(p)
+            .with_context(|| format!("cannot create folder {}", p.display()))?;
+    }
+    // The frames are written into a folder beside their target and swapped in as a
+    // whole, with the .pvd renamed right after (crate::output::location): a shorter
+    // run leaves no stale frames, an interrupted one no partial folder.
+    let staged = crate::output::location::StagedDir::new(&folder, &["step_*"])?;
 
     let types = type_names(scene);
     let digits = scene
@@ -71,7 +85,7 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
     for (k, &t) in scene.times_s.iter().enumerate() {
         let name = format!("step_{k:0digits$}.vtu");
         let path = folder.join(&name);
-        write_atomic(&path, frame_vtu(scene, k, &types).as_bytes())?;
+        staged.write(&name, frame_vtu(scene, k, &types).as_bytes())?;
         writeln!(
             collection,
             "    <DataSet timestep=\"{t}\" part=\"0\" file=\"{}/{name}\"/>",
@@ -81,7 +95,11 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
         written.push(path);
     }
     collection.push_str("  </Collection>\n</VTKFile>\n");
-    write_atomic(pvd_path, collection.as_bytes())?;
+    let mut pvd = crate::output::AtomicFile::create(pvd_path)?;
+    std::io::Write::write_all(&mut pvd, collection.as_bytes())
+        .with_context(|| format!("cannot write {}", pvd_path.display()))?;
+    staged.swap_in()?;
+    pvd.commit()?;
     Ok(written)
 }
 

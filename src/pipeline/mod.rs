@@ -136,6 +136,9 @@ pub trait Progress {
     fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
     /// A stage begins (`"fe"`, `"physics"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
+    /// The work ahead, once checked against the resource bounds ([`check_budget`]):
+    /// FE steps and physics substeps (at most; the physics stage may stop at rest).
+    fn plan(&self, _fe_steps: u64, _physics_substeps: u64) {}
     /// A stage ends.
     fn done(&self) {}
 }
@@ -330,10 +333,67 @@ pub fn time_limit(sc: &Scenario, gm: &GroundMotion) -> f64 {
         .unwrap_or(gm.duration_s() + sc.physics.settle_s)
 }
 
+/// The work a scenario asks for, checked against the resource bounds
+/// ([`crate::model::limits`]) once the records are read and before anything runs:
+/// FE steps (duration / Δt), ground-history samples (record / Δt) and physics substeps
+/// (timeline × steps per second). Returns (FE steps, physics substeps).
+pub fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64)> {
+    use crate::model::limits::{
+        grid_count, show_number, MAX_FE_STEPS, MAX_PHYSICS_SUBSTEPS, MAX_SAMPLES,
+    };
+    let p = sc.path.display();
+    let fe_end = sc.duration.unwrap_or_else(|| gm.duration_s());
+    grid_count(
+        format!(
+            "{p}: ground motion of {} s with fe.dt = {} s",
+            show_number(gm.duration_s()),
+            show_number(sc.dt)
+        ),
+        "ground-history samples",
+        gm.duration_s(),
+        sc.dt,
+        MAX_SAMPLES,
+    )?;
+    let fe = if sc.mode == Mode::Physics {
+        0
+    } else {
+        grid_count(
+            format!(
+                "{p}: FE stage of {} s with fe.dt = {} s",
+                show_number(fe_end),
+                show_number(sc.dt)
+            ),
+            "time steps",
+            fe_end,
+            sc.dt,
+            MAX_FE_STEPS,
+        )? as u64
+    };
+    let limit = time_limit(sc, gm);
+    let physics = if sc.mode == Mode::Fe {
+        0
+    } else {
+        grid_count(
+            format!(
+                "{p}: physics stage of up to {} s at physics.steps_per_second = {}",
+                show_number(limit),
+                show_number(sc.physics.steps_per_second)
+            ),
+            "physics substeps",
+            limit,
+            1.0 / sc.physics.steps_per_second,
+            MAX_PHYSICS_SUBSTEPS,
+        )? as u64
+    };
+    Ok((fe, physics))
+}
+
 /// Runs a scenario and returns the record (nothing is written).
 pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
     let gm = ground_motion(sc)?;
+    let (fe_steps, substeps) = check_budget(sc, &gm)?;
+    progress.plan(fe_steps, substeps);
     let ground = gm
         .integrate(sc.dt, Baseline::default())
         .context("integrating the ground motion")?;

@@ -249,10 +249,121 @@ fn positive(v: f64) -> bool {
     v > 0.0 && v.is_finite()
 }
 
+use crate::model::limits::{FE_DT, MAX_PGA_G, MAX_TIME_S, TIME_SCALE};
+
+/// `item = v` must lie in its range (`lo` excluded with `lo_open`), unit `unit`.
+fn range(
+    file: &dyn std::fmt::Display,
+    item: &str,
+    v: f64,
+    lo: f64,
+    lo_open: bool,
+    hi: f64,
+    unit: &'static str,
+) -> Result<()> {
+    crate::model::limits::check_range(item, v, lo, lo_open, hi, unit)
+        .map_err(|e| anyhow::anyhow!("{file}: {e}"))
+}
+
+impl PhysicsSpec {
+    /// Checks every field against its physical range (docs/scenario-format.md,
+    /// docs/reliability.md): rates and counts that size the work, coefficients that
+    /// Bullet clamps or that make no physical sense outside their range (a restitution
+    /// above 1 creates energy; Bullet clamps damping to [0, 1] per second), and the
+    /// at-rest test. Items are named `physics.<field>`.
+    pub fn check(&self) -> std::result::Result<(), crate::model::limits::RangeError> {
+        use crate::model::limits::check_range as r;
+        r(
+            "physics.steps_per_second",
+            self.steps_per_second,
+            10.0,
+            false,
+            1e5,
+            "1/s",
+        )?;
+        r(
+            "physics.solver_iterations",
+            f64::from(self.solver_iterations),
+            1.0,
+            false,
+            1e4,
+            "",
+        )?;
+        r("physics.friction", self.friction, 0.0, false, 10.0, "")?;
+        r("physics.restitution", self.restitution, 0.0, false, 1.0, "")?;
+        r(
+            "physics.linear_damping",
+            self.linear_damping,
+            0.0,
+            false,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.angular_damping",
+            self.angular_damping,
+            0.0,
+            false,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.spring_correction",
+            self.spring_correction,
+            0.0,
+            false,
+            100.0,
+            "",
+        )?;
+        r(
+            "physics.spring_damping",
+            self.spring_damping,
+            0.0,
+            false,
+            1e4,
+            "",
+        )?;
+        r(
+            "physics.settle_s",
+            self.settle_s,
+            0.0,
+            false,
+            MAX_TIME_S,
+            "s",
+        )?;
+        if let Some(t) = self.time_limit_s {
+            r("physics.time_limit_s", t, 0.0, true, MAX_TIME_S, "s")?;
+        }
+        let rest = &self.rest;
+        r(
+            "physics.rest.energy_ratio",
+            rest.energy_ratio,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.rest.max_speed_mps",
+            rest.max_speed_mps,
+            0.0,
+            true,
+            100.0,
+            "m/s",
+        )?;
+        r("physics.rest.hold_s", rest.hold_s, 0.0, true, 600.0, "s")?;
+        if let Some(l) = rest.reference_length_m {
+            r("physics.rest.reference_length_m", l, 0.0, true, 1000.0, "m")?;
+        }
+        Ok(())
+    }
+}
+
 impl Scenario {
     /// Reads and checks a scenario file (module docs). Nothing is written.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario> {
         let path = path.as_ref();
+        crate::model::limits::check_input_file(path, "scenario file")?;
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read scenario file {}", path.display()))?;
         Self::parse(&text, path)
@@ -275,9 +386,8 @@ impl Scenario {
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
         let model = base.join(&raw.model);
-        if !model.is_file() {
-            bail!("{p}: model: file {} does not exist", model.display());
-        }
+        crate::model::limits::check_input_file(&model, "model file")
+            .map_err(|e| anyhow::anyhow!("{p}: model: {e}"))?;
         if raw.ground_motion.is_empty() {
             bail!("{p}: ground_motion: at least one component is needed");
         }
@@ -294,26 +404,33 @@ impl Scenario {
                 bail!("{item}: direction {} given twice", c.direction);
             }
             let file = base.join(&c.file);
-            if !file.is_file() {
-                bail!("{item}: record file {} does not exist", file.display());
-            }
+            crate::model::limits::check_input_file(&file, "record file")
+                .map_err(|e| anyhow::anyhow!("{item}: {e}"))?;
             if let Some(g) = c.pga_g {
-                if !positive(g) {
-                    bail!("{item}: pga_g must be positive, got {g}");
-                }
+                range(
+                    &p,
+                    &format!("ground_motion[{i}].pga_g"),
+                    g,
+                    0.0,
+                    true,
+                    MAX_PGA_G,
+                    "g",
+                )?;
             }
-            if !positive(c.time_scale) {
-                bail!("{item}: time_scale must be positive, got {}", c.time_scale);
-            }
+            range(
+                &p,
+                &format!("ground_motion[{i}].time_scale"),
+                c.time_scale,
+                TIME_SCALE.0,
+                false,
+                TIME_SCALE.1,
+                "",
+            )?;
             components[axis] = Some(ComponentSpec { file, ..c.clone() });
         }
-        if !positive(raw.fe.dt) {
-            bail!("{p}: fe.dt must be positive, got {}", raw.fe.dt);
-        }
+        range(&p, "fe.dt", raw.fe.dt, FE_DT.0, false, FE_DT.1, "s")?;
         if let Some(d) = raw.fe.duration {
-            if !positive(d) {
-                bail!("{p}: fe.duration must be positive, got {d}");
-            }
+            range(&p, "fe.duration", d, 0.0, true, MAX_TIME_S, "s")?;
         }
         let variant: Variant = raw
             .fe
@@ -327,9 +444,7 @@ impl Scenario {
                     bail!("{p}: collapse.ratio is for a drift criterion, not vertical_drop");
                 }
                 if let Some(t) = c.threshold_m {
-                    if !positive(t) {
-                        bail!("{p}: collapse.threshold_m must be positive, got {t}");
-                    }
+                    range(&p, "collapse.threshold_m", t, 0.0, true, 100.0, "m")?;
                 }
                 CriterionSpec::VerticalDrop(c.threshold_m)
             }
@@ -355,34 +470,15 @@ impl Scenario {
                 "{p}: collapse.criterion {o:?} is not vertical_drop, drift_1_50, drift_4pct or drift"
             ),
         };
-        let ph = &raw.physics;
-        for (name, v) in [
-            ("steps_per_second", ph.steps_per_second),
-            ("settle_s", ph.settle_s + 1.0),
-        ] {
-            if !positive(v) {
-                bail!("{p}: physics.{name} must be positive");
-            }
-        }
-        for (name, v) in [
-            ("friction", ph.friction),
-            ("restitution", ph.restitution),
-            ("linear_damping", ph.linear_damping),
-            ("angular_damping", ph.angular_damping),
-            ("spring_correction", ph.spring_correction),
-            ("spring_damping", ph.spring_damping),
-        ] {
-            if !(v >= 0.0 && v.is_finite()) {
-                bail!("{p}: physics.{name} must be ≥ 0, got {v}");
-            }
-        }
-        if ph.solver_iterations == 0 {
-            bail!("{p}: physics.solver_iterations must be at least 1");
-        }
-        if let Some(t) = ph.time_limit_s {
-            if !positive(t) {
-                bail!("{p}: physics.time_limit_s must be positive, got {t}");
-            }
+        raw.physics
+            .check()
+            .map_err(|e| anyhow::anyhow!("{p}: {e}"))?;
+        if raw
+            .output
+            .as_ref()
+            .is_some_and(|o| o.as_os_str().is_empty())
+        {
+            bail!("{p}: output: the output folder is empty (give a folder name)");
         }
         let stem = path
             .file_stem()

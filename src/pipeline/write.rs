@@ -1,10 +1,12 @@
-//! Writes a run's outputs into its folder, each file atomically (temp name, then rename):
+//! Writes a run's outputs as one folder, replaced as a whole (built beside the target,
+//! then swapped in: [`crate::output::location`]):
 //! `ruins.csv`, `keyframes.csv`, `history.csv`, `bodies.csv`, `connections.csv` (when a
 //! ruin stage ran), `summary.json` and `collapse.glb` (formats: `docs/scenario-format.md`,
 //! [`crate::output::history`]). Formatting is fixed (decimals, key order), so the
 //! same input gives the same bytes; only `summary.json`'s `wall_time_s` differs between
 //! runs (left out with `timing = false`).
 use super::RunRecord;
+use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
@@ -13,7 +15,6 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::summary;
-use crate::output::write_atomic;
 use crate::physics::Pose;
 use crate::ruin::connection::ConnectionState;
 use anyhow::{Context, Result};
@@ -62,8 +63,8 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
             let _ = writeln!(
                 s,
                 "{},{},{},{},{}",
-                rec.bodies[c.a].name,
-                rec.bodies[c.b].name,
+                field(&rec.bodies[c.a].name),
+                field(&rec.bodies[c.b].name),
                 st(c.start_state),
                 st(c.state),
                 c.broke_at_s.map_or(String::new(), |t| format!("{t:.4}"))
@@ -153,15 +154,16 @@ fn glb(bodies: &str, keyframes: &str, history: &str) -> Result<Vec<u8>> {
     encode_glb(&run_scene(&bodies, &frames, &ground)?)
 }
 
-/// Writes the outputs into `dir` (created if missing); returns the paths written.
+/// What a run folder owns: an existing non-empty output folder holding none of these is
+/// refused before the run ([`crate::output::location::check_replaceable`]).
+pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv"];
+
+/// Writes the outputs as the whole content of `dir`: built beside it and swapped in, so
+/// the folder holds this run's files and nothing of an earlier run
+/// ([`crate::output::location::replace_dir`]); returns the paths written.
 pub fn write(rec: &RunRecord, dir: &Path, timing: bool) -> Result<Vec<PathBuf>> {
     let files = contents(rec, timing)?;
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let mut out = Vec::new();
-    for (name, bytes) in files {
-        let p = dir.join(name);
-        write_atomic(&p, &bytes).with_context(|| format!("cannot write {}", p.display()))?;
-        out.push(p);
-    }
-    Ok(out)
+    let refs: Vec<(&str, &[u8])> = files.iter().map(|(n, b)| (*n, b.as_slice())).collect();
+    crate::output::location::replace_dir(dir, RUN_OWNED, &refs)
+        .with_context(|| format!("cannot write the run folder {}", dir.display()))
 }

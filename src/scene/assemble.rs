@@ -141,6 +141,7 @@ impl Locator {
 impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
+        crate::model::limits::check_input_file(path, "scene file")?;
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read scene file {}", path.display()))?;
         Scene::from_json(&text).with_context(|| format!("scene file {}", path.display()))
@@ -205,8 +206,18 @@ fn non_finite_hint(text: &str, e: &serde_json::Error) -> &'static str {
     let Some(line) = text.lines().nth(e.line().saturating_sub(1)) else {
         return "";
     };
+    // serde_json's column counts bytes; widen the window to char boundaries (a
+    // multi-byte character next to the error must not split: found by the property
+    // test in tests/hostile_inputs.rs).
     let col = e.column().saturating_sub(1).min(line.len());
-    let around = &line[col.saturating_sub(12)..(col + 12).min(line.len())];
+    let (mut a, mut b) = (col.saturating_sub(12), (col + 12).min(line.len()));
+    while !line.is_char_boundary(a) {
+        a -= 1;
+    }
+    while !line.is_char_boundary(b) {
+        b += 1;
+    }
+    let around = &line[a..b];
     if ["NaN", "nan", "Infinity", "inf"]
         .iter()
         .any(|w| around.contains(w))

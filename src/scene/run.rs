@@ -72,6 +72,7 @@ pub fn run_scene(scene: &Scene, every: Option<u64>, out: &mut dyn Write) -> Resu
 /// Runs a scene file and writes its poses CSV atomically to `out_path` (nothing is
 /// written if anything fails).
 pub fn run_scene_file(scene_path: &Path, out_path: &Path, every: Option<u64>) -> Result<()> {
+    crate::output::location::check_output_file(out_path, "--out")?;
     let scene = Scene::load(scene_path)?;
     let mut file = AtomicFile::create(out_path)?;
     run_scene(&scene, every, &mut file)
@@ -79,11 +80,7 @@ pub fn run_scene_file(scene_path: &Path, out_path: &Path, every: Option<u64>) ->
     file.commit()
 }
 
-/// Quotes a CSV field when needed.
+/// RFC 4180 quoting, as every table fem2rbd writes ([`crate::output::csv_text`]).
 fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+    crate::output::csv_text::field(s).into_owned()
 }

@@ -9,6 +9,7 @@ mod support;
 mod cli {
     mod export_opensees;
     mod fe;
+    mod hostile_inputs;
     mod model;
 }
 mod mapping {

@@ -192,9 +192,9 @@ fn bad_export_options_are_clear_errors() {
     for (args, msg) in [
         (
             vec!["--gm", "W=x.AT2,0.1"],
-            "direction \"W\" must be X, Y or Z",
+            "unknown direction \"W\" (use X, Y or Z)",
         ),
-        (vec!["--gm", "X=x.AT2"], "expected DIR=PATH,PGA_G"),
+        (vec!["--gm", "X"], "expected DIR=PATH[,pga=G]"),
         (vec!["--gm", "X=x.AT2,abc"], "PGA \"abc\" is not a number"),
         (
             vec!["--gm", "X=/nonexistent/x.AT2,0.1"],
@@ -204,7 +204,7 @@ fn bad_export_options_are_clear_errors() {
             vec!["--variant", "fiber"],
             "--variant \"fiber\": use force, disp or elastic",
         ),
-        (vec!["--dt", "0"], "--dt 0 must be positive"),
+        (vec!["--dt", "0"], "--dt = 0 s: must be in [1e-6, 0.1] s"),
     ] {
         let st = Command::new(BIN)
             .args(["export", "opensees", MODEL, "-o"])

@@ -7,9 +7,11 @@
 //! PGA, and integrates with Newmark (γ = 0.5, β = 0.25) + Newton and the fallbacks of the
 //! reference `run_frame3.py`. Commands: `eigen [N]`, `gravity`, `th [out.csv]`.
 //! openseespy 3.7.1 is imported after preloading its bundled BLAS/LAPACK.
+use crate::model::limits::{check_range, show_number, FE_DT, MAX_PGA_G, MAX_TIME_S, TIME_SCALE};
 use crate::model::{
     strip_properties, ElementKind, Formulation, Integration, Model, SectionKind, ShellLayer,
 };
+use crate::motion::{read_record, Format, GroundMotion};
 use anyhow::{bail, Context, Result};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -33,8 +35,8 @@ pub struct GroundMotionInput {
     pub direction: u8,
     /// Record file (PEER AT2, values in g).
     pub path: PathBuf,
-    /// Target peak ground acceleration (g).
-    pub pga_g: f64,
+    /// Target peak ground acceleration (g); `None` = as recorded.
+    pub pga_g: Option<f64>,
 }
 
 /// Options of the OpenSees export.
@@ -104,16 +106,62 @@ fn s(x: &str) -> String {
 
 /// Writes the openseespy script for `model`. `source` names the model file in comments.
 pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> Result<String> {
-    if !(opts.dt.is_finite() && opts.dt > 0.0) {
-        bail!("--dt {} must be positive", opts.dt);
-    }
-    if !(opts.time_scale.is_finite() && opts.time_scale > 0.0) {
-        bail!("--time-scale {} must be positive", opts.time_scale);
-    }
+    // The same ranges as `fem2rbd fe` and a scenario (crate::model::limits).
+    check_range("--dt", opts.dt, FE_DT.0, false, FE_DT.1, "s")?;
+    check_range(
+        "--time-scale",
+        opts.time_scale,
+        TIME_SCALE.0,
+        false,
+        TIME_SCALE.1,
+        "",
+    )?;
     if let Some(d) = opts.duration {
-        if !(d.is_finite() && d > 0.0) {
-            bail!("--duration {d} must be positive");
+        check_range("--duration", d, 0.0, true, MAX_TIME_S, "s")?;
+    }
+    if let Some(z) = opts.stop_uz {
+        check_range("--stop-uz", z, 0.0, true, 100.0, "m")?;
+    }
+    // Every record is read and checked as `fe` reads it (AT2 only: the script reads
+    // AT2), scaled to its PGA (an all-zero record cannot be) and time-scaled, and the
+    // analysis length bounded, before the script is written.
+    let mut gm_check = GroundMotion::default();
+    for gm in &opts.ground_motions {
+        if !(1..=3).contains(&gm.direction) {
+            bail!("ground-motion direction {} must be 1, 2 or 3", gm.direction);
         }
+        let axis = usize::from(gm.direction - 1);
+        if gm_check.components[axis].is_some() {
+            bail!("--gm: direction {} given twice", ["X", "Y", "Z"][axis]);
+        }
+        let mut rec = read_record(&gm.path, Format::At2)?
+            .pop()
+            .context("no record read")?;
+        if let Some(g) = gm.pga_g {
+            check_range("pga", g, 0.0, true, MAX_PGA_G, "g")
+                .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
+            rec.scale_to_pga(g)
+                .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
+        }
+        rec.time_scale(opts.time_scale)?;
+        gm_check.components[axis] = Some(rec);
+    }
+    if !opts.ground_motions.is_empty() {
+        let t_end = opts.duration.unwrap_or_else(|| gm_check.duration_s());
+        if t_end.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            bail!("--gm: the ground motion lasts 0 s (a record needs at least two samples)");
+        }
+        crate::model::limits::grid_count(
+            format!(
+                "analysis of {} s with --dt {} s",
+                show_number(t_end),
+                show_number(opts.dt)
+            ),
+            "time steps",
+            t_end,
+            opts.dt,
+            crate::model::limits::MAX_FE_STEPS,
+        )?;
     }
     let mats = model.material_map();
     let secs = model.section_map();
@@ -162,14 +210,11 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     )?;
     writeln!(
         w,
-        "GROUND_MOTIONS = [  # (direction 1=X 2=Y 3=Z, AT2 file, target PGA in g)"
+        "GROUND_MOTIONS = [  # (direction 1=X 2=Y 3=Z, AT2 file, target PGA in g or None)"
     )?;
     for gm in &opts.ground_motions {
         if !(1..=3).contains(&gm.direction) {
             bail!("ground-motion direction {} must be 1, 2 or 3", gm.direction);
-        }
-        if !(gm.pga_g.is_finite() && gm.pga_g >= 0.0) {
-            bail!("ground-motion PGA {} must be >= 0", gm.pga_g);
         }
         let p = std::fs::canonicalize(&gm.path)
             .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
@@ -178,7 +223,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
             "    ({}, {}, {}),",
             gm.direction,
             s(&p.display().to_string()),
-            f(gm.pga_g)
+            gm.pga_g.map_or_else(|| "None".to_string(), f)
         )?;
     }
     writeln!(w, "]")?;

@@ -83,9 +83,12 @@ def read_at2(path):
 
 def ground_motion(direction, path, pga_g):
     """One component: (record dt (s), values, factor to m/s^2). The factor scales the
-    record to its target PGA: pga_g / max|a| * g. (This is the one place to switch to
-    factors computed by fem2rbd's motion module.)"""
+    record to its target PGA: pga_g / max|a| * g, or g when pga_g is None (as
+    recorded). (This is the one place to switch to factors computed by fem2rbd's
+    motion module.)"""
     dt, vals = read_at2(path)
+    if pga_g is None:
+        return dt, vals, G
     peak = max(abs(v) for v in vals)
     return dt, vals, pga_g / peak * G
 

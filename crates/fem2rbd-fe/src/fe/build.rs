@@ -182,6 +182,19 @@ fn transform_kind(k: TransfKind) -> TransformKind {
 /// [`Model::load`] guarantees). Shell elements are refused: the FE solver has no shell
 /// element yet.
 pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain> {
+    if !model
+        .elements
+        .iter()
+        .any(|e| !matches!(e.kind, crate::model::ElementKind::Panel { .. }))
+    {
+        anyhow::bail!(
+            "model {:?} has no structural elements ({} nodes, {} elements, panels are \
+             rigid-body only): nothing to analyse",
+            model.name,
+            model.nodes.len(),
+            model.elements.len()
+        );
+    }
     let mut domain = Domain::new();
     let mut node_index = BTreeMap::new();
     for n in &model.nodes {

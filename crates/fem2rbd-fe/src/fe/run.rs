@@ -24,7 +24,7 @@ use crate::fe::analysis::transient::{
 };
 use crate::fe::build::{build_domain, BuildOptions, BuiltDomain};
 use crate::fe::domain::Domain;
-use crate::model::Model;
+use crate::model::{limits, Model};
 use crate::motion::GroundMotion;
 use anyhow::{anyhow, bail, Context, Result};
 
@@ -150,8 +150,33 @@ pub fn run_ground_motion(
     }
     let t_end = options.duration.unwrap_or_else(|| motion.duration_s());
     if !(t_end > 0.0 && t_end.is_finite()) {
-        bail!("duration must be positive, got {t_end} s");
+        bail!(
+            "duration must be positive, got {} s",
+            limits::show_number(t_end)
+        );
     }
+    // Resource bounds (docs/reliability.md), before the domain is built.
+    let steps = limits::grid_count(
+        format!(
+            "analysis of {} s with Δt = {} s",
+            limits::show_number(t_end),
+            limits::show_number(options.dt)
+        ),
+        "time steps",
+        t_end,
+        options.dt,
+        limits::MAX_FE_STEPS,
+    )? as u64;
+    let recorded_nodes = options
+        .record_nodes
+        .as_ref()
+        .map_or(model.nodes.len(), Vec::len) as u64;
+    limits::check(
+        format!("recording every {} step(s)", options.every),
+        "recorded values",
+        (steps / options.every as u64 + 2).saturating_mul(6 * recorded_nodes),
+        limits::MAX_RECORDED_VALUES,
+    )?;
     let prepared = prepare(model, &options.build, options.modes)?;
     let Prepared {
         mut built, modal, ..

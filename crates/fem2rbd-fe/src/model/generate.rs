@@ -244,6 +244,157 @@ fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()>
     Ok(())
 }
 
+/// Valid ranges of the generator's parameters (SI units), checked by [`check_params`]
+/// before anything is built; the option of `fem2rbd generate frame` has the same name
+/// with `-` for `_`. Counts are bounded so that the model stays within the resource
+/// bounds of [`super::limits`]; physical values so that they describe reinforced
+/// concrete (E of concrete 1 to 100 GPa, f′c 1 to 200 MPa, steel E 100 to 400 GPa,
+/// f_y 100 MPa to 3 GPa, damping ratio 0 to 1).
+pub const PARAM_RANGES: &[(&str, f64, bool, f64, &str)] = &[
+    // (name, low, low excluded, high, unit)
+    ("spans_x", 0.1, false, 100.0, "m"),
+    ("spans_y", 0.1, false, 100.0, "m"),
+    ("stories", 0.1, false, 100.0, "m"),
+    ("column", 0.01, false, 10.0, "m"),
+    ("beam", 0.01, false, 10.0, "m"),
+    ("slab_thickness", 0.001, false, 2.0, "m"),
+    ("cover", 0.0, true, 1.0, "m"),
+    ("bar_offset", 0.0, true, 1.0, "m"),
+    ("column_bar_diameter", 0.0, true, 0.2, "m"),
+    ("beam_bar_diameter", 0.0, true, 0.2, "m"),
+    ("ec", 1e9, false, 1e11, "Pa"),
+    ("fc", 1e6, false, 2e8, "Pa"),
+    ("confinement", 1.0, false, 3.0, ""),
+    ("cover_epscu", -1.0, false, 0.0, ""),
+    ("core_epscu", -1.0, false, 0.0, ""),
+    ("residual", 0.0, false, 1.0, ""),
+    ("fy", 1e8, false, 3e9, "Pa"),
+    ("es", 1e11, false, 4e11, "Pa"),
+    ("concrete_density", 0.0, false, 20000.0, "kg/m³"),
+    ("steel_density", 0.0, false, 20000.0, "kg/m³"),
+    ("added_mass", 0.0, false, 1e9, "kg"),
+    ("ballast_centre", 0.0, false, 1.0, ""),
+    ("scale", 0.0, true, 10.0, ""),
+    ("g", 0.0, false, 100.0, "m/s²"),
+    ("xi", 0.0, false, 1.0, ""),
+    ("t1", 0.0, true, 100.0, "s"),
+];
+
+/// Largest counts of the generator: bays per direction (the node-tag scheme holds 49),
+/// stories, elements per member, bars per face, core fibres per direction.
+pub const MAX_BAYS: usize = 49;
+/// Largest number of stories.
+pub const MAX_STORIES: usize = 200;
+/// Largest number of elements per column per story and per half beam span.
+pub const MAX_ELEMENTS_PER_MEMBER: u32 = 50;
+/// Largest number of bars per column face or beam layer.
+pub const MAX_BARS: u32 = 50;
+/// Largest number of core fibres per direction.
+pub const MAX_CORE_FIBERS: u32 = 100;
+
+/// Checks every parameter against its range ([`PARAM_RANGES`], the `MAX_*` counts) and
+/// the element count of the frame against [`super::limits::MAX_ELEMENTS`], naming the
+/// parameter. Nothing is built before this passes.
+pub fn check_params(p: &FrameParams) -> anyhow::Result<()> {
+    use super::limits::{check, check_range};
+    use anyhow::bail;
+    let range = |name: &str| {
+        let r = PARAM_RANGES
+            .iter()
+            .find(|r| r.0 == name)
+            .expect("every parameter has a range");
+        (r.1, r.2, r.3, r.4)
+    };
+    let one = |name: &str, v: f64| -> anyhow::Result<()> {
+        let (lo, open, hi, unit) = range(name);
+        Ok(check_range(name, v, lo, open, hi, unit)?)
+    };
+    let list = |name: &str, v: &[f64]| -> anyhow::Result<()> {
+        let (lo, open, hi, unit) = range(name);
+        for (k, x) in v.iter().enumerate() {
+            check_range(format!("{name}[{}]", k + 1), *x, lo, open, hi, unit)?;
+        }
+        Ok(())
+    };
+    for (name, n, max) in [
+        ("spans_x", p.spans_x.len(), MAX_BAYS),
+        ("spans_y", p.spans_y.len(), MAX_BAYS),
+        ("stories", p.story_heights.len(), MAX_STORIES),
+    ] {
+        if n == 0 {
+            bail!("{name}: give at least one value");
+        }
+        check(name, "count", n as u64, max as u64)?;
+    }
+    for (name, n, max) in [
+        (
+            "column_elements",
+            p.column_elements,
+            MAX_ELEMENTS_PER_MEMBER,
+        ),
+        ("beam_elements", p.beam_elements, MAX_ELEMENTS_PER_MEMBER),
+        ("column_bars_per_face", p.column_bars_per_face, MAX_BARS),
+        ("beam_bars (top)", p.beam_bars[0], MAX_BARS),
+        ("beam_bars (bottom)", p.beam_bars[1], MAX_BARS),
+        ("column_fibers (ny)", p.column_fibers[0], MAX_CORE_FIBERS),
+        ("column_fibers (nz)", p.column_fibers[1], MAX_CORE_FIBERS),
+        ("beam_fibers (ny)", p.beam_fibers[0], MAX_CORE_FIBERS),
+        ("beam_fibers (nz)", p.beam_fibers[1], MAX_CORE_FIBERS),
+    ] {
+        if n == 0 {
+            bail!("{name} = 0: must be at least 1");
+        }
+        check(name, "count", u64::from(n), u64::from(max))?;
+    }
+    list("spans_x", &p.spans_x)?;
+    list("spans_y", &p.spans_y)?;
+    list("stories", &p.story_heights)?;
+    list("column", &p.column)?;
+    list("beam", &p.beam)?;
+    list("ec", &p.ec)?;
+    list("fc", &p.fc)?;
+    list("added_mass", &p.added_mass)?;
+    for (name, v) in [
+        ("slab_thickness", p.slab_thickness),
+        ("cover", p.cover),
+        ("bar_offset", p.bar_offset),
+        ("column_bar_diameter", p.column_bar_diameter),
+        ("beam_bar_diameter", p.beam_bar_diameter),
+        ("confinement", p.confinement),
+        ("cover_epscu", p.cover_epscu),
+        ("core_epscu", p.core_epscu),
+        ("residual", p.residual),
+        ("fy", p.fy),
+        ("es", p.es),
+        ("concrete_density", p.concrete_density),
+        ("steel_density", p.steel_density),
+        ("ballast_centre", p.ballast_centre),
+        ("scale", p.scale),
+        ("g", p.g),
+        ("xi", p.xi),
+        ("t1", p.t1),
+    ] {
+        one(name, v)?;
+    }
+    // Elements of the frame (module docs): columns, beams along both directions with
+    // `beam_elements` per half span, 4 strips and 4 panels per bay and floor.
+    let (nx, ny, ns) = (
+        p.spans_x.len() as u64,
+        p.spans_y.len() as u64,
+        p.story_heights.len() as u64,
+    );
+    let columns = (nx + 1) * (ny + 1) * ns * u64::from(p.column_elements);
+    let beams = (nx * (ny + 1) + ny * (nx + 1)) * 2 * u64::from(p.beam_elements) * ns;
+    let slabs = 8 * nx * ny * ns;
+    check(
+        "frame",
+        "element count",
+        columns + beams + slabs,
+        super::limits::MAX_ELEMENTS as u64,
+    )?;
+    Ok(())
+}
+
 /// Builds the frame model. Errors on inconsistent parameters.
 // The story loops index several per-story arrays (concrete, heights, masses) and tags.
 #[allow(clippy::needless_range_loop)]
@@ -268,6 +419,7 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
     if !(0.0..=1.0).contains(&p.ballast_centre) {
         bail!("ballast centre share {} must lie in 0..1", p.ballast_centre);
     }
+    check_params(p)?;
     let pi = std::f64::consts::PI;
     let col_bar_area = pi * p.column_bar_diameter.powi(2) / 4.0;
     let beam_bar_area = pi * p.beam_bar_diameter.powi(2) / 4.0;
@@ -684,6 +836,9 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
         elements,
         masses,
     };
-    model.validate()?;
+    model.validate().map_err(|e| super::ModelError {
+        file: format!("generated frame {:?}", p.name),
+        ..e
+    })?;
     Ok(model)
 }

@@ -6,6 +6,7 @@
 //! reports the file, line and item of the first error.
 pub mod element;
 pub mod generate;
+pub mod limits;
 pub mod material;
 pub mod reference_json;
 pub mod section;
@@ -187,6 +188,7 @@ impl Model {
     /// `uniaxial_materials` key) goes through [`import_reference_json`].
     pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Model> {
         let path = path.as_ref();
+        limits::check_input_file(path, "model file")?;
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read model file {}", path.display()))?;
         let is_json = path

@@ -324,6 +324,21 @@ impl Section {
         }
     }
 
+    /// The number of fibres of a fiber or RC section without expanding it (so a huge
+    /// `core_fibers` is counted, not allocated); 0 for elastic/plate sections. RC: core
+    /// ny·nz, cover strips 2·(ny + 2)·layers + 2·layers·nz, plus the bars ([`RcRect`]).
+    pub fn fiber_count(&self) -> u64 {
+        match &self.kind {
+            SectionKind::Fiber { fibers, .. } => fibers.len() as u64,
+            SectionKind::RcRect(rc) => {
+                let [ny, nz] = rc.core_fibers.map(u64::from);
+                let nt = u64::from(rc.cover_layers);
+                ny * nz + 2 * (ny + 2) * nt + 2 * nt * nz + rc.bars.len() as u64
+            }
+            _ => 0,
+        }
+    }
+
     /// Torsional stiffness GJ (N·m²) of a beam section; `None` for plates.
     pub fn gj(&self) -> Option<f64> {
         match &self.kind {

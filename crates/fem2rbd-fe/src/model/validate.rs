@@ -1,6 +1,6 @@
 //! Parsing with file:line errors, and semantic validation of a model.
 use super::source_map::{line_of, SourceMap};
-use super::{ElementKind, Model, SectionKind};
+use super::{limits, ElementKind, Model, SectionKind};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// A model-file error: file, line (when known), item (e.g. "element 17") and message.
@@ -40,9 +40,12 @@ pub(super) fn parse_and_validate(
     let (model, map) = if is_json {
         let map = SourceMap::from_json(text);
         let model: Model = serde_json::from_str(text).map_err(|e| {
-            let item = map
-                .item_at(e.line())
-                .map(|(k, i)| format!("{k} item {}", i + 1));
+            let item = if top_level_key_error(&e.to_string()) {
+                Some("top level".to_string())
+            } else {
+                map.item_at(e.line())
+                    .map(|(k, i)| format!("{k} item {}", i + 1))
+            };
             ModelError {
                 file: file.to_string(),
                 line: Some(e.line()),
@@ -55,9 +58,12 @@ pub(super) fn parse_and_validate(
         let map = SourceMap::from_toml(text);
         let model: Model = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of(text, s.start));
-            let item = line
-                .and_then(|l| map.item_at(l))
-                .map(|(k, i)| format!("{k} item {}", i + 1));
+            let item = if top_level_key_error(e.message()) {
+                Some("top level".to_string())
+            } else {
+                line.and_then(|l| map.item_at(l))
+                    .map(|(k, i)| format!("{k} item {}", i + 1))
+            };
             ModelError {
                 file: file.to_string(),
                 line,
@@ -69,6 +75,13 @@ pub(super) fn parse_and_validate(
     };
     validate(&model, file, &map)?;
     Ok(model)
+}
+
+/// An unknown key at the top level (serde lists the top-level keys): it must not be
+/// attributed to the array item that happens to precede it in the file.
+fn top_level_key_error(message: &str) -> bool {
+    message.contains("unknown field")
+        && message.contains("`transformation`, `node`, `support`, `element`, `mass`")
 }
 
 struct Ctx<'a> {
@@ -117,6 +130,28 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
     if m.gravity.load_steps == 0 {
         return Err(cx.key("gravity", "load_steps must be at least 1".into()));
     }
+    // ---- resource bounds (docs/reliability.md), before anything is sized by them
+    limits::check(
+        "gravity",
+        "load_steps",
+        u64::from(m.gravity.load_steps),
+        u64::from(limits::MAX_LOAD_STEPS),
+    )
+    .map_err(|e| cx.key("gravity", e.short()))?;
+    limits::check(
+        "model",
+        "node count",
+        m.nodes.len() as u64,
+        limits::MAX_NODES as u64,
+    )
+    .map_err(|e| cx.key("node", e.short()))?;
+    limits::check(
+        "model",
+        "element count",
+        m.elements.len() as u64,
+        limits::MAX_ELEMENTS as u64,
+    )
+    .map_err(|e| cx.key("element", e.short()))?;
     if let Some(d) = &m.damping {
         let vals: Vec<f64> = [d.xi, d.a0, d.a1]
             .into_iter()
@@ -175,6 +210,13 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
         if secs.insert(s.tag, s).is_some() {
             return Err(cx.item("section", i, it(), "duplicate section tag".into()));
         }
+        limits::check(
+            format!("section {}", s.tag),
+            "fibre count",
+            s.fiber_count(),
+            limits::MAX_FIBERS_PER_SECTION,
+        )
+        .map_err(|e| cx.item("section", i, it(), e.short()))?;
         s.check().map_err(|e| cx.item("section", i, it(), e))?;
         for r in s.material_refs() {
             if !mats.contains_key(&r) {
@@ -398,6 +440,25 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
             ElementKind::ElasticBeamColumn { .. } => {}
         }
     }
+
+    // ---- fibre states: Σ points × fibres over beam-columns
+    let mut states: u64 = 0;
+    for e in &m.elements {
+        if let ElementKind::BeamColumn {
+            points, section, ..
+        } = &e.kind
+        {
+            let n = secs.get(section).map_or(0, |s| s.fiber_count());
+            states = states.saturating_add(u64::from(*points).saturating_mul(n));
+        }
+    }
+    limits::check(
+        "model",
+        "fibre states (points × fibres over all beam-columns)",
+        states,
+        limits::MAX_FIBER_STATES,
+    )
+    .map_err(|e| cx.key("element", e.short()))?;
 
     // ---- masses
     for (i, nm) in m.masses.iter().enumerate() {

@@ -19,6 +19,7 @@
 //! three histories stay consistent with each other.
 
 use super::GroundMotion;
+use crate::model::limits::show_number as show;
 use anyhow::{bail, Result};
 
 /// Baseline correction applied before integration (per component).
@@ -133,10 +134,22 @@ impl GroundMotion {
     /// correction. Absent components give zeros.
     pub fn integrate(&self, step_s: f64, baseline: Baseline) -> Result<GroundHistory> {
         if !(step_s.is_finite() && step_s > 0.0) {
-            bail!("integration step must be positive, got {step_s} s");
+            bail!("integration step must be positive, got {} s", show(step_s));
         }
         let dur = self.duration_s();
-        let n = (dur / step_s + 1e-9).floor() as usize + 1;
+        // n = ⌊T/h⌋ + 1, bounded before the cast (a step of 1e-300 s or a record
+        // time-scaled by 1e300 is an error here, not an overflow).
+        let n = crate::model::limits::grid_count(
+            format!(
+                "ground motion of {} s on a step of {} s",
+                show(dur),
+                show(step_s)
+            ),
+            "integration samples",
+            dur,
+            step_s,
+            crate::model::limits::MAX_SAMPLES,
+        )?;
         let mut acc = vec![[0.0; 3]; n];
         let mut vel = vec![[0.0; 3]; n];
         let mut disp = vec![[0.0; 3]; n];

@@ -17,6 +17,7 @@
 
 mod integrate;
 mod read;
+pub mod spec;
 
 pub use integrate::{Baseline, GroundHistory};
 pub use read::{read_record, Format};

@@ -14,6 +14,7 @@
 //! spacing; here an unsorted or uneven file is an error naming the first bad line.)
 
 use super::{Record, G};
+use crate::model::limits::show_number;
 use anyhow::{anyhow, bail, Context, Result};
 use std::path::Path;
 
@@ -40,6 +41,7 @@ pub enum Format {
 /// Returns one [`Record`] (named after the file stem) for AT2 and two-column files, and
 /// three records `stem:x`, `stem:y`, `stem:z` for a BCB CSV file.
 pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
+    crate::model::limits::check_input_file(path, "ground-motion file")?;
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read ground-motion file {}", path.display()))?;
     let file = path.display().to_string();
@@ -73,6 +75,10 @@ pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
         Format::Auto => unreachable!("resolved above"),
     }
 }
+
+/// Largest time step of a record (s). Strong-motion records are sampled at 0.001 to
+/// 0.04 s; one sample per second would already be no earthquake record.
+pub const MAX_RECORD_DT: f64 = 1.0;
 
 fn detect(path: &Path, text: &str) -> Format {
     let ext = path
@@ -170,11 +176,26 @@ fn parse_at2(text: &str, file: &str, stem: &str) -> Result<Record> {
     })?;
     if npts == 0 || !(dt > 0.0) {
         bail!(
-            "{file}:{}: AT2 header needs NPTS > 0 and DT > 0, got NPTS={npts}, DT={dt}",
-            hdr + 1
+            "{file}:{}: AT2 header needs NPTS > 0 and DT > 0, got NPTS={npts}, DT={}",
+            hdr + 1,
+            show_number(dt)
         );
     }
-    let mut a = Vec::with_capacity(npts);
+    crate::model::limits::check(
+        format!("{file}:{}: AT2 header", hdr + 1),
+        "NPTS",
+        npts as u64,
+        crate::model::limits::MAX_SAMPLES,
+    )?;
+    crate::model::limits::check_range(
+        format!("{file}:{}: AT2 header DT", hdr + 1),
+        dt,
+        0.0,
+        true,
+        MAX_RECORD_DT,
+        "s",
+    )?;
+    let mut a = Vec::with_capacity(npts.min(1 << 16));
     let mut last_line = hdr + 1;
     for (i, l) in lines.iter().enumerate().skip(hdr + 1) {
         for tok in l.split_whitespace() {
@@ -235,6 +256,14 @@ fn parse_columns(text: &str, file: &str, ncol: usize) -> Result<(f64, f64, Vec<V
                     .ok_or_else(|| anyhow!("{file}:{}: `{tok}` is not a number", i + 1))?,
             );
         }
+        if t.len() as u64 >= crate::model::limits::MAX_SAMPLES {
+            crate::model::limits::check(
+                format!("{file}:{}", i + 1),
+                "rows",
+                t.len() as u64 + 1,
+                crate::model::limits::MAX_SAMPLES,
+            )?;
+        }
         t.push(vals[0]);
         line_no.push(i + 1);
         for (c, v) in cols.iter_mut().zip(&vals[1..]) {
@@ -270,5 +299,21 @@ fn parse_columns(text: &str, file: &str, ncol: usize) -> Result<(f64, f64, Vec<V
     if t0 < 0.0 {
         bail!("{file}:{}: negative start time {t0}", line_no[0]);
     }
+    crate::model::limits::check_range(
+        format!("{file}:{}: time step of the rows", line_no[1]),
+        dt,
+        0.0,
+        true,
+        MAX_RECORD_DT,
+        "s",
+    )?;
+    crate::model::limits::check_range(
+        format!("{file}:{}: start time", line_no[0]),
+        t0,
+        0.0,
+        false,
+        1e4,
+        "s",
+    )?;
     Ok((t0, dt, cols))
 }

@@ -1,0 +1,917 @@
+//! The standing hostile-input suite (issue 16, docs/reliability.md).
+//!
+//! `every_bad_input_is_refused_cleanly`: a table of bad inputs for every subcommand and
+//! file format, each run through the real binary. Every case asserts
+//! * the exit code (1: refused input; 2: a command line clap rejects),
+//! * that the message names the file and line, or the item at fault (substrings),
+//! * no panic and no abort (no `panicked`, no signal),
+//! * that the working folder (which holds every output location) holds nothing new
+//!   afterwards: no output, no temporary file, no partial folder.
+//!
+//! The property tests run the parsers (model TOML and JSON, scenario, scene JSON, AT2,
+//! run folder) on generated inputs: they must return `Ok` or `Err`, never panic. They
+//! run `PROPTEST_CASES` cases each (default 64 here, a few seconds; set e.g.
+//! `PROPTEST_CASES=5000` for a longer search).
+use proptest::prelude::*;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_fem2rbd");
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every path under `dir` (relative), recursively.
+fn listing(dir: &Path) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            out.insert(p.strip_prefix(dir).unwrap().display().to_string());
+            if p.is_dir() && !p.is_symlink() {
+                stack.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// A scenario in the work folder; `{X}` is replaced by the El Centro 180 record.
+const SCENARIO: &str = r#"model = "model.toml"
+mode = "physics"
+output = "out"
+[[ground_motion]]
+file = "elc180.at2"
+direction = "X"
+pga_g = 0.3
+time_scale = 0.5
+"#;
+
+/// One case: a name, the files it writes into the work folder first, the arguments
+/// (`{w}` = the work folder), the exit code and the substrings of stderr.
+struct Case {
+    name: &'static str,
+    files: Vec<(&'static str, String)>,
+    args: Vec<String>,
+    code: i32,
+    want: Vec<String>,
+}
+
+fn case(name: &'static str, args: &str, code: i32, want: &[&str]) -> Case {
+    Case {
+        name,
+        files: Vec::new(),
+        args: args.split(' ').map(str::to_string).collect(),
+        code,
+        want: want.iter().map(|s| s.to_string()).collect(),
+    }
+}
+
+impl Case {
+    fn with(mut self, file: &'static str, text: impl Into<String>) -> Case {
+        self.files.push((file, text.into()));
+        self
+    }
+}
+
+/// The scenario with `from` replaced by `to` (or `to` appended when `from` is empty).
+fn scenario(from: &str, to: &str) -> String {
+    if from.is_empty() {
+        format!("{SCENARIO}{to}\n")
+    } else {
+        assert!(SCENARIO.contains(from), "{from}");
+        SCENARIO.replacen(from, to, 1)
+    }
+}
+
+/// The frame3 model with `from` replaced by `to`.
+fn model(from: &str, to: &str) -> String {
+    let m = std::fs::read_to_string(root().join("data/frame3/model.toml")).unwrap();
+    assert!(m.contains(from), "{from}");
+    m.replacen(from, to, 1)
+}
+
+fn at2(npts: &str, dt: &str, values: &str) -> String {
+    format!(
+        "PEER NGA STRONG MOTION DATABASE RECORD\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\n\
+         NPTS=  {npts}, DT=   {dt} SEC\n{values}\n"
+    )
+}
+
+fn cases() -> Vec<Case> {
+    let run = "run {w}/s.toml --quiet";
+    let fe = "fe {w}/model.toml --out {w}/feout --gm";
+    let os = "export opensees {w}/model.toml -o {w}/m.py";
+    let gen = "generate frame -o {w}/g.toml";
+    vec![
+        // ---- scenario (`run`): defects 1, 4, 7, 8 of issue 16
+        case(
+            "time_scale 1e300",
+            run,
+            1,
+            &[
+                "s.toml",
+                "ground_motion[0].time_scale",
+                "1e300",
+                "[0.01, 100]",
+            ],
+        )
+        .with("s.toml", scenario("time_scale = 0.5", "time_scale = 1e300")),
+        case(
+            "time_scale 1e6",
+            run,
+            1,
+            &["s.toml", "ground_motion[0].time_scale"],
+        )
+        .with("s.toml", scenario("time_scale = 0.5", "time_scale = 1e6")),
+        case("fe.dt 1e-300", run, 1, &["s.toml", "fe.dt", "1e-300 s"])
+            .with("s.toml", scenario("", "[fe]\ndt = 1e-300")),
+        case("fe.dt 1e-9", run, 1, &["s.toml", "fe.dt", "[1e-6, 0.1] s"])
+            .with("s.toml", scenario("", "[fe]\ndt = 1e-9")),
+        case("fe.dt 1e300", run, 1, &["s.toml", "fe.dt"])
+            .with("s.toml", scenario("", "[fe]\ndt = 1e300")),
+        case("fe.duration inf", run, 1, &["s.toml", "fe.duration"])
+            .with("s.toml", scenario("", "[fe]\nduration = inf")),
+        case(
+            "restitution 5",
+            run,
+            1,
+            &["s.toml", "physics.restitution = 5", "[0, 1]"],
+        )
+        .with("s.toml", scenario("", "[physics]\nrestitution = 5.0")),
+        case(
+            "linear_damping 5",
+            run,
+            1,
+            &["s.toml", "physics.linear_damping"],
+        )
+        .with("s.toml", scenario("", "[physics]\nlinear_damping = 5.0")),
+        case(
+            "friction nan",
+            run,
+            1,
+            &["s.toml", "physics.friction = NaN"],
+        )
+        .with("s.toml", scenario("", "[physics]\nfriction = nan")),
+        case(
+            "settle_s -0.5",
+            run,
+            1,
+            &["s.toml", "physics.settle_s = -0.5 s"],
+        )
+        .with("s.toml", scenario("", "[physics]\nsettle_s = -0.5")),
+        case(
+            "time_limit_s 1e9",
+            run,
+            1,
+            &["s.toml", "physics.time_limit_s"],
+        )
+        .with("s.toml", scenario("", "[physics]\ntime_limit_s = 1e9")),
+        case(
+            "steps_per_second 1e9",
+            run,
+            1,
+            &["s.toml", "physics.steps_per_second"],
+        )
+        .with("s.toml", scenario("", "[physics]\nsteps_per_second = 1e9")),
+        case(
+            "rest.hold_s negative",
+            run,
+            1,
+            &["s.toml", "physics.rest.hold_s = -1 s"],
+        )
+        .with("s.toml", scenario("", "[physics.rest]\nhold_s = -1.0")),
+        case(
+            "rest.energy_ratio 0",
+            run,
+            1,
+            &["s.toml", "physics.rest.energy_ratio = 0"],
+        )
+        .with("s.toml", scenario("", "[physics.rest]\nenergy_ratio = 0.0")),
+        case(
+            "rest.max_speed_mps nan",
+            run,
+            1,
+            &["s.toml", "physics.rest.max_speed_mps"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics.rest]\nmax_speed_mps = nan"),
+        ),
+        case(
+            "pga_g 50",
+            run,
+            1,
+            &["s.toml", "ground_motion[0].pga_g = 50 g", "(0, 5] g"],
+        )
+        .with("s.toml", scenario("pga_g = 0.3", "pga_g = 50.0")),
+        case("output empty", run, 1, &["s.toml", "output", "empty"])
+            .with("s.toml", scenario("output = \"out\"", "output = \"\"")),
+        case(
+            "output is a file",
+            run,
+            1,
+            &["output folder", "a-file", "not a folder"],
+        )
+        .with(
+            "s.toml",
+            scenario("output = \"out\"", "output = \"{w}/a-file\""),
+        )
+        .with("a-file", "x"),
+        case(
+            "output under a file",
+            run,
+            1,
+            &["output folder", "a-file", "is a file"],
+        )
+        .with(
+            "s.toml",
+            scenario("output = \"out\"", "output = \"{w}/a-file/run\""),
+        )
+        .with("a-file", "x"),
+        case(
+            "output is a foreign folder",
+            run,
+            1,
+            &["mine", "did not write"],
+        )
+        .with(
+            "s.toml",
+            scenario("output = \"out\"", "output = \"{w}/mine\""),
+        )
+        .with("mine/thesis.tex", "x"),
+        case(
+            "record is /dev/zero",
+            run,
+            1,
+            &[
+                "s.toml",
+                "ground_motion[0]",
+                "/dev/zero",
+                "not a regular file",
+            ],
+        )
+        .with(
+            "s.toml",
+            scenario("file = \"elc180.at2\"", "file = \"/dev/zero\""),
+        ),
+        case(
+            "model missing",
+            run,
+            1,
+            &["s.toml", "model", "none.toml", "does not exist"],
+        )
+        .with(
+            "s.toml",
+            scenario("model = \"model.toml\"", "model = \"none.toml\""),
+        ),
+        case("scenario syntax", run, 1, &["s.toml:2:"])
+            .with("s.toml", scenario("mode = \"physics\"", "mode = = 1")),
+        case(
+            "scenario unknown key",
+            run,
+            1,
+            &["s.toml:10:", "unknown field `restitutio`"],
+        )
+        .with("s.toml", scenario("", "[physics]\nrestitutio = 0.5")),
+        case(
+            "scenario is a folder",
+            "run {w}/sdir --quiet",
+            1,
+            &["scenario file", "sdir", "not a regular file"],
+        )
+        .with("sdir/x", "x"),
+        // ---- records (AT2), through `run` and `fe`
+        case(
+            "AT2 NPTS 1e18",
+            run,
+            1,
+            &["rec.at2:4", "NPTS", "exceeds the limit"],
+        )
+        .with("s.toml", scenario("elc180.at2", "rec.at2"))
+        .with("rec.at2", at2("1000000000000000000", ".01", "0.1 0.2")),
+        case(
+            "AT2 DT 1e10",
+            run,
+            1,
+            &["rec.at2:4", "DT = 1e10 s", "(0, 1] s"],
+        )
+        .with("s.toml", scenario("elc180.at2", "rec.at2"))
+        .with("rec.at2", at2("2", "1e10", "0.1 0.2")),
+        case(
+            "AT2 truncated",
+            &format!("{fe} X={{w}}/rec.at2"),
+            1,
+            &["rec.at2:5", "2 samples read but NPTS = 5"],
+        )
+        .with("rec.at2", at2("5", ".01", "0.1 0.2")),
+        case(
+            "AT2 bad number",
+            &format!("{fe} X={{w}}/rec.at2"),
+            1,
+            &["rec.at2:5", "`0.x` is not a number"],
+        )
+        .with("rec.at2", at2("2", ".01", "0.1 0.x")),
+        case(
+            "two-column uneven",
+            &format!("{fe} X={{w}}/rec.txt"),
+            1,
+            &["rec.txt:2", "off the uniform step"],
+        )
+        .with("rec.txt", "0 0.1\n0.01 0.2\n0.05 0.3\n0.06 0.1\n"),
+        // ---- `fe`: defects 1, 9, 11, 12
+        case(
+            "fe --dt 1e-300",
+            &format!("{fe} X={{w}}/elc180.at2 --dt 1e-300"),
+            1,
+            &["--dt = 1e-300 s"],
+        ),
+        case(
+            "fe --time-scale 1e20",
+            &format!("{fe} X={{w}}/elc180.at2 --time-scale 1e20"),
+            1,
+            &["--time-scale = 1e20"],
+        ),
+        case(
+            "fe --duration 1e12",
+            &format!("{fe} X={{w}}/elc180.at2 --duration 1e12"),
+            1,
+            &["--duration = 1e12 s"],
+        ),
+        case(
+            "fe pga 0",
+            &format!("{fe} X={{w}}/elc180.at2,pga=0"),
+            1,
+            &["--gm", "pga = 0 g"],
+        ),
+        case(
+            "fe gm /dev/zero",
+            &format!("{fe} X=/dev/zero"),
+            1,
+            &["/dev/zero", "not a regular file"],
+        ),
+        case(
+            "fe gm missing",
+            &format!("{fe} X={{w}}/none.at2"),
+            1,
+            &["none.at2 does not exist"],
+        ),
+        case(
+            "fe gm twice",
+            &format!("{fe} X={{w}}/elc180.at2 --gm x={{w}}/elc180.at2"),
+            1,
+            &["direction X given twice"],
+        ),
+        case(
+            "fe gm syntax",
+            &format!("{fe} Q={{w}}/elc180.at2"),
+            1,
+            &["--gm \"Q=", "unknown direction"],
+        ),
+        case(
+            "fe --out empty",
+            "fe {w}/model.toml --out  --gm X={w}/elc180.at2",
+            2,
+            &["a value is required for '--out <OUT>'"],
+        ),
+        case(
+            "fe --out a file",
+            "fe {w}/model.toml --out {w}/a-file --gm X={w}/elc180.at2",
+            1,
+            &["--out", "a-file", "not a folder"],
+        )
+        .with("a-file", "x"),
+        case(
+            "fe load_steps 4e9",
+            &format!("{fe} X={{w}}/elc180.at2"),
+            1,
+            &[
+                "model.toml:",
+                "load_steps 4000000000 exceeds the limit of 100000",
+            ],
+        )
+        .with(
+            "model.toml",
+            model("load_steps = 10", "load_steps = 4000000000"),
+        ),
+        // ---- model files (`modal`, `map`): defects 2, 12
+        case(
+            "core_fibers 1e5",
+            "modal {w}/model.toml",
+            1,
+            &["model.toml:", "section 1", "fibre count"],
+        )
+        .with(
+            "model.toml",
+            model("core_fibers = [8, 8]", "core_fibers = [100000, 100000]"),
+        ),
+        case(
+            "model is /dev/zero",
+            "modal /dev/zero",
+            1,
+            &["model file", "/dev/zero", "not a regular file"],
+        ),
+        case(
+            "model unknown key",
+            "modal {w}/model.toml",
+            1,
+            &["model.toml:1", "unknown field `nmae`"],
+        )
+        .with("model.toml", model("name = ", "nmae = ")),
+        case(
+            "model JSON misspelt top-level key",
+            "modal {w}/mis.json",
+            1,
+            &["mis.json:", "top level: unknown field `supprt`"],
+        )
+        .with(
+            "mis.json",
+            "{\"name\": \"x\",\n \"node\": [{\"tag\": 1, \"x\": 0, \"y\": 0, \"z\": 0}],\n \"mass\": [{\"node\": 1, \"m\": 1.0}],\n \"supprt\": []}\n",
+        ),
+        case(
+            "empty model",
+            "modal {w}/empty.toml",
+            1,
+            &["model \"empty\" has no structural elements"],
+        )
+        .with("empty.toml", "name = \"empty\"\n"),
+        case(
+            "map -o a folder",
+            "map {w}/model.toml -o {w}/adir",
+            1,
+            &["--output", "adir", "is a folder"],
+        )
+        .with("adir/keep", "x"),
+        case(
+            "map -o empty",
+            "map {w}/model.toml -o ",
+            2,
+            &["a value is required for '--output <OUTPUT>'"],
+        ),
+        // ---- `export opensees`: defect 11
+        case(
+            "opensees --stop-uz nan",
+            &format!("{os} --stop-uz nan"),
+            1,
+            &["--stop-uz = NaN m"],
+        ),
+        case(
+            "opensees truncated AT2",
+            &format!("{os} --gm X={{w}}/rec.at2,0.3"),
+            1,
+            &["rec.at2:5", "NPTS = 5"],
+        )
+        .with("rec.at2", at2("5", ".01", "0.1 0.2")),
+        case(
+            "opensees pga 0",
+            &format!("{os} --gm X={{w}}/elc180.at2,0"),
+            1,
+            &["--gm", "pga = 0 g"],
+        ),
+        case(
+            "opensees two-column record",
+            &format!("{os} --gm X={{w}}/rec.txt"),
+            1,
+            &["rec.txt:4", "AT2 header"],
+        )
+        .with("rec.txt", "0 0.1\n0.01 0.2\n"),
+        case(
+            "opensees --dt 1e300",
+            &format!("{os} --dt 1e300"),
+            1,
+            &["--dt = 1e300 s"],
+        ),
+        case(
+            "opensees -o a folder",
+            "export opensees {w}/model.toml -o {w}/adir",
+            1,
+            &["--output", "is a folder"],
+        )
+        .with("adir/keep", "x"),
+        // ---- `generate frame`: defects 2, 7, 12
+        case(
+            "generate --column-elements 4294967295",
+            &format!("{gen} --column-elements 4294967295"),
+            1,
+            &["column_elements: count 4294967295 exceeds the limit of 50"],
+        ),
+        case(
+            "generate --beam-elements 1e8",
+            &format!("{gen} --beam-elements 100000000"),
+            1,
+            &["beam_elements"],
+        ),
+        case(
+            "generate --column-fibers 1e5",
+            &format!("{gen} --column-fibers 100000x100000"),
+            1,
+            &["column_fibers (ny): count 100000"],
+        ),
+        case(
+            "generate --stories -1",
+            &format!("{gen} --stories=-1,1,1"),
+            1,
+            &["stories[1] = -1 m"],
+        ),
+        case(
+            "generate --xi 1e9",
+            &format!("{gen} --xi 1e9"),
+            1,
+            &["xi = 1e9", "[0, 1]"],
+        ),
+        case(
+            "generate --es 1e308",
+            &format!("{gen} --es 1e308"),
+            1,
+            &["es = 1e308 Pa"],
+        ),
+        case(
+            "generate --slab-thickness 0",
+            &format!("{gen} --slab-thickness 0"),
+            1,
+            &["slab_thickness = 0 m"],
+        ),
+        case(
+            "generate --spans-x 1e300",
+            &format!("{gen} --spans-x 1e300"),
+            1,
+            &["spans_x[1] = 1e300 m"],
+        ),
+        case(
+            "generate -o a folder",
+            "generate frame -o {w}/adir",
+            1,
+            &["--output", "is a folder"],
+        )
+        .with("adir/keep", "x"),
+        case(
+            "generate --points abc",
+            &format!("{gen} --points abc"),
+            2,
+            &["--points"],
+        ),
+        // ---- `scene`
+        case(
+            "scene syntax",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["sc.json", "line 1"],
+        )
+        .with("sc.json", "{ \"bodies\": [ }"),
+        case(
+            "scene is /dev/zero",
+            "scene /dev/zero --out {w}/o.csv",
+            1,
+            &["scene file", "not a regular file"],
+        ),
+        case(
+            "scene --out a folder",
+            "scene {w}/sc.json --out {w}/adir",
+            1,
+            &["--out", "is a folder"],
+        )
+        .with(
+            "sc.json",
+            std::fs::read_to_string(root().join("data/scenes/drop.json")).unwrap(),
+        )
+        .with("adir/keep", "x"),
+        // ---- run folders (`export gltf`, `export vtk`, `plot`)
+        case(
+            "gltf: no run folder",
+            "export gltf {w}/norun",
+            1,
+            &["norun", "does not exist"],
+        ),
+        case(
+            "vtk: no run folder",
+            "export vtk {w}/norun",
+            1,
+            &["norun", "does not exist"],
+        ),
+        case("plot: no run folder", "plot {w}/norun", 1, &["norun"]),
+        case(
+            "gltf: bodies.csv header",
+            "export gltf {w}/rf",
+            1,
+            &["rf/bodies.csv:1", "header"],
+        )
+        .with("rf/bodies.csv", "name,grp\n"),
+    ]
+}
+
+fn setup(w: &Path) {
+    std::fs::copy(root().join("data/frame3/model.toml"), w.join("model.toml")).unwrap();
+    std::fs::copy(
+        root().join("data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2"),
+        w.join("elc180.at2"),
+    )
+    .unwrap();
+}
+
+#[test]
+fn every_bad_input_is_refused_cleanly() {
+    let cases = cases();
+    let mut failures = Vec::new();
+    for c in &cases {
+        let tmp = tempfile::tempdir().unwrap();
+        let w = tmp.path();
+        setup(w);
+        let wd = w.display().to_string();
+        for (name, text) in &c.files {
+            let p = w.join(name);
+            std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+            std::fs::write(&p, text.replace("{w}", &wd)).unwrap();
+        }
+        let before = listing(w);
+        let args: Vec<String> = c.args.iter().map(|a| a.replace("{w}", &wd)).collect();
+        let out = Command::new(BIN)
+            .current_dir(w)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        let after = listing(w);
+        let mut why = Vec::new();
+        if out.status.code() != Some(c.code) {
+            why.push(format!("exit {:?}, want {}", out.status.code(), c.code));
+        }
+        if err.contains("panicked") {
+            why.push("panicked".into());
+        }
+        for s in &c.want {
+            if !err.contains(&s.replace("{w}", &wd)) {
+                why.push(format!("stderr lacks {s:?}"));
+            }
+        }
+        if after != before {
+            let new: Vec<_> = after.difference(&before).collect();
+            let gone: Vec<_> = before.difference(&after).collect();
+            why.push(format!("work folder changed: new {new:?}, gone {gone:?}"));
+        }
+        if !why.is_empty() {
+            failures.push(format!(
+                "{}: {} — stderr: {}",
+                c.name,
+                why.join("; "),
+                err.trim()
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+    eprintln!("{} hostile cases refused cleanly", cases.len());
+}
+
+/// A comma, quote or newline in a body's name or group no longer breaks the run folder:
+/// the tables are written with RFC 4180 quoting and read back with the `csv` crate
+/// (defect 3: "bodies.csv:2: 19 fields, expected 17").
+#[test]
+fn names_with_commas_quotes_and_newlines_round_trip_through_the_run_folder() {
+    use fem2rbd::output::history::{bodies_csv, BodyRow};
+    use fem2rbd::output::keyframes::keyframes_csv;
+    use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
+    use fem2rbd::physics::Pose;
+    let names = ["Col,umn:1:2", "a \"b\":3:4", "two\nlines:5:6"];
+    let groups = ["a,b", "\"", "x\r\ny"];
+    let rows: Vec<BodyRow> = (0..3)
+        .map(|i| BodyRow {
+            name: names[i],
+            group: groups[i],
+            type_name: "Col,umn",
+            material: "m,1",
+            element: "7",
+            passive: false,
+            pose0: Pose::at([i as f64, 0.5, 1.25]),
+            half_extents: [0.1, 0.2, 0.3],
+            mass_kg: 12.5,
+        })
+        .collect();
+    let text = bodies_csv(&rows);
+    let back = parse_bodies(&text, "bodies.csv").unwrap();
+    for (r, b) in rows.iter().zip(&back) {
+        assert_eq!((b.name.as_str(), b.group.as_str()), (r.name, r.group));
+        assert_eq!(b.type_name, "Col,umn");
+        assert_eq!(b.material, "m,1");
+        assert_eq!(b.pose0.position, r.pose0.position);
+    }
+    let poses: Vec<Pose> = rows.iter().map(|r| r.pose0).collect();
+    let kf = keyframes_csv(&names, &[(0.0, poses.as_slice()), (0.04, poses.as_slice())]);
+    let frames = parse_keyframes(&kf, "keyframes.csv", &back).unwrap();
+    assert_eq!(frames.len(), 2);
+    assert_eq!(frames[1].0, 0.04);
+    assert_eq!(frames[1].1[2].position, [2.0, 0.5, 1.25]);
+}
+
+fn parse_model(text: &str, json: bool) {
+    let _ = fem2rbd::model::Model::parse(text, "gen", json);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(64),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// Model TOML: the shipped model with one line replaced by arbitrary text, and
+    /// arbitrary text — parse and validation return, never panic.
+    #[test]
+    fn model_toml_never_panics(line in 0usize..700, junk in ".{0,40}", free in "\\PC{0,200}") {
+        let m = std::fs::read_to_string(root().join("data/frame3/model.toml")).unwrap();
+        let mut lines: Vec<&str> = m.lines().collect();
+        let k = line % lines.len();
+        lines[k] = &junk;
+        parse_model(&lines.join("\n"), false);
+        parse_model(&free, false);
+    }
+
+    /// Model JSON: numbers replaced by arbitrary floats (NaN, ±inf as huge literals,
+    /// zeros, negatives) in a small valid model.
+    #[test]
+    fn model_json_never_panics(x in any::<f64>(), e in any::<f64>(), pts in any::<u32>(), fib in any::<u32>()) {
+        let num = |v: f64| if v.is_finite() { format!("{v:e}") } else { "1e999".into() };
+        let text = format!(r#"{{
+ "name": "p", "gravity": {{"g": 9.81, "load_steps": {pts}}},
+ "material": [{{"tag": 1, "name": "s", "kind": "elastic", "E": {}}}],
+ "section": [{{"tag": 1, "name": "c", "kind": "rc_rect", "b": 0.1, "h": 0.1, "cover": 0.01,
+   "core_material": 1, "cover_material": 1, "bar_material": 1, "core_fibers": [{fib}, 2],
+   "bars": [], "GJ": 1.0}}],
+ "transformation": [{{"tag": 1, "kind": "linear", "vecxz": [1, 0, 0]}}],
+ "node": [{{"tag": 1, "x": 0, "y": 0, "z": 0}}, {{"tag": 2, "x": {}, "y": 0, "z": 1}}],
+ "support": [{{"node": 1, "dofs": [1,1,1,1,1,1]}}],
+ "element": [{{"tag": 1, "type_name": "Column", "group": "1", "kind": "beam_column",
+   "nodes": [1, 2], "section": 1, "transf": 1, "points": {pts}}}]
+}}"#, num(e), num(x));
+        parse_model(&text, true);
+    }
+
+    /// Scenario: arbitrary values for every numeric key.
+    #[test]
+    fn scenario_never_panics(key in prop::sample::select(vec![
+        "time_scale", "pga_g", "dt", "duration", "restitution", "friction", "settle_s",
+        "time_limit_s", "steps_per_second", "hold_s", "energy_ratio", "threshold_m",
+    ]), v in any::<f64>(), junk in "\\PC{0,80}") {
+        let dir = tempfile::tempdir().unwrap();
+        setup(dir.path());
+        let lit = if v.is_nan() { "nan".to_string() } else if v.is_infinite() { if v > 0.0 { "inf".into() } else { "-inf".into() } } else { format!("{v:e}") };
+        let text = match key {
+            "time_scale" | "pga_g" => SCENARIO.replacen(&format!("{key} = "), &format!("{key} = {lit} #"), 1),
+            "dt" | "duration" => format!("{SCENARIO}[fe]\n{key} = {lit}\n"),
+            "threshold_m" => format!("{SCENARIO}[collapse]\n{key} = {lit}\n"),
+            "hold_s" | "energy_ratio" => format!("{SCENARIO}[physics.rest]\n{key} = {lit}\n"),
+            _ => format!("{SCENARIO}[physics]\n{key} = {lit}\n"),
+        };
+        let p = dir.path().join("s.toml");
+        let _ = fem2rbd::pipeline::Scenario::parse(&text, &p);
+        let _ = fem2rbd::pipeline::Scenario::parse(&format!("{SCENARIO}{junk}"), &p);
+    }
+
+    /// Scene JSON: arbitrary numbers in a valid scene, and arbitrary text.
+    #[test]
+    fn scene_never_panics(d in any::<f64>(), m in any::<f64>(), s in any::<u32>(), free in "\\PC{0,200}") {
+        let num = |v: f64| if v.is_finite() { format!("{v:e}") } else { "1e999".into() };
+        let text = format!(r#"{{"duration": {}, "substeps_per_second": {s},
+ "bodies": [{{"name": "b", "half_extents": [0.5, 0.5, 0.5], "mass": {}, "position": [0, 0, 1]}}]}}"#,
+            num(d), num(m));
+        let _ = fem2rbd::scene::Scene::from_json(&text);
+        let _ = fem2rbd::scene::Scene::from_json(&free);
+    }
+
+    /// AT2: arbitrary header values and samples.
+    #[test]
+    fn at2_never_panics(npts in any::<u64>(), dt in any::<f64>(), vals in prop::collection::vec(any::<f64>(), 0..20), junk in "\\PC{0,60}") {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.at2");
+        let body: Vec<String> = vals.iter().map(|v| format!("{v:e}")).collect();
+        std::fs::write(&p, at2(&npts.to_string(), &format!("{dt:e}"), &body.join(" "))).unwrap();
+        let _ = fem2rbd::motion::read_record(&p, fem2rbd::motion::Format::At2);
+        std::fs::write(&p, format!("a\nb\nc\n{junk}\n1 2\n")).unwrap();
+        let _ = fem2rbd::motion::read_record(&p, fem2rbd::motion::Format::Auto);
+    }
+
+    /// Run folder: `bodies.csv` and `keyframes.csv` with one line replaced by junk
+    /// (quotes, commas, newlines included).
+    #[test]
+    fn run_folder_never_panics(line in 1usize..4, junk in "[a-z0-9,\"\n\r. -]{0,60}") {
+        use fem2rbd::output::history::{bodies_csv, BodyRow};
+        use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
+        use fem2rbd::physics::Pose;
+        let rows: Vec<BodyRow> = (0..3).map(|i| BodyRow {
+            name: ["a", "b", "c"][i], group: "g", type_name: "Column", material: "1",
+            element: "1", passive: false, pose0: Pose::at([0.0, 0.0, i as f64]),
+            half_extents: [0.1; 3], mass_kg: 1.0,
+        }).collect();
+        let text = bodies_csv(&rows);
+        let mut lines: Vec<&str> = text.lines().collect();
+        lines[line] = &junk;
+        let bad = lines.join("\n");
+        let _ = parse_bodies(&bad, "bodies.csv");
+        if let Ok(b) = parse_bodies(&text, "bodies.csv") {
+            let kf = format!("t,name,x,y,z,qw,qx,qy,qz\n{junk}\n");
+            let _ = parse_keyframes(&kf, "keyframes.csv", &b);
+        }
+    }
+}
+
+/// Defect 10: `fe` exits 1 when a step diverges, naming the time and the reason, and
+/// still writes the history up to the last converged step. Defect 6: `fe --out` replaces
+/// its folder as a whole (a stale file of an earlier run is gone) and leaves no temporary
+/// folder beside it.
+#[test]
+fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    setup(w);
+    let out_dir = w.join("feout");
+    std::fs::create_dir(&out_dir).unwrap();
+    std::fs::write(out_dir.join("fe_summary.json"), "{}").unwrap();
+    std::fs::write(out_dir.join("stale.csv"), "old run").unwrap();
+    let out = Command::new(BIN)
+        .arg("fe")
+        .arg(root().join("tests/fixtures/yielding-cantilever.toml"))
+        .arg("--gm")
+        .arg(format!("X={}", w.join("elc180.at2").display()))
+        .args(["--duration", "1", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("the analysis diverged at t = ") && err.contains("element 1"),
+        "{err}"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["fe_summary.json", "nodes.csv"]);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("fe_summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(s["stop"]["reason"], "diverged");
+    let t = s["stop"]["time"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 0.1, "diverged at {t} s");
+    let beside: Vec<String> = std::fs::read_dir(w)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(beside.is_empty(), "temporaries left: {beside:?}");
+}
+
+/// Defect 3 end to end: a model whose element type and group hold a comma runs (FE
+/// mode, 0.1 s), its run folder reads back, and `export gltf` of the folder gives the
+/// run's own `collapse.glb` byte for byte. (On main before issue 16: "cannot build
+/// collapse.glb from the run's own tables: bodies.csv:2: 19 fields, expected 17".)
+#[test]
+fn a_comma_in_a_name_survives_a_whole_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    setup(w);
+    let m = std::fs::read_to_string(w.join("model.toml")).unwrap();
+    let m = m
+        .replacen("type_name = \"Column\"", "type_name = \"Col,umn\"", 1)
+        .replacen("group = 1\n", "group = \"a,b\"\n", 1);
+    std::fs::write(w.join("model.toml"), m).unwrap();
+    std::fs::write(
+        w.join("s.toml"),
+        scenario("mode = \"physics\"", "mode = \"fe\"") + "[fe]\nduration = 0.1\n",
+    )
+    .unwrap();
+    let st = Command::new(BIN)
+        .current_dir(w)
+        .args(["run", "s.toml", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let bodies = std::fs::read_to_string(w.join("out/bodies.csv")).unwrap();
+    assert!(bodies.contains("\"Col,umn:"), "{bodies}");
+    let st = Command::new(BIN)
+        .current_dir(w)
+        .args(["export", "gltf", "out", "-o", "again.glb"])
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    assert_eq!(
+        std::fs::read(w.join("again.glb")).unwrap(),
+        std::fs::read(w.join("out/collapse.glb")).unwrap()
+    );
+}
