@@ -556,3 +556,55 @@ pub fn asd_shell_q4_stiffness(
     }
     Ok(t.transpose() * k * t)
 }
+
+/// The linear stiffness (global axes) and node tags of a model's shell element with a
+/// `layered_shell` section: layer tangents from the section (rebar from its uniaxial
+/// material's initial tangent), local x from the element (`local_x`, default the edge
+/// node 1 → node 2, as the OpenSees export writes it).
+pub fn model_shell_stiffness(
+    model: &crate::model::Model,
+    element: &crate::model::Element,
+) -> Result<([u32; 4], Mat24), ShellError> {
+    use crate::model::{ElementKind, SectionKind};
+    let ElementKind::Shell {
+        nodes,
+        section,
+        local_x,
+        ..
+    } = &element.kind
+    else {
+        return Err(ShellError::Invalid(format!(
+            "element {} is not a shell",
+            element.tag
+        )));
+    };
+    let secs = model.section_map();
+    let mats = model.material_map();
+    let Some(SectionKind::LayeredShell { layers, .. }) = secs.get(section).map(|s| &s.kind) else {
+        return Err(ShellError::Invalid(format!(
+            "element {}: section {section} is not a layered_shell section",
+            element.tag
+        )));
+    };
+    let mut coords = [[0.0; 3]; 4];
+    for (c, t) in coords.iter_mut().zip(nodes) {
+        *c = model
+            .nodes
+            .iter()
+            .find(|n| n.tag == *t)
+            .map(|n| n.xyz())
+            .ok_or_else(|| {
+                ShellError::Invalid(format!("element {}: unknown node {t}", element.tag))
+            })?;
+    }
+    let lx = local_x.unwrap_or([
+        coords[1][0] - coords[0][0],
+        coords[1][1] - coords[0][1],
+        coords[1][2] - coords[0][2],
+    ]);
+    let d = layered_section_tangent(&initial_layer_tangents(layers, &mats)?);
+    let k = asd_shell_q4_stiffness(&coords, lx, &d).map_err(|ShellError::Invalid(m)| {
+        ShellError::Invalid(format!("element {}: {m}", element.tag))
+    })?;
+    Ok((*nodes, k))
+}

@@ -28,7 +28,10 @@
 //!   basis. Mode shapes with their massless DOFs: φ = K_σ⁻¹ (M^{1/2} z) / θ, exact
 //!   statics for them. Blocks of 4 vectors find eigenvalues of multiplicity up to 4
 //!   (the X/Y pairs of symmetric plans); every returned pair is checked on the original
-//!   problem, ‖Kφ − λMφ‖ ≤ 1e-6 ‖Kφ‖.
+//!   problem, ‖Kφ − λMφ‖ ≤ 1e-6 ‖Kφ‖. Lanczos returns the eigenvalues nearest σ = 0:
+//!   the lowest ones when K is positive definite (the initial stiffness); on an
+//!   indefinite tangent it may miss strongly negative eigenvalues that the dense solver
+//!   lists first.
 //!
 //! Mode shapes are mass-normalised (φᵀ M φ = 1, as OpenSees), signed so that the
 //! largest-magnitude component is positive. Effective modal mass in direction d:

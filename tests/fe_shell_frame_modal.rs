@@ -1,0 +1,153 @@
+//! Modal periods of a one-bay portal frame (elastic columns and beam) infilled with an
+//! elastic layered wall panel (2 × 2 shells sharing the frame's nodes): fem2rbd's beam
+//! stiffness (the FE domain built from the frame members) plus `fe::shell`'s wall
+//! stiffness and the model's lumped masses, solved densely with the massless DOFs
+//! condensed, against openseespy's `eigen` on the script written by
+//! `fem2rbd export opensees` for the whole model. First three periods to 1e-6.
+//! Needs python3 with openseespy 3.7.1.
+use std::process::Command;
+
+use fem2rbd::export::{opensees_script, OpenSeesOptions};
+use fem2rbd::fe::build::{build_domain, BuildOptions};
+use fem2rbd::fe::linalg::{SparsePattern, StiffnessKind};
+use fem2rbd::fe::shell::model_shell_stiffness;
+use fem2rbd::model::{ElementKind, Model};
+use nalgebra::{DMatrix, SymmetricEigen};
+use serde_json::Value;
+
+const MODEL: &str = r#"name = "portal-with-wall"
+transformation = [
+  { tag = 1, type = "linear", vecxz = [1.0, 0.0, 0.0] },
+  { tag = 2, type = "linear", vecxz = [0.0, 0.0, 1.0] },
+]
+material = [ { tag = 1, type = "Elastic", E = 200e9 } ]
+section = [
+  { tag = 1, type = "elastic", E = 30e9, G = 12.5e9, A = 0.16, Iy = 2.1333e-3, Iz = 2.1333e-3, J = 3.6e-3, mass_per_length = 400.0 },
+  { tag = 10, type = "layered_shell", density = 2500.0, layers = [
+      { type = "elastic", thickness = 0.05, E = 30e9, nu = 0.2 },
+      { type = "rebar", thickness = 0.0005, material = 1, angle = 90.0 },
+      { type = "rebar", thickness = 0.0005, material = 1, angle = 0.0 },
+      { type = "elastic", thickness = 0.05, E = 30e9, nu = 0.2 },
+      { type = "elastic", thickness = 0.05, E = 30e9, nu = 0.2 },
+  ] },
+]
+node = [
+  { tag = 1, x = 0.0, y = 0.0, z = 0.0 }, { tag = 2, x = 1.5, y = 0.0, z = 0.0 }, { tag = 3, x = 3.0, y = 0.0, z = 0.0 },
+  { tag = 4, x = 0.0, y = 0.0, z = 1.5 }, { tag = 5, x = 1.5, y = 0.0, z = 1.5 }, { tag = 6, x = 3.0, y = 0.0, z = 1.5 },
+  { tag = 7, x = 0.0, y = 0.0, z = 3.0 }, { tag = 8, x = 1.5, y = 0.0, z = 3.0 }, { tag = 9, x = 3.0, y = 0.0, z = 3.0 },
+]
+support = [
+  { node = 1, dofs = [1, 1, 1, 1, 1, 1] }, { node = 2, dofs = [1, 1, 1, 1, 1, 1] }, { node = 3, dofs = [1, 1, 1, 1, 1, 1] },
+]
+element = [
+  { tag = 1, type_name = "Column", group = 1, type = "elastic_beam_column", nodes = [1, 4], section = 1, transf = 1 },
+  { tag = 2, type_name = "Column", group = 1, type = "elastic_beam_column", nodes = [4, 7], section = 1, transf = 1 },
+  { tag = 3, type_name = "Column", group = 1, type = "elastic_beam_column", nodes = [3, 6], section = 1, transf = 1 },
+  { tag = 4, type_name = "Column", group = 1, type = "elastic_beam_column", nodes = [6, 9], section = 1, transf = 1 },
+  { tag = 5, type_name = "Beam", group = 1, type = "elastic_beam_column", nodes = [7, 8], section = 1, transf = 2 },
+  { tag = 6, type_name = "Beam", group = 1, type = "elastic_beam_column", nodes = [8, 9], section = 1, transf = 2 },
+  { tag = 11, type_name = "Wall", group = 1, type = "shell", nodes = [1, 2, 5, 4], section = 10 },
+  { tag = 12, type_name = "Wall", group = 1, type = "shell", nodes = [2, 3, 6, 5], section = 10 },
+  { tag = 13, type_name = "Wall", group = 1, type = "shell", nodes = [4, 5, 8, 7], section = 10 },
+  { tag = 14, type_name = "Wall", group = 1, type = "shell", nodes = [5, 6, 9, 8], section = 10 },
+]
+mass = [ { node = 7, m = 8000.0 }, { node = 8, m = 8000.0 }, { node = 9, m = 8000.0 } ]
+"#;
+
+/// ω² of K φ = ω² M φ with diagonal M, massless DOFs condensed statically.
+fn condensed_omega2(k: &DMatrix<f64>, m: &[f64]) -> Vec<f64> {
+    let a: Vec<usize> = (0..m.len()).filter(|&i| m[i] > 0.0).collect();
+    let b: Vec<usize> = (0..m.len()).filter(|&i| m[i] <= 0.0).collect();
+    let sub = |r: &[usize], c: &[usize]| DMatrix::from_fn(r.len(), c.len(), |i, j| k[(r[i], c[j])]);
+    let kab = sub(&a, &b);
+    let t = sub(&b, &b).lu().solve(&kab.transpose()).unwrap();
+    let kc = sub(&a, &a) - &kab * t;
+    let h = DMatrix::from_fn(a.len(), a.len(), |i, j| {
+        kc[(i, j)] / (m[a[i]] * m[a[j]]).sqrt()
+    });
+    let mut w: Vec<f64> = SymmetricEigen::new((&h + h.transpose()) * 0.5)
+        .eigenvalues
+        .iter()
+        .copied()
+        .collect();
+    w.sort_by(f64::total_cmp);
+    w
+}
+
+#[test]
+fn portal_frame_with_wall_panel_periods_match_opensees() {
+    let model = Model::parse(MODEL, "portal.toml", false).unwrap();
+    // Frame members through the FE domain (shells removed), all nodes kept.
+    let mut frame = model.clone();
+    frame
+        .elements
+        .retain(|e| !matches!(e.kind, ElementKind::Shell { .. }));
+    let mut built = build_domain(&frame, &BuildOptions::default()).unwrap();
+    let pattern = SparsePattern::new(&mut built.domain);
+    let mut kv = pattern.zeros();
+    pattern.add_stiffness(&built.domain, StiffnessKind::Initial, 1.0, &mut kv);
+    let mut k = pattern.to_dense(&kv);
+    let eq = |tag: &u32, dof: usize| built.domain.equation(built.node_index[tag], dof);
+    for e in model
+        .elements
+        .iter()
+        .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
+    {
+        let (nodes, ke) = model_shell_stiffness(&model, e).unwrap();
+        for (a, na) in nodes.iter().enumerate() {
+            for (b, nb) in nodes.iter().enumerate() {
+                for p in 0..6 {
+                    for q in 0..6 {
+                        if let (Some(r), Some(c)) = (eq(na, p), eq(nb, q)) {
+                            k[(r, c)] += ke[(6 * a + p, 6 * b + q)];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Lumped masses of the whole model (nodal masses + member and wall self-weight).
+    let mut m = vec![0.0; k.nrows()];
+    for (tag, mm) in model.lumped_masses() {
+        for (p, v) in mm.iter().enumerate() {
+            if let Some(r) = eq(&tag, p) {
+                m[r] = *v;
+            }
+        }
+    }
+    let w2 = condensed_omega2(&k, &m);
+    let periods: Vec<f64> = w2[..3]
+        .iter()
+        .map(|w| 2.0 * std::f64::consts::PI / w.sqrt())
+        .collect();
+
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("portal.py");
+    std::fs::write(
+        &script,
+        opensees_script(&model, "portal.toml", &OpenSeesOptions::default()).unwrap(),
+    )
+    .unwrap();
+    let out = Command::new("python3")
+        .arg(&script)
+        .args(["eigen", "3"])
+        .output()
+        .expect("python3 with openseespy 3.7.1");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value =
+        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+    for (kk, t) in periods.iter().enumerate() {
+        let t_os = v["modes"][kk]["T"].as_f64().unwrap();
+        eprintln!(
+            "mode {}: fem2rbd {t:.9} s, OpenSees {t_os:.9} s ({:+.2e})",
+            kk + 1,
+            (t - t_os) / t_os
+        );
+        assert!(((t - t_os) / t_os).abs() < 1e-6);
+    }
+}
