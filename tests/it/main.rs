@@ -19,6 +19,7 @@ mod mapping {
     mod model_frame3;
     mod model_panels;
     mod overlap;
+    mod shell_walls;
 }
 mod output {
     mod gltf_common;

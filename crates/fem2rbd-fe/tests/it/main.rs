@@ -45,8 +45,10 @@ mod fe {
         mod protocol;
     }
     mod shell {
+        mod frame_modal;
         mod model;
         mod stiffness;
+        mod wall;
     }
     mod verify {
         mod case1;

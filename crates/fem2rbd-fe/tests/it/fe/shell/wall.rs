@@ -7,9 +7,9 @@
 use std::fmt::Write as _;
 use std::process::Command;
 
-use fem2rbd::export::{opensees_script, OpenSeesOptions};
-use fem2rbd::fe::shell::model_shell_stiffness;
-use fem2rbd::model::Model;
+use fem2rbd_fe::export::{opensees_script, OpenSeesOptions};
+use fem2rbd_fe::fe::shell::model_shell_stiffness;
+use fem2rbd_fe::model::Model;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 

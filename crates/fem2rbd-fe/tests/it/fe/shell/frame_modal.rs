@@ -7,11 +7,11 @@
 //! Needs python3 with openseespy 3.7.1.
 use std::process::Command;
 
-use fem2rbd::export::{opensees_script, OpenSeesOptions};
-use fem2rbd::fe::build::{build_domain, BuildOptions};
-use fem2rbd::fe::linalg::{SparsePattern, StiffnessKind};
-use fem2rbd::fe::shell::model_shell_stiffness;
-use fem2rbd::model::{ElementKind, Model};
+use fem2rbd_fe::export::{opensees_script, OpenSeesOptions};
+use fem2rbd_fe::fe::build::{build_domain, BuildOptions};
+use fem2rbd_fe::fe::linalg::{SparsePattern, StiffnessKind};
+use fem2rbd_fe::fe::shell::model_shell_stiffness;
+use fem2rbd_fe::model::{ElementKind, Model};
 use nalgebra::{DMatrix, SymmetricEigen};
 use serde_json::Value;
 
