@@ -401,13 +401,17 @@ pub fn gravity_axial_loads(model: &Model, build: &BuildOptions) -> Result<BTreeM
     Ok(axial_loads(&prepared.built))
 }
 
+/// Axial force N (N, tension positive) of every section, by element tag, in
+/// integration-point order.
+pub type AxialLoads = BTreeMap<u32, Vec<f64>>;
+
 /// The gravity axial loads ([`gravity_axial_loads`]) and the member capacities of the
 /// model in its gravity state ([`member_capacities`]): the undamaged building.
 pub fn gravity_capacities(
     model: &Model,
     build: &BuildOptions,
     st: &PushSettings,
-) -> Result<(BTreeMap<u32, Vec<f64>>, BTreeMap<u32, MemberCapacity>)> {
+) -> Result<(AxialLoads, BTreeMap<u32, MemberCapacity>)> {
     let prepared = crate::fe::run::prepare(model, build, 1).context("gravity analysis")?;
     let loads = axial_loads(&prepared.built);
     // The gravity state is the undamaged building: it is its own reference.
