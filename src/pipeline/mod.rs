@@ -21,8 +21,12 @@
 //! top at the base level. The bottom columns connect to it with ×2 thresholds (BCB's
 //! passive group rule).
 //!
-//! **FE damage → connection start state.** A connection's damage is the worse of the FE
-//! damage flags ([`crate::fe::element::ElementDamage`]) of the two elements it joins
+//! **FE damage → connection start state.** With FE-derived connections (`[physics]
+//! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
+//! connection starts elastic with the residual capacities at Tc and broken only where a
+//! section it cuts has lost its load path. With BCB's (`"formula"`): a connection's damage
+//! is the worse of the FE damage flags ([`crate::fe::element::ElementDamage`]) of the two
+//! elements it joins
 //! (ruptured → broken, yielded → plastic, else elastic; panels and foundations count as
 //! intact) — [`crate::ruin::monitor::start_state_from_damage`].
 //!

@@ -1063,6 +1063,52 @@ mod tests {
         );
     }
 
+    /// The FE-derived mapping by hand: a vertical column (local x = Z, y = X, z = Y)
+    /// cut by a horizontal contact at its top end (normal Z, h along X, w along Y) gives
+    /// C, T along its axis, the sliding shears, and bending about Y (local z → Mz) and X
+    /// (local y → My); a contact on its side (normal X) does not cut it.
+    #[test]
+    fn fe_strengths_map_onto_the_contact_axes() {
+        let end = EndStrength {
+            compression_n: 300.0,
+            tension_n: 50.0,
+            shear_n: [40.0, 45.0],
+            moment_nm: [2.0, 3.0],
+            rotation_left: Some(0.05),
+            lost: false,
+        };
+        let lost = EndStrength { lost: true, ..end };
+        let col = BodyStrength {
+            axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            ends: [([0.0, 0.0, 0.0], lost), ([0.0, 0.0, 1.0], end)],
+        };
+        let mut c = Contact {
+            a: 0,
+            b: 1,
+            pivot: [0.0, 0.0, 0.99],
+            normal_axis: 2,
+            normal_sign: 1.0,
+            h_axis: 0,
+            w_axis: 1,
+            h: 0.1,
+            w: 0.1,
+            normal_overlap: 0.0,
+            area: 0.01,
+            centre_distance: 0.25,
+        };
+        assert!(col.cut_by(&c));
+        assert!(!col.end_near(c.pivot).lost);
+        // shear along X (local y) 40, along Y (local z) 45; moment about Y (local z) 2,
+        // about X (local y) 3.
+        assert_eq!(col.forces_for(&c), [300.0, 50.0, 40.0, 45.0, 2.0, 3.0]);
+        c.pivot = [0.0, 0.0, 0.01];
+        assert!(col.end_near(c.pivot).lost);
+        c.normal_axis = 0;
+        c.h_axis = 1;
+        c.w_axis = 2;
+        assert!(!col.cut_by(&c));
+    }
+
     #[test]
     fn normal_rotation_maps_x_onto_normal_and_is_proper() {
         for axis in 0..3 {
