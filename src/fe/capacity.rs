@@ -28,9 +28,11 @@
 //!   curvature of the bilinear idealisation through 0.75·M_peak (κ_y = κ(0.75 M)/0.75;
 //!   Park 1988, as above).
 //!
-//! Settings ([`PushSettings`]): 100 steps per push, Δε_a = 0.01 (4–5 times the yield
-//! strain of the bars, beyond the concrete peak), ε_x = 0.04 extreme-fibre strain change,
-//! drop ratio 0.8.
+//! Settings ([`PushSettings`]): 120 steps per push (the bending pushes spaced
+//! quadratically, κ_k = κ_max·(k/120)², fine through cracking and yield), Δε_a = 0.01
+//! (4–5 times the yield strain of the bars, beyond the concrete peak), ε_x = 0.2
+//! extreme-fibre strain change (wide enough that the 20 % drop usually ends the push;
+//! frame3 at gravity: κ_max·L_p ends only the stiffest beams' pushes), drop ratio 0.8.
 //!
 //! # Shear ([`aci_shear`])
 //!
