@@ -32,7 +32,7 @@
 //! quadratically, κ_k = κ_max·(k/120)², fine through cracking and yield), Δε_a = 0.01
 //! (4–5 times the yield strain of the bars, beyond the concrete peak), ε_x = 0.2
 //! extreme-fibre strain change (wide enough that the 20 % drop usually ends the push;
-//! frame3 at gravity: κ_max·L_p ends only the stiffest beams' pushes), drop ratio 0.8.
+//! some frame3 pushes at gravity still end at κ_max, rotation left 0.2 rad), drop ratio 0.8.
 //!
 //! # Shear ([`aci_shear`])
 //!
