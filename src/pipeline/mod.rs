@@ -21,8 +21,12 @@
 //! top at the base level. The bottom columns connect to it with ×2 thresholds (BCB's
 //! passive group rule).
 //!
-//! **FE damage → connection start state.** A connection's damage is the worse of the FE
-//! damage flags ([`crate::fe::element::ElementDamage`]) of the two elements it joins
+//! **FE damage → connection start state.** With FE-derived connections (`[physics]
+//! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
+//! connection starts elastic with the residual capacities at Tc and broken only where a
+//! section it cuts has lost its load path. With BCB's (`"formula"`): a connection's damage
+//! is the worse of the FE damage flags ([`crate::fe::element::ElementDamage`]) of the two
+//! elements it joins
 //! (ruptured → broken, yielded → plastic, else elastic; panels and foundations count as
 //! intact) — [`crate::ruin::monitor::start_state_from_damage`].
 //!
@@ -31,6 +35,7 @@
 //! baseline ([`crate::motion::Baseline::ZeroEnd`], < 0.1 % change of the acceleration).
 
 pub mod scenario;
+pub mod strengths;
 pub mod write;
 
 use crate::collapse::{CollapseMonitor, Trigger};
@@ -51,7 +56,7 @@ use crate::ruin::stage::{
 use crate::ruin::BodyGeom;
 use anyhow::{anyhow, Context, Result};
 use nalgebra::UnitQuaternion;
-pub use scenario::{Mode, Scenario, VelocityHandoff};
+pub use scenario::{ConnectionModel, Mode, Scenario, VelocityHandoff};
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
@@ -425,6 +430,24 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
         fe_end_s: None,
     };
     let mut start_input = StageInput::physics_only(&geoms, &masses, &groups);
+    // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
+    // the physics mode the undamaged capacities at them.
+    let fe_strengths =
+        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let push = crate::fe::capacity::PushSettings::default();
+    let mut gravity_n = BTreeMap::new();
+    let mut gravity_caps = BTreeMap::new();
+    if fe_strengths {
+        let build = BuildOptions {
+            variant: sc.variant,
+            ..Default::default()
+        };
+        let (loads, caps) = crate::fe::capacity::gravity_capacities(&model, &build, &push)
+            .context("FE-derived connection strengths")?;
+        gravity_n = loads;
+        start_input.body_strengths = strengths::body_strengths(&bodies, &caps);
+        gravity_caps = caps;
+    }
     if sc.mode != Mode::Physics {
         let handoff = Handoff::new(&model, &map)?;
         let criterion = sc.criterion.resolve(model.scale);
@@ -575,8 +598,24 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
         if sc.mode == Mode::Fe || rec.tc_s.is_none() {
             return Ok(rec);
         }
-        // FE damage per body → per connected pair.
-        let damage = element_damage(&model, &result.built);
+        if fe_strengths {
+            // Residual capacities at Tc; broken only where the load path is lost.
+            let caps = crate::fe::capacity::member_capacities_against(
+                &model,
+                &result.built,
+                &gravity_n,
+                &push,
+                Some(&gravity_caps),
+            )
+            .context("FE-derived connection strengths at Tc")?;
+            start_input.body_strengths = strengths::body_strengths(&bodies, &caps);
+        }
+        // FE damage per body → per connected pair (BCB's Formula-Assistant connections).
+        let damage = if fe_strengths {
+            BTreeMap::new()
+        } else {
+            element_damage(&model, &result.built)
+        };
         let body_damage: Vec<FeDamage> = bodies
             .iter()
             .map(|b| {

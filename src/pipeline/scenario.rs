@@ -112,6 +112,17 @@ impl Default for CollapseSpec {
     }
 }
 
+/// Where the ruin stage's connection strengths come from (`[physics] connections`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConnectionModel {
+    /// BCB's Formula Assistant per element group (`crate::ruin::groups`).
+    Formula,
+    /// From the FE model's own sections: capacities at the gravity axial load, residual
+    /// at Tc (`crate::fe::capacity`, docs/handoff.md).
+    Fe,
+}
+
 /// Physics (Bullet) settings; defaults are BCB's.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -149,6 +160,20 @@ pub struct PhysicsSpec {
     pub stop_at_rest: bool,
     /// The at-rest test (`crate::ruin::rest::RestTest`).
     pub rest: RestTest,
+    /// Connection strengths: `"formula"` (BCB) or `"fe"`; absent = `"fe"` in the hybrid
+    /// mode, `"formula"` in the physics mode ([`PhysicsSpec::connection_model`]).
+    pub connections: Option<ConnectionModel>,
+}
+
+impl PhysicsSpec {
+    /// The connection model of a run in `mode`: as given, else FE-derived for the hybrid
+    /// mode and BCB's Formula Assistant for the physics mode (the paper's baseline).
+    pub fn connection_model(&self, mode: Mode) -> ConnectionModel {
+        self.connections.unwrap_or(match mode {
+            Mode::Physics => ConnectionModel::Formula,
+            _ => ConnectionModel::Fe,
+        })
+    }
 }
 
 impl Default for PhysicsSpec {
@@ -169,6 +194,7 @@ impl Default for PhysicsSpec {
             settle_s: 5.0,
             stop_at_rest: true,
             rest: RestTest::default(),
+            connections: None,
         }
     }
 }

@@ -417,7 +417,22 @@ pub struct ConnectionSpec {
     pub disable_collisions: bool,
     /// Six generics (roles in [`ConstraintRole`] order), then the plastic spring if any.
     pub constraints: Vec<ConstraintSpec>,
+    /// An FE-derived end at this connection has lost its load path: the connection starts
+    /// broken ([`EndStrength::lost`]).
+    pub lost_at_start: bool,
+    /// FE-derived connection with ductile bending rows: while the connection is elastic,
+    /// a bending row (4, 5) that Bullet disabled for reaching its breaking impulse is
+    /// enabled again before the next substep. Bullet clamps a row's impulse at its
+    /// threshold, so the row then carries at most that moment while it rotates — a
+    /// rigid–plastic hinge at the moment capacity, as the FE's fibre hinge holds its
+    /// moment. The hinge ends when the rotation since the start exceeds the 1st rotation
+    /// tolerance (the end's remaining rotation capacity): the monitor turns the connection
+    /// plastic (BCB's spring) as usual.
+    pub ductile: bool,
 }
+
+/// Constraint indices of the bending rows (ductile in FE-derived connections).
+pub const BENDING_ROWS: [usize; 2] = [4, 5];
 
 /// Number of generic constraints of a CT 22 connection.
 pub const GENERIC_COUNT: usize = 6;
@@ -486,7 +501,130 @@ fn combine(a: &StrengthPerArea, b: &StrengthPerArea, weaker: bool) -> StrengthPe
     }
 }
 
+/// FE-derived strengths of one member end (issue 11; from `fe::capacity`, plain
+/// numbers): what the section at that end can still carry. Local axes as the member's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EndStrength {
+    /// Compressive capacity along the member axis, N.
+    pub compression_n: f64,
+    /// Tensile capacity along the member axis, N.
+    pub tension_n: f64,
+    /// Shear capacity along local y and local z, N.
+    pub shear_n: [f64; 2],
+    /// Moment capacity about local z and about local y, N·m.
+    pub moment_nm: [f64; 2],
+    /// Remaining rotation capacity of the end, rad (`None`: BCB's tolerance stays).
+    pub rotation_left: Option<f64>,
+    /// The end has lost its load path at the start (the FE's rule, `fe::capacity`): every
+    /// connection at this end starts broken.
+    pub lost: bool,
+}
+
+/// FE-derived strengths of one rigid body (a whole member): its undeformed local axes and
+/// its two ends. [`build_connections_with`] uses the end nearer to the contact's pivot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyStrength {
+    /// Local axes [x (member axis), y, z], unit, world components, undeformed.
+    pub axes: [[f64; 3]; 3],
+    /// (undeformed position of the end node, m; its strengths), end i then end j.
+    pub ends: [([f64; 3], EndStrength); 2],
+}
+
+impl BodyStrength {
+    /// The end nearer to `p` (undeformed world point).
+    pub fn end_near(&self, p: [f64; 3]) -> &EndStrength {
+        let d = |q: [f64; 3]| (0..3).map(|k| (q[k] - p[k]).powi(2)).sum::<f64>();
+        if d(self.ends[0].0) <= d(self.ends[1].0) {
+            &self.ends[0].1
+        } else {
+            &self.ends[1].1
+        }
+    }
+
+    /// Whether the contact cuts this member's section: its normal runs along the member
+    /// axis (an end face). A contact on the member's side (a beam end against a column,
+    /// a slab on a beam) does not cut the member, so the member does not limit it.
+    pub fn cut_by(&self, c: &Contact) -> bool {
+        self.local_axis(c.normal_axis) == 0
+    }
+
+    /// Which local axis (0 = x, 1 = y, 2 = z) is closest to the world axis `world`.
+    fn local_axis(&self, world: usize) -> usize {
+        (0..3)
+            .max_by(|&i, &j| {
+                self.axes[i][world]
+                    .abs()
+                    .total_cmp(&self.axes[j][world].abs())
+                    .then(j.cmp(&i))
+            })
+            .unwrap_or(0)
+    }
+
+    /// The connection forces this body's end can carry for contact `c` (module docs of
+    /// [`build_connections_with`]): [compression, tension, shear-h, shear-w, bend-h,
+    /// bend-w], N and N·m.
+    pub fn forces_for(&self, c: &Contact) -> [f64; 6] {
+        let e = self.end_near(c.pivot);
+        // A force along world axis `w`: axial along the member, else the shear capacity
+        // in that local direction.
+        let force = |w: usize, axial: f64| match self.local_axis(w) {
+            0 => axial,
+            1 => e.shear_n[0],
+            _ => e.shear_n[1],
+        };
+        // A moment about world axis `w`: about the member axis (torsion) the weaker
+        // bending capacity stands in; about local y → My, about local z → Mz.
+        let moment = |w: usize| match self.local_axis(w) {
+            0 => e.moment_nm[0].min(e.moment_nm[1]),
+            1 => e.moment_nm[1],
+            _ => e.moment_nm[0],
+        };
+        let n = c.normal_axis;
+        let (sh, sw) = (
+            force(c.h_axis, e.compression_n),
+            force(c.w_axis, e.compression_n),
+        );
+        [
+            force(n, e.compression_n),
+            force(n, e.tension_n),
+            sh.min(sw),
+            sh.max(sw),
+            moment(c.w_axis).min(moment(c.h_axis)),
+            moment(c.w_axis).max(moment(c.h_axis)),
+        ]
+    }
+}
+
+/// Builds the CT 22 connection of every contact ([`build_connections_with`] without
+/// FE-derived strengths: BCB's group strengths throughout).
+pub fn build_connections(
+    bodies: &[BodyGeom],
+    groups: &[GroupStrength],
+    contacts: &[Contact],
+    poses_at_start: &[Isometry3<f64>],
+    settings: &RuinSettings,
+) -> Result<Vec<ConnectionSpec>, RuinError> {
+    build_connections_with(bodies, groups, contacts, poses_at_start, settings, &[])
+}
+
 /// Builds the CT 22 connection of every contact.
+///
+/// **FE-derived strengths** (`strengths`, one entry per body or empty; issue 11,
+/// docs/handoff.md): a connection whose body (or bodies) has a [`BodyStrength`] and is
+/// cut by the contact (the contact is at the member's end face, [`BodyStrength::cut_by`])
+/// takes its compression, tension, shear and bending capacities from the member end
+/// nearest the pivot ([`BodyStrength::forces_for`]): along the member axis the axial
+/// capacity, across it the shear capacity in that direction; about the member axis the
+/// weaker bending capacity (torsion), about a cross axis the moment capacity about it.
+/// A member touched on its side does not limit the connection. Two such bodies:
+/// the weaker of the two per value. One body with FE strengths and one active body
+/// without (e.g. a slab panel): the weaker of the FE value and the group value. One with
+/// FE strengths and a passive partner (foundation): the FE value, without BCB's ×2
+/// boundary multiplier (the column's base section is the weak link the FE computed).
+/// BCB's corrections 2.2 / 1.5 still convert the forces to Bullet thresholds. The bending
+/// rows are ductile ([`ConnectionSpec::ductile`]) and the 1st rotation tolerance becomes
+/// the smaller remaining rotation capacity of the ends where given. The plastic spring
+/// keeps BCB's P and k and BCB's 2nd tolerances.
 ///
 /// * `bodies`: the geometry the contacts were found on (undeformed).
 /// * `groups`: strength definitions, looked up by [`BodyGeom::group`].
@@ -496,14 +634,23 @@ fn combine(a: &StrengthPerArea, b: &StrengthPerArea, weaker: bool) -> StrengthPe
 ///
 /// Every connection is created elastic; use [`ConnectionSpec::set_state`] for another
 /// starting state.
-pub fn build_connections(
+pub fn build_connections_with(
     bodies: &[BodyGeom],
     groups: &[GroupStrength],
     contacts: &[Contact],
     poses_at_start: &[Isometry3<f64>],
     settings: &RuinSettings,
+    strengths: &[Option<BodyStrength>],
 ) -> Result<Vec<ConnectionSpec>, RuinError> {
     settings.validate()?;
+    if !strengths.is_empty() && strengths.len() != bodies.len() {
+        return Err(RuinError::LengthMismatch {
+            what: "FE-derived body strengths".into(),
+            expected: bodies.len(),
+            got: strengths.len(),
+        });
+    }
+    let strength_of = |i: usize| strengths.get(i).and_then(|s| s.as_ref());
     if poses_at_start.len() != bodies.len() {
         return Err(RuinError::LengthMismatch {
             what: "poses at the start of the ruin stage".into(),
@@ -635,7 +782,7 @@ pub fn build_connections(
         let spring_stiffness =
             v.p.map(|p| p / (spring_length * tol2_for_k) * settings.spring_correction / 2.0);
 
-        let forces = ConnectionForces {
+        let mut forces = ConnectionForces {
             compression_n: v.c,
             tension_n: v.t,
             shear_h_n: shear_h,
@@ -645,6 +792,60 @@ pub fn build_connections(
             plastic_n: v.p,
             spring_stiffness,
         };
+        let mut tolerances = tolerances;
+        let (fa, fb) = (
+            strength_of(c.a).filter(|sd| sd.cut_by(c)),
+            strength_of(c.b).filter(|sd| sd.cut_by(c)),
+        );
+        let lost_at_start = [fa, fb]
+            .into_iter()
+            .flatten()
+            .any(|sd| sd.end_near(c.pivot).lost);
+        if fa.is_some() || fb.is_some() {
+            let sides: Vec<&BodyStrength> = [fa, fb].into_iter().flatten().collect();
+            let mut fe = [f64::INFINITY; 6];
+            for sd in &sides {
+                for (k, v) in sd.forces_for(c).into_iter().enumerate() {
+                    fe[k] = fe[k].min(v);
+                }
+            }
+            // An active partner without FE strengths: also its group value.
+            // (A member with FE strengths touched on its side does not limit it.)
+            let other_active_without = (strength_of(c.a).is_none() && !ba.passive)
+                || (strength_of(c.b).is_none() && !bb.passive);
+            let group_vals = [
+                forces.compression_n,
+                forces.tension_n,
+                forces.shear_h_n,
+                forces.shear_w_n,
+                forces.bend_h_nm,
+                forces.bend_w_nm,
+            ];
+            let val = |k: usize| {
+                if other_active_without {
+                    fe[k].min(group_vals[k])
+                } else {
+                    fe[k]
+                }
+            };
+            forces.compression_n = val(0);
+            forces.tension_n = val(1);
+            forces.shear_h_n = val(2);
+            forces.shear_w_n = val(3);
+            forces.bend_h_nm = val(4);
+            forces.bend_w_nm = val(5);
+            let rot_left = sides
+                .iter()
+                .filter_map(|sd| sd.end_near(c.pivot).rotation_left)
+                .reduce(f64::min);
+            if let (Some(r), Some(t1)) = (rot_left, tolerances.rot1) {
+                // The hinge holds until the larger of the FE's remaining rotation capacity
+                // and BCB's tol1R (docs/handoff.md: switching earlier hands a column to
+                // BCB's spring, whose P is below its gravity load).
+                tolerances.rot1 = Some(r.max(t1));
+            }
+        }
+        let ductile = !strengths.is_empty() && (fa.is_some() || fb.is_some());
 
         let constraints = constraint_specs(
             c,
@@ -665,6 +866,8 @@ pub fn build_connections(
             spring_length,
             disable_collisions: settings.disable_collisions,
             constraints,
+            lost_at_start,
+            ductile,
         });
     }
     Ok(out)
@@ -858,6 +1061,52 @@ mod tests {
             spring_stiffness_axes(1000.0, &c, AngularSpring::Bcb),
             [1000.0; 6]
         );
+    }
+
+    /// The FE-derived mapping by hand: a vertical column (local x = Z, y = X, z = Y)
+    /// cut by a horizontal contact at its top end (normal Z, h along X, w along Y) gives
+    /// C, T along its axis, the sliding shears, and bending about Y (local z → Mz) and X
+    /// (local y → My); a contact on its side (normal X) does not cut it.
+    #[test]
+    fn fe_strengths_map_onto_the_contact_axes() {
+        let end = EndStrength {
+            compression_n: 300.0,
+            tension_n: 50.0,
+            shear_n: [40.0, 45.0],
+            moment_nm: [2.0, 3.0],
+            rotation_left: Some(0.05),
+            lost: false,
+        };
+        let lost = EndStrength { lost: true, ..end };
+        let col = BodyStrength {
+            axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            ends: [([0.0, 0.0, 0.0], lost), ([0.0, 0.0, 1.0], end)],
+        };
+        let mut c = Contact {
+            a: 0,
+            b: 1,
+            pivot: [0.0, 0.0, 0.99],
+            normal_axis: 2,
+            normal_sign: 1.0,
+            h_axis: 0,
+            w_axis: 1,
+            h: 0.1,
+            w: 0.1,
+            normal_overlap: 0.0,
+            area: 0.01,
+            centre_distance: 0.25,
+        };
+        assert!(col.cut_by(&c));
+        assert!(!col.end_near(c.pivot).lost);
+        // shear along X (local y) 40, along Y (local z) 45; moment about Y (local z) 2,
+        // about X (local y) 3.
+        assert_eq!(col.forces_for(&c), [300.0, 50.0, 40.0, 45.0, 2.0, 3.0]);
+        c.pivot = [0.0, 0.0, 0.01];
+        assert!(col.end_near(c.pivot).lost);
+        c.normal_axis = 0;
+        c.h_axis = 1;
+        c.w_axis = 2;
+        assert!(!col.cut_by(&c));
     }
 
     #[test]

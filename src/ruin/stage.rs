@@ -14,7 +14,7 @@
 //!    are placed by the record's absolute displacement at the substep's end ([`super::ground`]).
 //!    With `start_time_s` = Tc this continues the FE stage's ground in position and velocity.
 //! 4. **Connections** (BCB's steps 4 and 5): [`find_contacts`] on the undeformed bodies,
-//!    [`build_connections`] with frames from the start poses (nothing fires at the start),
+//!    [`super::connection::build_connections`] with frames from the start poses (nothing fires at the start),
 //!    then each connection's starting state ([`start_state_from_damage`] of the FE damage
 //!    given per body pair): broken → no constraint enabled; plastic → spring on (its
 //!    equilibrium is the start pose), generics off. The seven Bullet constraints of each
@@ -44,8 +44,8 @@
 //! zero velocities, all connections elastic, start at t = 0 under the whole record.
 
 use super::connection::{
-    build_connections, ConnectionSpec, ConnectionState, ConstraintKind as SpecKind, GroupStrength,
-    RuinSettings,
+    build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
+    ConstraintKind as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
 };
 use super::ground::GroundSpec;
 use super::monitor::{start_state_from_damage, AngleRule, FeDamage, Monitor, StateCounts};
@@ -167,6 +167,9 @@ pub struct StageInput<'a> {
     /// missing = intact; a pair that has no connection is ignored (a pair with a ≥ b or
     /// an index out of range is an error).
     pub start_damage: BTreeMap<(usize, usize), FeDamage>,
+    /// FE-derived strengths per body (empty: BCB's group strengths only; else one entry
+    /// per body) — [`super::connection::build_connections_with`].
+    pub body_strengths: Vec<Option<BodyStrength>>,
 }
 
 impl<'a> StageInput<'a> {
@@ -184,6 +187,7 @@ impl<'a> StageInput<'a> {
             groups,
             start_time_s: 0.0,
             start_damage: BTreeMap::new(),
+            body_strengths: Vec::new(),
         }
     }
 }
@@ -306,6 +310,7 @@ pub struct RuinStage {
     substeps_per_frame: u64,
     substeps_done: u64,
     in_bullet: Duration,
+    any_ductile: bool,
 }
 
 /// nalgebra isometry → physics pose.
@@ -519,8 +524,14 @@ impl RuinStage {
         } else {
             Vec::new()
         };
-        let mut connections =
-            build_connections(input.bodies, input.groups, &contacts, &input.start_poses, r)?;
+        let mut connections = build_connections_with(
+            input.bodies,
+            input.groups,
+            &contacts,
+            &input.start_poses,
+            r,
+            &input.body_strengths,
+        )?;
         for &(a, b) in input.start_damage.keys() {
             if a >= b || b >= n {
                 return Err(bad(
@@ -536,7 +547,11 @@ impl RuinStage {
                 .get(&(c.a, c.b))
                 .copied()
                 .unwrap_or(FeDamage::Intact);
-            let mut s = start_state_from_damage(dmg);
+            let mut s = if c.lost_at_start {
+                ConnectionState::Broken
+            } else {
+                start_state_from_damage(dmg)
+            };
             if s == ConnectionState::Plastic && !c.has_spring() {
                 s = ConnectionState::Broken;
             }
@@ -592,6 +607,7 @@ impl RuinStage {
             settings.angle_rule,
         )?;
         let model_height_m = (hi[2] - lo[2]).max(0.0);
+        let any_ductile = connections.iter().any(|c| c.ductile);
         Ok(RuinStage {
             world,
             ground: ground_handle,
@@ -614,6 +630,7 @@ impl RuinStage {
             substeps_per_frame: spf as u64,
             substeps_done: 0,
             in_bullet: Duration::ZERO,
+            any_ductile,
         })
     }
 
@@ -688,7 +705,8 @@ impl RuinStage {
         let h = self.substep_s;
         let warmup = self.settings.warmup_s;
         let in_warmup = |done: u64| warmup > 0.0 && (done as f64) * h < warmup;
-        if self.ground_spec.history.is_none() && !in_warmup(self.substeps_done) {
+        if self.ground_spec.history.is_none() && !in_warmup(self.substeps_done) && !self.any_ductile
+        {
             let mut left = count;
             while left > 0 {
                 let c = left.min(u64::from(u32::MAX)) as u32;
@@ -716,6 +734,7 @@ impl RuinStage {
                 self.world.step(h, 1)?;
                 self.in_bullet += t.elapsed();
                 self.substeps_done += 1;
+                self.restore_ductile_rows()?;
                 continue;
             }
             let d = self.ground_spec.displacement_at(t_next);
@@ -732,6 +751,29 @@ impl RuinStage {
             self.world.step(h, 1)?;
             self.in_bullet += t.elapsed();
             self.substeps_done += 1;
+            self.restore_ductile_rows()?;
+        }
+        Ok(())
+    }
+
+    /// Ductile bending rows of elastic connections that Bullet disabled in the last
+    /// substep are enabled again ([`ConnectionSpec::ductile`]).
+    fn restore_ductile_rows(&mut self) -> Result<(), StageError> {
+        if !self.any_ductile {
+            return Ok(());
+        }
+        let enabled = self.world.constraints_enabled()?;
+        for (i, c) in self.connections.iter().enumerate() {
+            if !c.ductile || self.monitor.state(i) != ConnectionState::Elastic {
+                continue;
+            }
+            for k in BENDING_ROWS {
+                if let Some(&h) = self.constraint_handles[i].get(k) {
+                    if !enabled[h.index()] {
+                        self.world.set_constraint_enabled(h, true)?;
+                    }
+                }
+            }
         }
         Ok(())
     }

@@ -36,6 +36,7 @@ mod physics {
 }
 mod pipeline {
     mod groups_measures;
+    mod handoff_continuity;
     mod run_frame3;
 }
 mod plot {

@@ -3,6 +3,7 @@
 //! static / modal / transient analyses on sparse linear algebra (faer).
 pub mod analysis;
 pub mod build;
+pub mod capacity;
 pub mod domain;
 pub mod element;
 pub mod linalg;

@@ -166,6 +166,13 @@ impl Element for DispBeam3d {
     fn damage(&self) -> ElementDamage {
         damage_of(&self.sections)
     }
+    fn sections(&self) -> Vec<(f64, &dyn Section)> {
+        self.xs
+            .iter()
+            .zip(&self.sections)
+            .map(|(&xi, s)| (xi, s.as_ref()))
+            .collect()
+    }
 }
 
 impl BeamColumn for DispBeam3d {

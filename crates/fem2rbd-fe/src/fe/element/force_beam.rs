@@ -317,6 +317,13 @@ impl Element for ForceBeam3d {
     fn damage(&self) -> ElementDamage {
         damage_of(&self.sections)
     }
+    fn sections(&self) -> Vec<(f64, &dyn Section)> {
+        self.xs
+            .iter()
+            .zip(&self.sections)
+            .map(|(&xi, s)| (xi, s.as_ref()))
+            .collect()
+    }
 }
 
 impl BeamColumn for ForceBeam3d {

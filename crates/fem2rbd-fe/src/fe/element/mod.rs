@@ -77,6 +77,12 @@ pub trait Element: std::fmt::Debug + Send {
     fn damage(&self) -> ElementDamage {
         ElementDamage::default()
     }
+    /// The element's sections (committed state after a converged step) with their
+    /// positions ξ = x/L ∈ [0, 1], in integration-point order; empty for elements without
+    /// sections (elastic). Read by the FE capacity analysis ([`crate::fe::capacity`]).
+    fn sections(&self) -> Vec<(f64, &dyn crate::fe::section::Section)> {
+        Vec::new()
+    }
 }
 
 pub mod beam;

@@ -1,0 +1,212 @@
+#!/usr/bin/env python3
+"""Hand-off continuity benchmark (issue 11, docs/handoff.md).
+
+Runs `fem2rbd` (release) on a model under LC5 and compares the Bullet building with the FE
+alone on the same time axis:
+
+  (a) roof drift and maximum drop in the 0.5 s after each hand-off, hybrid vs FE alone;
+  (b) the time the hybrid run reaches the 0.25 m-at-full-scale drop (1 m x scale) against
+      the FE's own Tc;
+  (c) the undamaged Bullet building under gravity alone (a ground record of zeros, 3 s):
+      largest sag and roof drift, against the FE under the same zero record;
+  (d) optional (--ruins): final ruin measures of each hand-off at 200/400/800 substeps/s.
+
+Each of (a)-(c) is run with both connection models, BCB's Formula Assistant ("formula")
+and the FE-derived one ("fe"). Usage:
+
+  python3 scripts/handoff-continuity.py [--model data/frame3/model.toml]
+      [--time-scale 0.5] [--out out/handoff] [--ruins]
+
+Writes OUT/table.md (the tables of docs/handoff.md) and keeps every run folder, so
+`fem2rbd plot OUT/<run>` draws the tool's own plots of any of them. Needs
+`cargo build --release` first (the script calls target/release/fem2rbd).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "target", "release", "fem2rbd")
+GM = os.path.join(ROOT, "data", "ground-motions")
+LC5 = [("RSN6_IMPVALL.I_I-ELC180.AT2", "X", 0.93),
+       ("RSN6_IMPVALL.I_I-ELC270.AT2", "Y", 1.19),
+       ("RSN6_IMPVALL.I_I-ELC-UP.AT2", "Z", 0.57)]
+HANDOFFS = [("drift_1_50", 'criterion = "drift_1_50"'),
+            ("drift_3pct", 'criterion = "drift"\nratio = 0.03'),
+            ("drift_4pct", 'criterion = "drift_4pct"'),
+            ("vertical_drop", 'criterion = "vertical_drop"')]
+
+
+def scenario(path, model, out, mode, ts, collapse, physics, zeros=None, fe_extra=""):
+    lines = [f'model = "{model}"', f'mode = "{mode}"', f'output = "{out}"', ""]
+    if zeros:
+        lines += ["[[ground_motion]]", f'file = "{zeros}"', 'direction = "X"', ""]
+    else:
+        for f, d, g in LC5:
+            lines += ["[[ground_motion]]", f'file = "{os.path.join(GM, f)}"',
+                      f'direction = "{d}"', f"pga_g = {g}", f"time_scale = {ts}", ""]
+    lines += ["[fe]", "dt = 0.005", fe_extra, "", "[collapse]", collapse, "",
+              "[physics]", physics, ""]
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines))
+
+
+def run(path):
+    r = subprocess.run([BIN, "--quiet", "run", path], capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.stderr.write(r.stderr)
+        raise SystemExit(f"fem2rbd failed on {path}")
+
+
+def history(folder):
+    with open(os.path.join(folder, "history.csv")) as fh:
+        return [{k: (float(v) if k not in ("stage",) and v != "" else v)
+                 for k, v in row.items()} for row in csv.DictReader(fh)]
+
+
+def summary(folder):
+    with open(os.path.join(folder, "summary.json")) as fh:
+        return json.load(fh)
+
+
+def at(rows, t):
+    """The row at the first frame time >= t (FE and physics rows share the 25 fps axis)."""
+    for r in rows:
+        if r["t"] >= t - 1e-9:
+            return r
+    return rows[-1]
+
+
+def window(rows, t0, t1):
+    return [r for r in rows if t0 - 1e-9 <= r["t"] <= t1 + 1e-9]
+
+
+def first_drop(rows, thr):
+    for r in rows:
+        if r["max_drop_m"] >= thr:
+            return r["t"]
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--model", default=os.path.join(ROOT, "data", "frame3", "model.toml"))
+    ap.add_argument("--time-scale", type=float, default=0.5)
+    ap.add_argument("--scale", type=float, default=0.25, help="model scale (drop = 1 m x scale)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "handoff"))
+    ap.add_argument("--t-end", type=float, default=6.0, help="end of the LC5 runs, s")
+    ap.add_argument("--ruins", action="store_true", help="(d): full ruin runs at 200/400/800")
+    a = ap.parse_args()
+    out = os.path.abspath(a.out)
+    os.makedirs(out, exist_ok=True)
+    model = os.path.abspath(a.model)
+    thr = 1.0 * a.scale
+    ts = a.time_scale
+
+    # The FE alone (no stop at the criterion) on the same axis.
+    fe = os.path.join(out, "fe")
+    scenario(fe + ".toml", model, fe, "fe", ts, 'criterion = "vertical_drop"', "",
+             fe_extra=f"duration = {a.t_end}")
+    run(fe + ".toml")
+    fe_rows = history(fe)
+    # The FE's Tc: its collapse monitor (a main node drops 1 m x scale), as summary.json
+    # reports it (history.csv's max_drop_m is of body centres, which drop less).
+    fe_tc = summary(fe).get("tc_s")
+
+    # (c) gravity alone: a record of zeros, 3 s.
+    zeros = os.path.join(out, "zeros.txt")
+    with open(zeros, "w") as fh:
+        for i in range(601):
+            fh.write(f"{i * 0.005:.3f} 0.0\n")
+    grav = {}
+    for cm in ("formula", "fe"):
+        d = os.path.join(out, f"gravity-{cm}")
+        scenario(d + ".toml", model, d, "physics", ts, 'criterion = "vertical_drop"',
+                 f'time_limit_s = 3.0\nstop_at_rest = false\nconnections = "{cm}"', zeros=zeros)
+        run(d + ".toml")
+        grav[cm] = history(d)
+    d = os.path.join(out, "gravity-fe-only")
+    scenario(d + ".toml", model, d, "fe", ts, 'criterion = "vertical_drop"', "", zeros=zeros,
+             fe_extra="duration = 3.0")
+    run(d + ".toml")
+    grav["FE alone"] = history(d)
+
+    lines = []
+    p = lines.append
+    p(f"Model `{os.path.relpath(model, ROOT)}`, LC5 at time scale {ts}; drop threshold {thr} m; "
+      f"FE alone reaches it at **{fe_tc} s**.\n")
+    p("### (c) Gravity alone (ground record of zeros, 3 s)\n")
+    p("| building | largest sag (mm) | at t (s) | largest roof drift (%) | sag at 3 s (mm) | drift at 3 s (%) | connections i/p/b at 3 s |")
+    p("|---|---|---|---|---|---|---|")
+    for name, rows in grav.items():
+        m = max(rows, key=lambda r: r["max_drop_m"])
+        dr = max(abs(r["roof_drift"]) for r in rows)
+        last = rows[-1]
+        cnt = (f"{int(last['intact'])}/{int(last['plastic'])}/{int(last['broken'])}"
+               if last["intact"] != "" else "–")
+        label = name if name == "FE alone" else f"Bullet, `{name}` connections"
+        p(f"| {label} | {m['max_drop_m'] * 1000:.2f} | {m['t']:.2f} | {dr * 100:.4f} | "
+          f"{last['max_drop_m'] * 1000:.2f} | {abs(last['roof_drift']) * 100:.4f} | {cnt} |")
+    p("")
+
+    p("### (a), (b) Hand-offs under LC5 against the FE alone\n")
+    p("| hand-off | connections | Tc (s) | start i/p/b | roof drift +0.5 s hybrid / FE (%) | max drop +0.5 s hybrid / FE (m) | drop reached (s) | FE Tc (s) | half-way (s) | target (b) |")
+    p("|---|---|---|---|---|---|---|---|---|---|")
+    for name, crit in HANDOFFS:
+        for cm in ("formula", "fe"):
+            d = os.path.join(out, f"{name}-{cm}")
+            scenario(d + ".toml", model, d, "hybrid", ts, crit,
+                     f'time_limit_s = {a.t_end}\nstop_at_rest = false\nconnections = "{cm}"')
+            run(d + ".toml")
+            s = summary(d)
+            tc = s.get("tc_s")
+            if tc is None:
+                p(f"| {name} | {cm} | – ({s['tc_reason']}) | | | | | | | |")
+                continue
+            rows = history(d)
+            ph = [r for r in rows if r["stage"] == "physics"]
+            st = ph[0]
+            w = window(rows, tc, tc + 0.5)
+            wf = window(fe_rows, tc, tc + 0.5)
+            dh = max(abs(r["roof_drift"]) for r in w) * 100
+            df = max(abs(r["roof_drift"]) for r in wf) * 100 if wf else float("nan")
+            mh = max(r["max_drop_m"] for r in w)
+            mf = max(r["max_drop_m"] for r in wf) if wf else float("nan")
+            tdrop = first_drop(ph, thr)
+            half = tc + 0.5 * (fe_tc - tc) if fe_tc else None
+            ok = "–" if half is None else ("met" if (tdrop is None or tdrop >= half) else "not met")
+            p(f"| {name} | {cm} | {tc:.2f} | {int(st['intact'])}/{int(st['plastic'])}/{int(st['broken'])} | "
+              f"{dh:.2f} / {df:.2f} | {mh:.3f} / {mf:.3f} | "
+              f"{'none by %.1f' % a.t_end if tdrop is None else '%.2f' % tdrop} | {fe_tc} | "
+              f"{'–' if half is None else '%.2f' % half} | {ok} |")
+    p("")
+
+    if a.ruins:
+        p("### (d) Final ruins per hand-off and substep (FE-derived connections)\n")
+        p("| hand-off | steps/s | floor offsets (m) | slab overlap 1–2, 2–3 | debris area (m²) | extent (m) |")
+        p("|---|---|---|---|---|---|")
+        for name, crit in HANDOFFS:
+            for sps in (200, 400, 800):
+                d = os.path.join(out, f"ruin-{name}-{sps}")
+                scenario(d + ".toml", model, d, "hybrid", ts, crit,
+                         f"steps_per_second = {sps}")
+                run(d + ".toml")
+                s = summary(d)
+                ru = s.get("ruins", {})
+                fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
+                ov = ", ".join(f"{o['overlap_ratio']:.2f}" for o in ru.get("slab_overlap", []))
+                p(f"| {name} | {sps} | {fl} | {ov} | {ru.get('debris_footprint_area_m2', float('nan')):.2f} | "
+                  f"{ru.get('extent_beyond_footprint_m', {}).get('max', float('nan')):.2f} |")
+        p("")
+
+    text = "\n".join(lines)
+    with open(os.path.join(out, "table.md"), "w") as fh:
+        fh.write(text + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,186 @@
+//! Hand-off continuity (issue 11, docs/handoff.md): the Bullet building must be the
+//! building the FE had.
+//!
+//! * Gravity alone (a ground record of zeros) on the undamaged frame3 with FE-derived
+//!   connections: the largest sag and roof drift of the Bullet building stay within the
+//!   issue's targets (sag ≤ 10 mm, drift ≤ 0.02 %), and the FE under the same record
+//!   sags a few millimetres (the reference the Bullet building is held against).
+//! * The 1/50-drift hand-off under LC5 with FE-derived connections: how many connections
+//!   start broken (FE rule: load path lost) and that Bullet does not reach the 0.25 m drop
+//!   before half-way between the hand-off and the FE's own Tc (4.66 s, docs/case1.md).
+//!
+//! Each test is self-contained (its own helpers); figures from `history.csv` as written.
+use fem2rbd::pipeline::{self, write, Scenario, Silent};
+use std::path::{Path, PathBuf};
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// The FE's Tc of frame3 under LC5 (vertical drop 0.25 m), docs/case1.md (fem2rbd and
+/// OpenSees agree to the step).
+const FE_TC_S: f64 = 4.66;
+
+fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn zeros(dir: &Path, seconds: f64) -> PathBuf {
+    let n = (seconds / 0.005).round() as usize;
+    let text: String = (0..=n)
+        .map(|i| format!("{:.3} 0.0\n", i as f64 * 0.005))
+        .collect();
+    write_file(dir, "zeros.txt", &text)
+}
+
+fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
+    let mut s = format!("model = \"{ROOT}/data/frame3/model.toml\"\nmode = \"{mode}\"\n\n");
+    for (f, d, g) in [
+        ("ELC180", "X", 0.93),
+        ("ELC270", "Y", 1.19),
+        ("ELC-UP", "Z", 0.57),
+    ] {
+        s += &format!(
+            "[[ground_motion]]\nfile = \"{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-{f}.AT2\"\n\
+             direction = \"{d}\"\npga_g = {g}\ntime_scale = 0.5\n\n"
+        );
+    }
+    s + &format!("[fe]\ndt = 0.005\n\n[collapse]\n{collapse}\n\n[physics]\n{physics}\n")
+}
+
+/// `history.csv` rows: (t, stage, roof_drift, max_drop_m, intact, plastic, broken).
+type Row = (f64, String, f64, f64, Option<[usize; 3]>);
+
+fn history(rec: &pipeline::RunRecord) -> Vec<Row> {
+    let files = write::contents(rec, false).unwrap();
+    let text = files
+        .iter()
+        .find(|(n, _)| *n == "history.csv")
+        .map(|(_, b)| String::from_utf8(b.clone()).unwrap())
+        .unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let counts = (!f[4].is_empty()).then(|| {
+                [
+                    f[4].parse().unwrap(),
+                    f[5].parse().unwrap(),
+                    f[6].parse().unwrap(),
+                ]
+            });
+            (
+                f[0].parse().unwrap(),
+                f[1].to_string(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+                counts,
+            )
+        })
+        .collect()
+}
+
+fn gravity_only(mode: &str, physics: &str, fe: &str, seconds: f64) -> Vec<Row> {
+    let dir = tempfile::tempdir().unwrap();
+    let z = zeros(dir.path(), seconds);
+    let text = format!(
+        "model = \"{ROOT}/data/frame3/model.toml\"\nmode = \"{mode}\"\n\n\
+         [[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n\n[fe]\ndt = 0.005\n{fe}\n\n\
+         [physics]\n{physics}\n",
+        z.display()
+    );
+    let p = write_file(dir.path(), "gravity.toml", &text);
+    let sc = Scenario::load(&p).unwrap();
+    history(&pipeline::run(&sc, &Silent).unwrap())
+}
+
+/// Target (c) of issue 11: the undamaged Bullet building (FE-derived connections) under
+/// gravity alone sags at most 10 mm and sways at most 0.02 % roof drift; every
+/// connection stays intact. The sag of Bullet's locked rows is set by the solver, not by
+/// the connection strengths (docs/handoff.md): ≈ g·h²/(ERP·c) with c the fraction of the
+/// needed impulse 100 Gauss–Seidel iterations deliver. Measured 3 s runs: 56 mm peak /
+/// 36 mm steady and 0.38 % drift at 200 substeps/s, 5.0 mm and 0.010 % at 800. The
+/// test runs 1 s at 800 substeps/s (the peak sag comes at 0.08 s). The FE under the same
+/// zero record is the reference: its gravity sag (a few mm) and zero drift.
+#[test]
+fn gravity_alone_the_bullet_building_stands_like_the_fe() {
+    let rows = gravity_only(
+        "physics",
+        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\nsteps_per_second = 800",
+        "",
+        1.0,
+    );
+    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let last = rows.last().unwrap();
+    eprintln!(
+        "Bullet (fe connections), gravity alone 1 s at 800 substeps/s: sag {:.2} mm, drift {:.4} %, counts {:?}",
+        sag * 1e3,
+        drift * 100.0,
+        last.4
+    );
+    assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
+    assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
+    let [_, plastic, broken] = last.4.unwrap();
+    assert_eq!(
+        (plastic, broken),
+        (0, 0),
+        "connections gave way under gravity"
+    );
+
+    let fe = gravity_only("fe", "", "duration = 0.5", 0.5);
+    let fe_sag = fe.iter().map(|r| r.3).fold(0.0, f64::max);
+    let fe_drift = fe.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    eprintln!(
+        "FE, gravity alone: sag {:.2} mm, drift {:.5} %",
+        fe_sag * 1e3,
+        fe_drift * 100.0
+    );
+    // The FE's static gravity state: millimetres, no sway.
+    assert!(fe_sag > 1e-4 && fe_sag < 0.010, "FE sag {fe_sag}");
+    assert!(fe_drift < 1e-5, "FE drift {fe_drift}");
+}
+
+/// Target (b) of issue 11 with the 1/50-drift hand-off (GB 50011), at the default 200
+/// substeps/s: Bullet does not reach the 0.25 m drop before half-way between the
+/// hand-off and the FE's Tc, and no connection starts broken merely from cover spalling
+/// or yield (main: 80 broken, 16 plastic, 0.25 m at 1.4 s).
+#[test]
+fn drift_1_50_handoff_does_not_collapse_early() {
+    let dir = tempfile::tempdir().unwrap();
+    let tc_guess = 1.16;
+    let half = tc_guess + 0.5 * (FE_TC_S - tc_guess);
+    let text = lc5(
+        "hybrid",
+        "criterion = \"drift_1_50\"",
+        &format!(
+            "time_limit_s = {:.2}\nstop_at_rest = false\nconnections = \"fe\"",
+            half + 0.04
+        ),
+    );
+    let p = write_file(dir.path(), "d150.toml", &text);
+    let sc = Scenario::load(&p).unwrap();
+    let rec = pipeline::run(&sc, &Silent).unwrap();
+    let tc = rec.tc_s.unwrap();
+    assert!((tc - tc_guess).abs() < 0.011, "Tc {tc}");
+    let rows = history(&rec);
+    let phys: Vec<&Row> = rows.iter().filter(|r| r.1 == "physics").collect();
+    let start = phys[0].4.unwrap();
+    let first_drop = phys.iter().find(|r| r.3 >= 0.25).map(|r| r.0);
+    eprintln!(
+        "1/50 hand-off at {tc:.3} s: start i/p/b {start:?}; drop 0.25 m at {first_drop:?} \
+         (half-way {half:.2} s); max drop by then {:.3} m",
+        phys.iter().map(|r| r.3).fold(0.0, f64::max)
+    );
+    assert_eq!(start[1], 0, "no connection starts plastic from yield alone");
+    assert!(
+        start[2] < 10,
+        "{} connections start broken (main: 80 from cover spalling)",
+        start[2]
+    );
+    let t = first_drop.unwrap_or(f64::INFINITY);
+    assert!(
+        t >= half,
+        "Bullet dropped 0.25 m at {t:.2} s, before half-way {half:.2} s"
+    );
+}
