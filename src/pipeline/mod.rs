@@ -272,6 +272,12 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.ruin.spring_limit_if_needed = p.spring_limit;
     s.ruin.angular_spring = p.angular_spring;
     s.world.solver.split_impulse = p.split_impulse;
+    s.world.solver.split_impulse_penetration_threshold = p.split_impulse_threshold_m;
+    s.world.solver.erp2 = p.contact_erp;
+    s.world.solver.erp = p.joint_erp;
+    s.body.margin = p.margin_m;
+    s.body.margin_max_share = p.margin_max_share;
+    s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
     s
 }
 

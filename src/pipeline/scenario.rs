@@ -141,6 +141,25 @@ pub struct PhysicsSpec {
     /// Bullet's split impulse (false, as BCB): penetration recovery by a separate
     /// position correction that adds no kinetic energy, instead of a velocity bias.
     pub split_impulse: bool,
+    /// Bullet's `m_splitImpulsePenetrationThreshold`, m (Bullet −0.04): with split impulse
+    /// on, only contacts deeper than this are corrected by position; shallower ones get
+    /// the velocity bias (Baumgarte, `contact_erp`). 0 = every penetration by position.
+    pub split_impulse_threshold_m: f64,
+    /// Bullet's contact ERP `m_erp2` (0.2): the fraction of a penetration removed per
+    /// substep (by velocity without split impulse).
+    pub contact_erp: f64,
+    /// Bullet's joint ERP `m_erp` (0.2): the same for the connections' constraint rows.
+    pub joint_erp: f64,
+    /// Collision margin of every body, m (Blender/BCB 0.04; capped at the smallest half
+    /// extent of each box).
+    pub margin_m: f64,
+    /// Largest margin as a share of each box's smallest half extent (1 = BCB):
+    /// `crate::ruin::stage::BodySettings::margin_max_share`.
+    pub margin_max_share: f64,
+    /// A plastic spring's rest pose is the pose at the onset of plasticity (true) or at
+    /// the stage's start as in BCB (false):
+    /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
+    pub spring_rest_at_plastic_onset: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -165,6 +184,12 @@ impl Default for PhysicsSpec {
             spring_limit: true,
             angular_spring: crate::ruin::connection::AngularSpring::Lever,
             split_impulse: false,
+            split_impulse_threshold_m: -0.04_f32 as f64,
+            contact_erp: 0.2,
+            joint_erp: 0.2,
+            margin_m: 0.04,
+            margin_max_share: 1.0,
+            spring_rest_at_plastic_onset: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,
@@ -375,6 +400,29 @@ impl Scenario {
             if !(v >= 0.0 && v.is_finite()) {
                 bail!("{p}: physics.{name} must be ≥ 0, got {v}");
             }
+        }
+        for (name, v) in [("contact_erp", ph.contact_erp), ("joint_erp", ph.joint_erp)] {
+            if !(v > 0.0 && v <= 1.0) {
+                bail!("{p}: physics.{name} must be in (0, 1], got {v}");
+            }
+        }
+        if !(ph.split_impulse_threshold_m <= 0.0 && ph.split_impulse_threshold_m.is_finite()) {
+            bail!(
+                "{p}: physics.split_impulse_threshold_m must be ≤ 0 (m), got {}",
+                ph.split_impulse_threshold_m
+            );
+        }
+        if !(ph.margin_max_share > 0.0 && ph.margin_max_share <= 1.0) {
+            bail!(
+                "{p}: physics.margin_max_share must be in (0, 1], got {}",
+                ph.margin_max_share
+            );
+        }
+        if !positive(ph.margin_m) {
+            bail!(
+                "{p}: physics.margin_m must be positive, got {}",
+                ph.margin_m
+            );
         }
         if ph.solver_iterations == 0 {
             bail!("{p}: physics.solver_iterations must be at least 1");

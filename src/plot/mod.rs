@@ -10,13 +10,15 @@
 //! * `history` — roof drift (%) and maximum vertical drop (m) against time, FE and ruin
 //!   stage in different colours, Tc marked;
 //! * `connections` — intact / plastic / broken connection counts against time over the
-//!   ruin stage, Tc marked.
+//!   ruin stage, Tc marked;
+//! * `energy` — the ruin stage's energy ledger ([`energy`]), when `history.csv` has it.
 //!
 //! Definitions of the drawn quantities: [`geometry`] and [`crate::output::history`].
 //! Text uses the bundled DejaVu Sans ([`font`]), never a system font. Same run folder,
 //! same bytes: drawing orders are sorted, PNGs are encoded in memory with fixed settings
 //! and every file is written atomically.
 pub mod connections;
+pub mod energy;
 pub mod font;
 pub mod geometry;
 pub mod history;
@@ -141,6 +143,9 @@ pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<Path
         out,
         format,
     )?);
+    if energy::EnergyFigure::has_data(run) {
+        files.extend(write_figure(&energy::EnergyFigure::new(run), out, format)?);
+    }
     Ok(files)
 }
 
