@@ -22,11 +22,10 @@ for mode in $MODES; do
     sc="$OUT/scenarios/$name.toml"
     sed -e "s#^model = \"model.toml\"#model = \"$ROOT/data/frame3/model.toml\"#" \
         -e "s#file = \"\.\./#file = \"$ROOT/data/#" \
-        -e "s#^output = .*#output = \"$ROOT/$OUT/$name\"#" \
         data/frame3/lc5.toml > "$sc"
     printf 'steps_per_second = %s\nsolver_iterations = %s\n%s\n' "$1" "$2" "${RUIN_EXTRA:-}" >> "$sc"
     echo "== $name" >&2
-    ./target/release/fem2rbd run "$sc" --mode "$mode" --quiet
+    ./target/release/fem2rbd run "$sc" --mode "$mode" --out "$OUT/$name" --quiet
   done
 done
 python3 scripts/ruin-table.py "$OUT"/*-sps*-it*

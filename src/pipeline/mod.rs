@@ -30,6 +30,7 @@
 //! mapping and of the ruin stage is its integral on the FE step with BCB-style zero-end
 //! baseline ([`crate::motion::Baseline::ZeroEnd`], < 0.1 % change of the acceleration).
 
+pub mod ensemble;
 pub mod scenario;
 pub mod write;
 
@@ -338,8 +339,25 @@ pub fn time_limit(sc: &Scenario, gm: &GroundMotion) -> f64 {
 
 /// Runs a scenario and returns the record (nothing is written).
 pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
+    run_perturbed(sc, progress, None)
+}
+
+/// As [`run`], with the start of the ruin stage perturbed as an ensemble member
+/// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
+pub fn run_perturbed(
+    sc: &Scenario,
+    progress: &dyn Progress,
+    perturbation: Option<&ensemble::Perturbation>,
+) -> Result<RunRecord> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
-    let gm = ground_motion(sc)?;
+    let mut gm = ground_motion(sc)?;
+    if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
+        for (k, c) in gm.components.iter_mut().enumerate() {
+            if let Some(rec) = c {
+                rec.scale(1.0 + p.ground_share * p.uniform(1, k as u64));
+            }
+        }
+    }
     let ground = gm
         .integrate(sc.dt, Baseline::default())
         .context("integrating the ground motion")?;
@@ -539,6 +557,13 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
                 let d = body_damage[a].max(body_damage[b]);
                 if d != FeDamage::Intact {
                     start_damage.insert((a, b), d);
+                }
+            }
+        }
+        if let Some(p) = perturbation {
+            for (i, v) in vels.iter_mut().enumerate().take(map.bodies.len()) {
+                for (d, x) in v.linear.iter_mut().enumerate() {
+                    *x += p.velocity_mps * p.uniform(2, (3 * i + d) as u64);
                 }
             }
         }
