@@ -108,4 +108,21 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     let mn = xs.iter().copied().fold(f64::INFINITY, f64::min);
     assert!((st["min"].as_f64().unwrap() - mn).abs() < 1e-6);
     assert_eq!(s["members"], 3);
+    // The debris-density map (`fem2rbd plot` on the ensemble folder): shares are counts
+    // of members; after 0.8 s the frame still stands, so its column cells hold debris in
+    // every member.
+    let fig = fem2rbd::plot::density::DensityFigure::load(&tmp.path().join("t1")).unwrap();
+    assert_eq!(fig.members, 3);
+    for v in fig.share.values() {
+        let k = v * 3.0;
+        assert!((k - k.round()).abs() < 1e-12 && *v > 0.0 && *v <= 1.0, "{v}");
+    }
+    assert!(fig.share.values().any(|v| *v == 1.0));
+    let written = fem2rbd::plot::write_ensemble(
+        &tmp.path().join("t1"),
+        &tmp.path().join("plots"),
+        fem2rbd::plot::Format::Both,
+    )
+    .unwrap();
+    assert_eq!(written.len(), 2);
 }

@@ -1,5 +1,5 @@
 //! `fem2rbd plot OUT_DIR [--out DIR] [--format png|svg|both]`: the figures of a run folder
-//! (`src/plot/`), written atomically into `OUT_DIR/plots` by default; the files written
+//! (`src/plot/`; for an ensemble folder the debris-density map), written atomically into `OUT_DIR/plots` by default; the files written
 //! are listed on stdout (nothing with `--quiet`).
 use crate::plot::{self, Format, RunFolder};
 use anyhow::Result;
@@ -22,12 +22,16 @@ pub struct PlotArgs {
 
 /// Runs `plot`.
 pub fn run(args: &PlotArgs, quiet: bool) -> Result<()> {
-    let run = RunFolder::load(&args.run_dir)?;
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| args.run_dir.join("plots"));
-    let files = plot::write_all(&run, &out, args.format)?;
+    // An ensemble folder (`fem2rbd run --ensemble N`): the debris-density map.
+    let files = if args.run_dir.join("ensemble.json").is_file() {
+        plot::write_ensemble(&args.run_dir, &out, args.format)?
+    } else {
+        plot::write_all(&RunFolder::load(&args.run_dir)?, &out, args.format)?
+    };
     if !quiet {
         for f in files {
             println!("{}", f.display());
