@@ -1,7 +1,8 @@
 //! `fem2rbd plot OUT_DIR [--out DIR] [--format png|svg|both]`: the figures of a run folder
-//! (`src/plot/`), or of a collected study folder (`src/study/plot.rs`: IDA curves and
-//! collapse fragility), written atomically into `OUT_DIR/plots` by default; the files
-//! written are listed on stdout (nothing with `--quiet`).
+//! (`src/plot/`), of an ensemble folder (the debris-density map, `src/plot/density.rs`), or
+//! of a collected study folder (`src/study/plot.rs`: IDA curves and collapse fragility),
+//! written atomically into `OUT_DIR/plots` by default; the files written are listed on
+//! stdout (nothing with `--quiet`).
 use anyhow::Result;
 use clap::Args;
 use fem2rbd::plot::{self, Format, RunFolder};
@@ -29,6 +30,9 @@ pub fn run(args: &PlotArgs, quiet: bool) -> Result<()> {
         .unwrap_or_else(|| args.run_dir.join("plots"));
     let files = if fem2rbd::study::plot::is_study_folder(&args.run_dir) {
         fem2rbd::study::plot::write_all(&args.run_dir, &out, args.format)?
+    } else if args.run_dir.join("ensemble.json").is_file() {
+        // An ensemble folder (`fem2rbd run --ensemble N`): the debris-density map.
+        plot::write_ensemble(&args.run_dir, &out, args.format)?
     } else {
         plot::write_all(&RunFolder::load(&args.run_dir)?, &out, args.format)?
     };

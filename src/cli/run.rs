@@ -24,6 +24,16 @@ pub struct RunArgs {
     /// Override the scenario's output folder.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Run an ensemble of N members (member 0 unperturbed; docs/ruin-numerics.md):
+    /// OUT/member-NNN/ and OUT/ensemble.json.
+    #[arg(long, value_name = "N")]
+    pub ensemble: Option<usize>,
+    /// Ensemble seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads of an ensemble (default: the machine's cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// A progress bar on stderr per stage (hidden when quiet or not on a terminal).
@@ -111,6 +121,22 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         pipeline::write::RUN_OWNED,
         "output folder",
     )?;
+    if let Some(n) = args.ensemble {
+        let threads = args.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+        });
+        let recs = pipeline::ensemble::run_ensemble(&sc, n, args.seed, threads)?;
+        let written = pipeline::ensemble::write_ensemble(&sc, &recs, args.seed, &sc.output)?;
+        if !quiet {
+            eprintln!(
+                "ensemble ({}): {n} members on {threads} threads; {} files in {}",
+                sc.mode.name(),
+                written.len(),
+                sc.output.display()
+            );
+        }
+        return Ok(());
+    }
     let bars = Bars {
         visible: !quiet && std::io::stderr().is_terminal(),
         bar: RefCell::new(None),

@@ -17,7 +17,14 @@
 //!   not equal to the FE criterion, which follows nodes;
 //! * `intact,plastic,broken` — connection counts after the frame's monitor check (empty
 //!   in FE frames: the connections exist only in the ruin stage);
-//! * `ground_x,ground_y,ground_z` — the ground displacement at t, m.
+//! * `ground_x,ground_y,ground_z` — the ground displacement at t, m;
+//! * `kinetic_j,rotational_j,potential_j,ground_work_j,damping_j,dissipated_j` — the ruin
+//!   stage's energy ledger ([`crate::ruin::energy`]), J: translational and rotational
+//!   kinetic energy, potential energy relative to the ground's top at rest, work done by
+//!   the moving ground since the stage's start, energy taken out by Bullet's velocity
+//!   damping since the start, dissipated = E(start) + W_ground − E (damping
+//!   included), and injected: the energy the solver added since the start (the sum over
+//!   substeps of the positive part of ΔE − ΔW_ground + Δdamping). Empty in FE frames.
 //!
 //! `bodies.csv`, one row per body in body order (the order of `ruins.csv` and of each
 //! frame in `keyframes.csv`):
@@ -32,8 +39,26 @@ use crate::physics::Pose;
 use std::fmt::Write as _;
 
 /// `history.csv` header.
-pub const HISTORY_HEADER: &str =
-    "t,stage,roof_drift,max_drop_m,intact,plastic,broken,ground_x,ground_y,ground_z";
+pub const HISTORY_HEADER: &str = "t,stage,roof_drift,max_drop_m,intact,plastic,broken,ground_x,ground_y,ground_z,kinetic_j,rotational_j,potential_j,ground_work_j,damping_j,dissipated_j,injected_j";
+
+/// The energy columns of a `history.csv` row (module docs), J.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnergyRow {
+    /// Translational kinetic energy.
+    pub kinetic_j: f64,
+    /// Rotational kinetic energy.
+    pub rotational_j: f64,
+    /// Potential energy relative to the ground's top at rest.
+    pub potential_j: f64,
+    /// Work done by the moving ground since the ruin stage's start.
+    pub ground_work_j: f64,
+    /// Taken out by Bullet's velocity damping since the start.
+    pub damping_j: f64,
+    /// E(start) + W_ground − E.
+    pub dissipated_j: f64,
+    /// Added by the solver since the start.
+    pub injected_j: f64,
+}
 
 /// `bodies.csv` header.
 pub const BODIES_HEADER: &str =
@@ -109,6 +134,8 @@ pub struct HistoryFrame<'a> {
     pub counts: Option<Counts>,
     /// Ground displacement, m.
     pub ground_m: [f64; 3],
+    /// The energy ledger (ruin-stage frames).
+    pub energy: Option<EnergyRow>,
 }
 
 /// The roof (module docs), or `None` when there are no active bodies.
@@ -211,9 +238,21 @@ pub fn history_csv(rows: &[BodyRow], frames: &[HistoryFrame]) -> String {
         let counts = f
             .counts
             .map_or(",,".to_string(), |(a, b, c)| format!("{a},{b},{c}"));
+        let energy = f.energy.map_or(",,,,,,".to_string(), |e| {
+            format!(
+                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
+                e.kinetic_j + 0.0,
+                e.rotational_j + 0.0,
+                e.potential_j + 0.0,
+                e.ground_work_j + 0.0,
+                e.damping_j + 0.0,
+                e.dissipated_j + 0.0,
+                e.injected_j + 0.0
+            )
+        });
         let _ = writeln!(
             s,
-            "{:.4},{},{drift},{drop},{counts},{:.6},{:.6},{:.6}",
+            "{:.4},{},{drift},{drop},{counts},{:.6},{:.6},{:.6},{energy}",
             f.t_s + 0.0,
             if f.fe { "fe" } else { "physics" },
             g[0] + 0.0,
@@ -286,11 +325,20 @@ mod tests {
                 poses: &poses,
                 counts: Some((3, 2, 1)),
                 ground_m: g,
+                energy: Some(EnergyRow {
+                    kinetic_j: 1.5,
+                    rotational_j: 0.25,
+                    potential_j: 100.0,
+                    ground_work_j: -2.0,
+                    damping_j: 0.125,
+                    dissipated_j: 7.0,
+                    injected_j: 0.5,
+                }),
             }],
         );
         let line = s.lines().nth(1).unwrap();
         let want = format!(
-            "1.0000,physics,{:.8},0.250000,3,2,1,0.100000,0.100000,0.010000",
+            "1.0000,physics,{:.8},0.250000,3,2,1,0.100000,0.100000,0.010000,1.500000,0.250000,100.000000,-2.000000,0.125000,7.000000,0.500000",
             0.13f64.sqrt() / 2.9625
         );
         assert_eq!(line, want);
@@ -308,11 +356,12 @@ mod tests {
                 poses: &poses,
                 counts: None,
                 ground_m: [0.0; 3],
+                energy: None,
             }],
         );
         assert_eq!(
             s.lines().nth(1).unwrap(),
-            "0.0000,fe,0.00000000,0.000000,,,,0.000000,0.000000,0.000000"
+            "0.0000,fe,0.00000000,0.000000,,,,0.000000,0.000000,0.000000,,,,,,,"
         );
     }
 

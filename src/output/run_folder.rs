@@ -88,6 +88,8 @@ pub struct HistoryRow {
     pub counts: Option<(usize, usize, usize)>,
     /// Ground displacement, m.
     pub ground_m: [f64; 3],
+    /// The energy ledger (ruin-stage frames; `None` in FE frames).
+    pub energy: Option<crate::output::history::EnergyRow>,
 }
 
 /// A run folder, read and checked.
@@ -423,6 +425,19 @@ pub fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
             max_drop_m: r.opt_f64(3)?,
             counts,
             ground_m: r.vec3(7)?,
+            energy: if r.fields[10..17].iter().all(|s| s.is_empty()) {
+                None
+            } else {
+                Some(crate::output::history::EnergyRow {
+                    kinetic_j: r.f64(10)?,
+                    rotational_j: r.f64(11)?,
+                    potential_j: r.f64(12)?,
+                    ground_work_j: r.f64(13)?,
+                    damping_j: r.f64(14)?,
+                    dissipated_j: r.f64(15)?,
+                    injected_j: r.f64(16)?,
+                })
+            },
         });
     }
     Ok(out)
@@ -623,6 +638,7 @@ mod tests {
                 poses: p,
                 counts: (k >= 3).then_some((10 - k, k, 2 * k)),
                 ground_m: *g,
+                energy: None,
             })
             .collect();
         let last = &frames.last().unwrap().1;

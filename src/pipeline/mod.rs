@@ -34,6 +34,7 @@
 //! mapping and of the ruin stage is its integral on the FE step with BCB-style zero-end
 //! baseline ([`crate::motion::Baseline::ZeroEnd`], < 0.1 % change of the acceleration).
 
+pub mod ensemble;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
@@ -280,6 +281,12 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.ruin.spring_limit_if_needed = p.spring_limit;
     s.ruin.angular_spring = p.angular_spring;
     s.world.solver.split_impulse = p.split_impulse;
+    s.world.solver.split_impulse_penetration_threshold = p.split_impulse_threshold_m;
+    s.world.solver.erp2 = p.contact_erp;
+    s.world.solver.erp = p.joint_erp;
+    s.body.margin = p.margin_m;
+    s.body.margin_max_share = p.margin_max_share;
+    s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
     s
 }
 
@@ -395,8 +402,25 @@ pub fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64)> {
 
 /// Runs a scenario and returns the record (nothing is written).
 pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
+    run_perturbed(sc, progress, None)
+}
+
+/// As [`run`], with the start of the ruin stage perturbed as an ensemble member
+/// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
+pub fn run_perturbed(
+    sc: &Scenario,
+    progress: &dyn Progress,
+    perturbation: Option<&ensemble::Perturbation>,
+) -> Result<RunRecord> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
-    let gm = ground_motion(sc)?;
+    let mut gm = ground_motion(sc)?;
+    if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
+        for (k, c) in gm.components.iter_mut().enumerate() {
+            if let Some(rec) = c {
+                rec.scale(1.0 + p.ground_share * p.uniform(1, k as u64));
+            }
+        }
+    }
     let (fe_steps, substeps) = check_budget(sc, &gm)?;
     progress.plan(fe_steps, substeps);
     let ground = gm
@@ -632,6 +656,13 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
                 let d = body_damage[a].max(body_damage[b]);
                 if d != FeDamage::Intact {
                     start_damage.insert((a, b), d);
+                }
+            }
+        }
+        if let Some(p) = perturbation {
+            for (i, v) in vels.iter_mut().enumerate().take(map.bodies.len()) {
+                for (d, x) in v.linear.iter_mut().enumerate() {
+                    *x += p.velocity_mps * p.uniform(2, (3 * i + d) as u64);
                 }
             }
         }

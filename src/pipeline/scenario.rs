@@ -152,6 +152,25 @@ pub struct PhysicsSpec {
     /// Bullet's split impulse (false, as BCB): penetration recovery by a separate
     /// position correction that adds no kinetic energy, instead of a velocity bias.
     pub split_impulse: bool,
+    /// Bullet's `m_splitImpulsePenetrationThreshold`, m (Bullet −0.04): with split impulse
+    /// on, only contacts deeper than this are corrected by position; shallower ones get
+    /// the velocity bias (Baumgarte, `contact_erp`). 0 = every penetration by position.
+    pub split_impulse_threshold_m: f64,
+    /// Bullet's contact ERP `m_erp2` (0.2): the fraction of a penetration removed per
+    /// substep (by velocity without split impulse).
+    pub contact_erp: f64,
+    /// Bullet's joint ERP `m_erp` (0.2): the same for the connections' constraint rows.
+    pub joint_erp: f64,
+    /// Collision margin of every body, m (Blender/BCB 0.04; capped at the smallest half
+    /// extent of each box).
+    pub margin_m: f64,
+    /// Largest margin as a share of each box's smallest half extent (1 = BCB):
+    /// `crate::ruin::stage::BodySettings::margin_max_share`.
+    pub margin_max_share: f64,
+    /// A plastic spring's rest pose is the pose at the onset of plasticity (true) or at
+    /// the stage's start as in BCB (false):
+    /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
+    pub spring_rest_at_plastic_onset: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -190,6 +209,12 @@ impl Default for PhysicsSpec {
             spring_limit: true,
             angular_spring: crate::ruin::connection::AngularSpring::Lever,
             split_impulse: false,
+            split_impulse_threshold_m: -0.04_f32 as f64,
+            contact_erp: 0.2,
+            joint_erp: 0.2,
+            margin_m: 0.04,
+            margin_max_share: 1.0,
+            spring_rest_at_plastic_onset: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,
@@ -360,6 +385,28 @@ impl PhysicsSpec {
         if let Some(t) = self.time_limit_s {
             r("physics.time_limit_s", t, 0.0, true, MAX_TIME_S, "s")?;
         }
+        // Contact and joint error reduction (Bullet: a share of the error per substep),
+        // the split-impulse penetration threshold (≤ 0 m: Bullet's convention, default
+        // −0.04 m) and the collision margin.
+        r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
+        r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
+        r(
+            "physics.split_impulse_threshold_m",
+            self.split_impulse_threshold_m,
+            -1.0,
+            false,
+            0.0,
+            "m",
+        )?;
+        r("physics.margin_m", self.margin_m, 0.0, true, 1.0, "m")?;
+        r(
+            "physics.margin_max_share",
+            self.margin_max_share,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
         let rest = &self.rest;
         r(
             "physics.rest.energy_ratio",

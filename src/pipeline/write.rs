@@ -8,7 +8,7 @@
 use super::RunRecord;
 use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
-use crate::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
+use crate::output::history::{bodies_csv, history_csv, BodyRow, EnergyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
 use crate::output::ruins::{ruins_csv, RuinRow};
 use crate::output::run_folder::{
@@ -116,6 +116,12 @@ fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<Hi
     let n_fe = rec.fe_frames.len();
     // [`timeline`] appends the ruin frames after the last FE keyframe in order, skipping
     // those not later than it; the first appended one is at index `skip`.
+    let start_energy = rec
+        .ruin
+        .as_ref()
+        .and_then(|r| r.frames.first())
+        .map(|f| f.energy)
+        .unwrap_or_default();
     let ruin = rec.ruin.as_ref().map(|r| {
         let skip = r.frames.len() - (frames.len() - n_fe);
         &r.frames[skip..]
@@ -124,10 +130,23 @@ fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<Hi
         .iter()
         .enumerate()
         .map(|(k, (t, poses))| {
-            let counts = ruin.filter(|_| k >= n_fe).map(|r| {
+            let frame = ruin.filter(|_| k >= n_fe).map(|r| {
                 let f = &r[k - n_fe];
                 debug_assert!((f.time_s - t).abs() < 1e-9);
-                (f.counts.elastic, f.counts.plastic, f.counts.broken)
+                f
+            });
+            let counts = frame.map(|f| (f.counts.elastic, f.counts.plastic, f.counts.broken));
+            let energy = frame.map(|f| {
+                let e = &f.energy;
+                EnergyRow {
+                    kinetic_j: e.kinetic_translational_j,
+                    rotational_j: e.kinetic_rotational_j,
+                    potential_j: e.potential_j,
+                    ground_work_j: e.ground_work_j,
+                    damping_j: e.damping_j,
+                    dissipated_j: e.dissipated_j(&start_energy),
+                    injected_j: e.injected_j,
+                }
             });
             HistoryFrame {
                 t_s: *t,
@@ -135,6 +154,7 @@ fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<Hi
                 poses,
                 counts,
                 ground_m: rec.ground.ground_state_at(*t).0,
+                energy,
             }
         })
         .collect()

@@ -254,6 +254,7 @@ mod tests {
             max_drop_m: None,
             counts: None,
             ground_m: [0.0; 3],
+            energy: None,
         }
     }
 

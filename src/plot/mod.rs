@@ -10,13 +10,18 @@
 //! * `history` — roof drift (%) and maximum vertical drop (m) against time, FE and ruin
 //!   stage in different colours, Tc marked;
 //! * `connections` — intact / plastic / broken connection counts against time over the
-//!   ruin stage, Tc marked.
+//!   ruin stage, Tc marked;
+//! * `energy` — the ruin stage's energy ledger ([`energy`]), when `history.csv` has it;
+//! * `debris_density` — for an ensemble folder (`ensemble.json`): the share of members
+//!   with debris in each plan cell ([`density`]).
 //!
 //! Definitions of the drawn quantities: [`geometry`] and [`crate::output::history`].
 //! Text uses the bundled DejaVu Sans ([`font`]), never a system font. Same run folder,
 //! same bytes: drawing orders are sorted, PNGs are encoded in memory with fixed settings
 //! and every file is written atomically.
 pub mod connections;
+pub mod density;
+pub mod energy;
 pub mod font;
 pub mod geometry;
 pub mod history;
@@ -115,6 +120,14 @@ fn write_figure<F: Figure>(fig: &F, out: &Path, format: Format) -> Result<Vec<Pa
     Ok(files)
 }
 
+/// Writes the debris-density map of the ensemble folder `dir` into `out` (created).
+pub fn write_ensemble(dir: &Path, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+    let fig = density::DensityFigure::load(dir)?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
+    write_figure(&fig, out, format)
+}
+
 /// Writes every figure of `run` into `out` (created) and returns the files written.
 pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)
@@ -141,6 +154,9 @@ pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<Path
         out,
         format,
     )?);
+    if energy::EnergyFigure::has_data(run) {
+        files.extend(write_figure(&energy::EnergyFigure::new(run), out, format)?);
+    }
     Ok(files)
 }
 

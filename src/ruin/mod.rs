@@ -19,6 +19,7 @@
 //! The whole model is described in `docs/ruin-model.md`.
 
 pub mod connection;
+pub mod energy;
 pub mod ground;
 pub mod groups;
 pub mod monitor;

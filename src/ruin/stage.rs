@@ -47,6 +47,7 @@ use super::connection::{
     build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
     ConstraintKind as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
 };
+use super::energy::{mechanical, substep_balance, EnergyFrame, MassProps};
 use super::ground::GroundSpec;
 use super::monitor::{start_state_from_damage, AngleRule, FeDamage, Monitor, StateCounts};
 use super::rest::{body_energy_speed, RestBody, RestTest};
@@ -84,6 +85,11 @@ pub struct BodySettings {
     pub angular_damping: f64,
     /// Collision margin, m (0.04; kept inside the half extents as Blender does).
     pub margin: f64,
+    /// Largest margin as a share of the box's smallest half extent (1 = BCB/Blender: the
+    /// margin is only capped at the half extent). Bullet rounds a box's edges and corners
+    /// with the margin's radius, so a 0.04 m margin makes a 0.1 m-thick member almost a
+    /// cylinder, which rolls and rocks instead of coming to rest.
+    pub margin_max_share: f64,
     /// Never deactivate (sleep) bodies (BCB: deactivation off).
     pub disable_deactivation: bool,
 }
@@ -96,6 +102,7 @@ impl Default for BodySettings {
             linear_damping: 0.04,
             angular_damping: 0.1,
             margin: 0.04,
+            margin_max_share: 1.0,
             disable_deactivation: true,
         }
     }
@@ -121,6 +128,13 @@ pub struct StageSettings {
     /// Build the CT 22 connections (default). `false`: loose debris only, no constraints
     /// (e.g. the debris phase of the pybullet cross-check).
     pub connect: bool,
+    /// When the monitor switches a connection to plastic, make the spring's rest pose the
+    /// current relative pose (`btGeneric6DofSpring2Constraint::setEquilibriumPoint()`),
+    /// as the monitor resets its own reference d₀ := d. `false` (BCB/Blender): the spring
+    /// keeps the rest pose of its creation (the start), so it is switched on already
+    /// stretched by the elastic stage's deformation (up to tol1D = 10 % of the centre
+    /// distance) and releases that energy into the debris (docs/ruin-numerics.md).
+    pub spring_rest_at_plastic_onset: bool,
 }
 
 impl Default for StageSettings {
@@ -144,6 +158,7 @@ impl Default for StageSettings {
             angle_rule: AngleRule::default(),
             warmup_s: 0.0,
             connect: true,
+            spring_rest_at_plastic_onset: false,
         }
     }
 }
@@ -210,6 +225,8 @@ pub struct Frame {
     pub poses: Vec<Pose>,
     /// Connections per state after this frame's monitor check.
     pub counts: StateCounts,
+    /// The energy ledger at this frame ([`super::energy`]).
+    pub energy: EnergyFrame,
 }
 
 /// Why a run ended.
@@ -285,6 +302,33 @@ pub struct RuinResult {
     pub end_time_s: f64,
     /// Wall time.
     pub wall: WallTime,
+    /// Energy and speed figures of the whole run.
+    pub ledger: LedgerSummary,
+}
+
+/// Energy and speed figures of a run ([`super::energy`]; the bounds of docs/ruin-numerics.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LedgerSummary {
+    /// Potential energy of the undeformed building relative to the ground's top, J
+    /// (Σ m·|g|·height of the centre): the scale of the settle-phase energy check.
+    pub initial_potential_j: f64,
+    /// Height of the undeformed model, m (H of the speed bound).
+    pub model_height_m: f64,
+    /// |g|, m/s².
+    pub gravity_mps2: f64,
+    /// Largest centre speed of a dynamic body at the start (v_Tc,max), m/s.
+    pub start_max_speed_mps: f64,
+    /// Largest centre speed (absolute) of any dynamic body after any substep, m/s.
+    pub max_speed_mps: f64,
+    /// The body (input index) and time (s) of that speed (`None` without dynamic bodies).
+    pub max_speed_at: Option<(usize, f64)>,
+    /// Every body's point speed relative to the ground at the end, m/s (passive: 0).
+    pub final_point_speeds_mps: Vec<f64>,
+    /// Energy added by the solver: the sum over substeps of the positive part of
+    /// ΔE − ΔW_g + ΔD (a substep that dissipates nothing and injects nothing gives 0), J.
+    pub injected_j: f64,
+    /// The largest single-substep injection, J, and the time at its end, s.
+    pub max_injection: (f64, f64),
 }
 
 /// A built ruin stage: the Bullet world, its handles, the connections and the monitor.
@@ -311,6 +355,16 @@ pub struct RuinStage {
     substeps_done: u64,
     in_bullet: Duration,
     any_ductile: bool,
+    props: Vec<Option<MassProps>>,
+    ground_reference: [f64; 3],
+    ground_work_j: f64,
+    damping_j: f64,
+    initial_potential_j: f64,
+    start_max_speed_mps: f64,
+    max_speed: (f64, Option<(usize, f64)>),
+    last_mechanical_j: Option<f64>,
+    injected_j: f64,
+    max_injection: (f64, f64),
 }
 
 /// nalgebra isometry → physics pose.
@@ -492,9 +546,9 @@ impl RuinStage {
             d.restitution = bs.restitution;
             d.linear_damping = bs.linear_damping;
             d.angular_damping = bs.angular_damping;
-            d.margin = bs
-                .margin
-                .min(b.half_extents.iter().copied().fold(f64::INFINITY, f64::min));
+            d.margin = bs.margin.min(
+                bs.margin_max_share * b.half_extents.iter().copied().fold(f64::INFINITY, f64::min),
+            );
             d.disable_deactivation = bs.disable_deactivation;
             let hnd = world.add_box(&d).map_err(|e| {
                 StageError::Ruin(RuinError::BadBody {
@@ -608,6 +662,32 @@ impl RuinStage {
         )?;
         let model_height_m = (hi[2] - lo[2]).max(0.0);
         let any_ductile = connections.iter().any(|c| c.ductile);
+        let props: Vec<Option<MassProps>> = rest_bodies
+            .iter()
+            .map(|r| {
+                r.map(|r| MassProps {
+                    mass_kg: r.mass_kg,
+                    inertia: r.inertia,
+                })
+            })
+            .collect();
+        let ground_reference = [ground_rest.position[0], ground_rest.position[1], top];
+        let undeformed: Vec<Pose> = input.bodies.iter().map(|b| to_pose(&b.pose())).collect();
+        let still = vec![Velocity::default(); n];
+        let (_, _, initial_potential_j) = mechanical(
+            &props,
+            &undeformed,
+            &still,
+            settings.world.gravity,
+            ground_reference,
+        );
+        let start_max_speed_mps = (0..n)
+            .filter(|&i| props[i].is_some())
+            .map(|i| {
+                let l = input.start_velocities[i].linear;
+                (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt()
+            })
+            .fold(0.0, f64::max);
         Ok(RuinStage {
             world,
             ground: ground_handle,
@@ -631,6 +711,16 @@ impl RuinStage {
             substeps_done: 0,
             in_bullet: Duration::ZERO,
             any_ductile,
+            props,
+            ground_reference,
+            ground_work_j: 0.0,
+            damping_j: 0.0,
+            initial_potential_j,
+            start_max_speed_mps,
+            max_speed: (start_max_speed_mps, None),
+            last_mechanical_j: None,
+            injected_j: 0.0,
+            max_injection: (0.0, t0),
         })
     }
 
@@ -700,51 +790,56 @@ impl RuinStage {
     }
 
     /// Runs `count` substeps, moving the ground and the passive bodies before each one
-    /// (no monitor: [`RuinStage::run`] calls it once per frame).
+    /// (no monitor: [`RuinStage::run`] calls it once per frame). After every substep the
+    /// energy ledger's ground work and damping loss ([`super::energy`]) and the largest
+    /// body speed are updated from the velocities before and after it.
     pub fn substeps(&mut self, count: u64) -> Result<(), StageError> {
         let h = self.substep_s;
         let warmup = self.settings.warmup_s;
-        let in_warmup = |done: u64| warmup > 0.0 && (done as f64) * h < warmup;
-        if self.ground_spec.history.is_none() && !in_warmup(self.substeps_done) && !self.any_ductile
-        {
-            let mut left = count;
-            while left > 0 {
-                let c = left.min(u64::from(u32::MAX)) as u32;
-                let t = Instant::now();
-                self.world.step(h, c)?;
-                self.in_bullet += t.elapsed();
-                left -= u64::from(c);
-            }
-            self.substeps_done += count;
-            return Ok(());
-        }
         let t0 = self.start_time_s;
         let d_start = self.ground_spec.displacement_at(t0);
         let has_motion = self.ground_spec.history.is_some();
+        let g_full = self.settings.world.gravity;
+        let (ld, ad) = (
+            self.settings.body.linear_damping,
+            self.settings.body.angular_damping,
+        );
+        let mut poses0 = self.body_poses()?;
+        let mut vels0 = self.body_velocities()?;
+        if self.last_mechanical_j.is_none() {
+            let (a, b, c) = mechanical(&self.props, &poses0, &vels0, g_full, self.ground_reference);
+            self.last_mechanical_j = Some(a + b + c);
+        }
         for _ in 0..count {
+            let t_cur = self.time_s();
             let t_next = t0 + (self.substeps_done + 1) as f64 * h;
-            if in_warmup(self.substeps_done) {
+            let mut g = g_full;
+            if warmup > 0.0 && (self.substeps_done as f64) * h < warmup {
                 let tau = ((self.substeps_done + 1) as f64 * h / warmup).min(1.0);
                 let f = tau * tau * (3.0 - 2.0 * tau);
-                let g = self.settings.world.gravity;
-                self.world.set_gravity([g[0] * f, g[1] * f, g[2] * f])?;
+                g = [g_full[0] * f, g_full[1] * f, g_full[2] * f];
+                self.world.set_gravity(g)?;
             }
-            if !has_motion {
-                let t = Instant::now();
-                self.world.step(h, 1)?;
-                self.in_bullet += t.elapsed();
-                self.substeps_done += 1;
-                self.restore_ductile_rows()?;
-                continue;
-            }
-            let d = self.ground_spec.displacement_at(t_next);
-            self.world
-                .set_kinematic_target(self.ground, shifted(&self.ground_rest, d), None)?;
-            let dd = [d[0] - d_start[0], d[1] - d_start[1], d[2] - d_start[2]];
-            for i in 0..self.handles.len() {
-                if self.passive[i] {
-                    let p = shifted(&to_pose(&self.passive_start[i]), dd);
-                    self.world.set_kinematic_target(self.handles[i], p, None)?;
+            let mut vg = [0.0; 3];
+            if has_motion {
+                let d = self.ground_spec.displacement_at(t_next);
+                let d_prev = self.ground_spec.displacement_at(t_cur);
+                vg = [
+                    (d[0] - d_prev[0]) / h,
+                    (d[1] - d_prev[1]) / h,
+                    (d[2] - d_prev[2]) / h,
+                ];
+                self.world.set_kinematic_target(
+                    self.ground,
+                    shifted(&self.ground_rest, d),
+                    None,
+                )?;
+                let dd = [d[0] - d_start[0], d[1] - d_start[1], d[2] - d_start[2]];
+                for i in 0..self.handles.len() {
+                    if self.passive[i] {
+                        let p = shifted(&to_pose(&self.passive_start[i]), dd);
+                        self.world.set_kinematic_target(self.handles[i], p, None)?;
+                    }
                 }
             }
             let t = Instant::now();
@@ -752,6 +847,37 @@ impl RuinStage {
             self.in_bullet += t.elapsed();
             self.substeps_done += 1;
             self.restore_ductile_rows()?;
+            let vels1 = self.body_velocities()?;
+            let b = substep_balance(&self.props, &poses0, &vels0, &vels1, h, g, vg, ld, ad);
+            self.ground_work_j += b.ground_work_j;
+            self.damping_j += b.damping_j;
+            for (i, v) in vels1.iter().enumerate() {
+                if self.props[i].is_some() {
+                    let l = v.linear;
+                    let s = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+                    if s > self.max_speed.0 {
+                        self.max_speed = (s, Some((i, t_next)));
+                    }
+                }
+            }
+            let poses1 = self.body_poses()?;
+            let gref = self.ground_reference;
+            let (t1, r1, v1) = mechanical(&self.props, &poses1, &vels1, g_full, gref);
+            let e1 = t1 + r1 + v1;
+            if let Some(e0) = self.last_mechanical_j {
+                // Energy the substep added beyond the ground's work (the balance's
+                // negative part; damping is a loss, so it is added back).
+                let added = e1 - e0 - b.ground_work_j + b.damping_j;
+                if added > 0.0 {
+                    self.injected_j += added;
+                    if added > self.max_injection.0 {
+                        self.max_injection = (added, t_next);
+                    }
+                }
+            }
+            self.last_mechanical_j = Some(e1);
+            poses0 = poses1;
+            vels0 = vels1;
         }
         Ok(())
     }
@@ -778,6 +904,25 @@ impl RuinStage {
         Ok(())
     }
 
+    /// The energy ledger now ([`super::energy`]).
+    pub fn energy(&self) -> Result<EnergyFrame, StageError> {
+        let (tt, tr, v) = mechanical(
+            &self.props,
+            &self.body_poses()?,
+            &self.body_velocities()?,
+            self.settings.world.gravity,
+            self.ground_reference,
+        );
+        Ok(EnergyFrame {
+            kinetic_translational_j: tt,
+            kinetic_rotational_j: tr,
+            potential_j: v,
+            ground_work_j: self.ground_work_j,
+            damping_j: self.damping_j,
+            injected_j: self.injected_j,
+        })
+    }
+
     /// The poses of the input bodies, input order.
     pub fn body_poses(&self) -> Result<Vec<Pose>, StageError> {
         let all = self.world.poses()?;
@@ -802,6 +947,11 @@ impl RuinStage {
         for a in actions {
             let h = self.constraint_handles[a.connection][a.constraint];
             self.world.set_constraint_enabled(h, a.enable)?;
+            let spring =
+                self.connections[a.connection].constraints[a.constraint].kind == SpecKind::Spring2;
+            if a.enable && spring && self.settings.spring_rest_at_plastic_onset {
+                self.world.set_equilibrium_point(h)?;
+            }
         }
         Ok(self.monitor.last_changes().to_vec())
     }
@@ -890,6 +1040,7 @@ impl RuinStage {
             time_s: self.time_s(),
             poses: self.body_poses()?,
             counts: self.monitor.counts(),
+            energy: self.energy()?,
         }];
         let mut quiet = 0u64;
         let mut reason = StopReason::TimeLimit;
@@ -911,6 +1062,7 @@ impl RuinStage {
                 time_s: t,
                 poses: self.body_poses()?,
                 counts: self.monitor.counts(),
+                energy: self.energy()?,
             });
             on_frame(frames.last().expect("just pushed"));
             let pen = self.deepest_penetration()?;
@@ -934,7 +1086,7 @@ impl RuinStage {
         }
         let (_, _, speeds) = self.motion_measures()?;
         let vtol = rest.unwrap_or_default().max_speed_mps;
-        let at_rest = speeds
+        let at_rest: Vec<bool> = speeds
             .iter()
             .zip(&self.passive)
             .map(|(s, p)| *p || *s < vtol)
@@ -954,6 +1106,17 @@ impl RuinStage {
             stop: reason,
             end_time_s: self.time_s(),
             wall,
+            ledger: LedgerSummary {
+                initial_potential_j: self.initial_potential_j,
+                model_height_m: self.model_height_m,
+                gravity_mps2: g,
+                start_max_speed_mps: self.start_max_speed_mps,
+                max_speed_mps: self.max_speed.0,
+                max_speed_at: self.max_speed.1,
+                final_point_speeds_mps: speeds,
+                injected_j: self.injected_j,
+                max_injection: self.max_injection,
+            },
         })
     }
 }

@@ -35,6 +35,7 @@ mod physics {
     mod world;
 }
 mod pipeline {
+    mod ensemble;
     mod groups_measures;
     mod handoff_continuity;
     mod run_frame3;
@@ -48,6 +49,7 @@ mod repo {
     mod test_layout;
 }
 mod ruin {
+    mod closed_form;
     mod contacts;
     mod monitor;
     mod stage_ground;

@@ -163,6 +163,7 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
                 (6 - broken.min(6), 1, broken.min(6))
             }),
             ground_m: [0.0, 0.0, GROUND_Z_END * t / 2.0],
+            energy: None,
         })
         .collect();
     let ruins: Vec<RuinRow> = bodies

@@ -1,0 +1,203 @@
+//! `debris_density`: the debris-density map in plan of an ensemble folder
+//! (`fem2rbd run --ensemble N`, [`crate::pipeline::ensemble`]). For every raster cell the
+//! share of members in which the cell's centre lies inside the plan projection (convex
+//! hull of the 8 corners, as in `summary.json`) of at least one active body at its final
+//! pose: 1 = debris there in every member. Cell = 1/40 of the smaller side of the original
+//! footprint; the original footprint is dashed; equal aspect.
+use super::style::{self, Swatch};
+use super::{font::FAMILY, Figure, RunFolder};
+use crate::output::summary::{corners, projection};
+use anyhow::{bail, Context, Result};
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The density map of an ensemble.
+pub struct DensityFigure {
+    /// Member count.
+    pub members: usize,
+    /// Cell side, m.
+    pub cell_m: f64,
+    /// (i, j) → share of members with debris in the cell.
+    pub share: BTreeMap<(i64, i64), f64>,
+    /// Original footprint (x range, y range), m.
+    pub footprint: ([f64; 2], [f64; 2]),
+    /// Title label.
+    pub label: String,
+}
+
+fn inside(poly: &[[f64; 2]], x: f64, y: f64) -> bool {
+    poly.len() >= 3
+        && (0..poly.len()).all(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) >= 0.0
+        })
+}
+
+impl DensityFigure {
+    /// Reads `dir/member-*/` (sorted) and computes the map.
+    pub fn load(dir: &Path) -> Result<Self> {
+        let mut members: Vec<_> = std::fs::read_dir(dir)
+            .with_context(|| format!("cannot read {}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.is_dir()
+                    && p.file_name()
+                        .is_some_and(|n| n.to_string_lossy().starts_with("member-"))
+            })
+            .collect();
+        members.sort();
+        if members.is_empty() {
+            bail!(
+                "{}: no member-NNN folders (not an ensemble folder)",
+                dir.display()
+            );
+        }
+        let runs: Vec<RunFolder> = members
+            .iter()
+            .map(|p| RunFolder::load(p))
+            .collect::<Result<_>>()?;
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for b in runs[0].bodies.iter().filter(|b| !b.passive) {
+            for c in corners(&b.pose0, b.half_extents) {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+        }
+        let cell = ((hi[0] - lo[0]).min(hi[1] - lo[1]).max(1e-3)) / 40.0;
+        let mut count: BTreeMap<(i64, i64), usize> = BTreeMap::new();
+        for run in &runs {
+            let mut cells = std::collections::BTreeSet::new();
+            for (b, p) in run.bodies.iter().zip(&run.final_poses) {
+                if b.passive {
+                    continue;
+                }
+                let poly = projection(p, b.half_extents);
+                let (mut a, mut z) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for q in &poly {
+                    for k in 0..2 {
+                        a[k] = a[k].min(q[k]);
+                        z[k] = z[k].max(q[k]);
+                    }
+                }
+                for j in (a[1] / cell).floor() as i64..=(z[1] / cell).ceil() as i64 {
+                    for i in (a[0] / cell).floor() as i64..=(z[0] / cell).ceil() as i64 {
+                        let (x, y) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
+                        if inside(&poly, x, y) {
+                            cells.insert((i, j));
+                        }
+                    }
+                }
+            }
+            for c in cells {
+                *count.entry(c).or_default() += 1;
+            }
+        }
+        let n = runs.len();
+        Ok(DensityFigure {
+            members: n,
+            cell_m: cell,
+            share: count
+                .into_iter()
+                .map(|(k, c)| (k, c as f64 / n as f64))
+                .collect(),
+            footprint: ([lo[0], hi[0]], [lo[1], hi[1]]),
+            label: format!("{} members, {}", n, dir.display()),
+        })
+    }
+}
+
+/// White → dark red for shares 0 → 1.
+fn shade(s: f64) -> RGBColor {
+    let s = s.clamp(0.0, 1.0);
+    let lerp = |a: f64, b: f64| (a + (b - a) * s).round() as u8;
+    RGBColor(lerp(255.0, 150.0), lerp(235.0, 0.0), lerp(220.0, 20.0))
+}
+
+impl Figure for DensityFigure {
+    fn name(&self) -> &'static str {
+        "debris_density"
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1100, 900)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&style::BACKGROUND)?;
+        let title = format!("Debris density in plan - {}", self.label);
+        let root = root.titled(&title, (FAMILY, style::TITLE_PX))?;
+        let (w, _) = root.dim_in_pixel();
+        let (main, legend) = root.split_horizontally(w.saturating_sub(210));
+        let c = self.cell_m;
+        let (mut lo, mut hi) = (
+            [self.footprint.0[0], self.footprint.1[0]],
+            [self.footprint.0[1], self.footprint.1[1]],
+        );
+        for &(i, j) in self.share.keys() {
+            lo[0] = lo[0].min(i as f64 * c);
+            lo[1] = lo[1].min(j as f64 * c);
+            hi[0] = hi[0].max((i + 1) as f64 * c);
+            hi[1] = hi[1].max((j + 1) as f64 * c);
+        }
+        // Equal aspect: the plot area is about 890 × 790 px.
+        let (sx, sy) = (hi[0] - lo[0], hi[1] - lo[1]);
+        let scale = (sx / 830.0).max(sy / 730.0) * 1.05;
+        let (cx, cy) = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
+        let (hx, hy) = (415.0 * scale, 365.0 * scale);
+        let mut chart = ChartBuilder::on(&main)
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(60)
+            .build_cartesian_2d(cx - hx..cx + hx, cy - hy..cy + hy)?;
+        chart
+            .configure_mesh()
+            .x_desc("x (m)")
+            .y_desc("y (m)")
+            .label_style((FAMILY, style::TICK_PX))
+            .axis_desc_style((FAMILY, style::LABEL_PX))
+            .light_line_style(style::GRID_LIGHT)
+            .bold_line_style(style::GRID_BOLD)
+            .draw()?;
+        chart.draw_series(self.share.iter().map(|(&(i, j), &s)| {
+            Rectangle::new(
+                [
+                    (i as f64 * c, j as f64 * c),
+                    ((i + 1) as f64 * c, (j + 1) as f64 * c),
+                ],
+                shade(s).filled(),
+            )
+        }))?;
+        let (fx, fy) = self.footprint;
+        chart.draw_series(std::iter::once(DashedPathElement::new(
+            vec![
+                (fx[0], fy[0]),
+                (fx[1], fy[0]),
+                (fx[1], fy[1]),
+                (fx[0], fy[1]),
+                (fx[0], fy[0]),
+            ],
+            6,
+            4,
+            style::FOOTPRINT.stroke_width(2),
+        )))?;
+        let mut entries = vec![(Swatch::Heading, "Share of members".to_string())];
+        for s in [0.2, 0.4, 0.6, 0.8, 1.0] {
+            entries.push((Swatch::Fill(shade(s)), format!("{:.0} %", 100.0 * s)));
+        }
+        entries.push((
+            Swatch::Dashed(style::FOOTPRINT),
+            "original footprint".to_string(),
+        ));
+        entries.push((Swatch::Heading, format!("cell {:.3} m", c)));
+        style::draw_legend(&legend, &entries)?;
+        Ok(())
+    }
+}
