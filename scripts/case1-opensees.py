@@ -15,7 +15,7 @@ writes data/frame3/opensees-case1.json:
   drift passes 5 % and 10 %, Tc = first step with a free node at uz < -0.25 m (the
   paper's criterion at 1/4 scale), the divergence time if any, fallback steps, wall time.
 * `lc1_window`: node 312 ux, uy (m) at every step of the first LC1_WINDOW s of LC1, for
-  the CI test tests/case1_opensees.rs.
+  the CI test crates/fem2rbd-fe/tests/it/fe/verify/case1.rs.
 * `pushover`: +X after gravity, lateral load proportional to m*z at every massed free
   node, displacement control of node 312 in 1 mm steps (with the reference fallbacks) to
   5 % roof drift: base shear over weight V/W and roof drift, peak V/W.

@@ -5,7 +5,7 @@
 #   apt: libbullet-dev (Bullet 3.24, double-precision libs + bullet-float64.pc),
 #        pkg-config, libclang-dev and clang (bindgen at build time), g++ (the C++
 #        shim; gcc links Rust binaries), python3 + pip,
-#        slurmctld slurmd slurm-client munge (tests/study_slurm.rs brings up a
+#        slurmctld slurmd slurm-client munge (tests/it/study/slurm.rs brings up a
 #        single-node Slurm; installed without starting any daemon),
 #        curl + ca-certificates (only when Rust must be installed)
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
@@ -66,7 +66,7 @@ else
     log "apt packages present"
 fi
 
-# Slurm for tests/study_slurm.rs: the daemons are started by the test itself, so apt must
+# Slurm for tests/it/study/slurm.rs: the daemons are started by the test itself, so apt must
 # not start them (no systemd here): a policy-rc.d that refuses, only while installing and
 # only if none exists.
 mapfile -t slurm_missing < <(apt_missing slurmctld slurmd slurm-client munge)

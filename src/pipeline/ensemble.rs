@@ -13,7 +13,7 @@
 //!   index): the same seed gives the same ensemble, on any number of threads.
 //! * Members run on `threads` worker threads (`std::thread::scope`); each member is a
 //!   complete, independent pipeline run (its own FE stage and Bullet world), so the
-//!   results do not depend on the thread count (tested in `tests/ruin_ensemble.rs`).
+//!   results do not depend on the thread count (tested in `tests/it/pipeline/ensemble.rs`).
 use super::{run_perturbed, RunRecord, Scenario, Silent};
 use crate::output::summary::ruin_measures;
 use anyhow::{anyhow, Result};

@@ -208,7 +208,7 @@ fn non_finite_hint(text: &str, e: &serde_json::Error) -> &'static str {
     };
     // serde_json's column counts bytes; widen the window to char boundaries (a
     // multi-byte character next to the error must not split: found by the property
-    // test in tests/hostile_inputs.rs).
+    // test in tests/it/cli/hostile_inputs.rs).
     let col = e.column().saturating_sub(1).min(line.len());
     let (mut a, mut b) = (col.saturating_sub(12), (col + 12).min(line.len()));
     while !line.is_char_boundary(a) {

@@ -1,5 +1,5 @@
 """Reads .vtu files with meshio (an independent VTK XML reader; pip package `meshio`) and
-prints, as one JSON list, each file's points, cells and cell data, for tests/gltf_vtk.rs.
+prints, as one JSON list, each file's points, cells and cell data, for tests/it/output/gltf_vtk.rs.
 
 Usage: python3 tests/gltf/read_vtu.py FILE.vtu...
 Exit status 3 when meshio is not installed (pip install meshio==5.3.5).

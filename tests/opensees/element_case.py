@@ -2,7 +2,7 @@
 
 Usage: python3 element_case.py case.json   -> prints JSON {"u": [[6 dofs] per node], "iters": [...]}
 
-The case (written by tests/fe_element_opensees.rs) gives nodes, the fixed node, one
+The case (written by crates/fem2rbd-fe/tests/it/fe/element/opensees.rs) gives nodes, the fixed node, one
 material (Elastic or ElasticPP), one symmetric fiber section with -GJ, elements
 (elasticBeamColumn / forceBeamColumn Lobatto / dispBeamColumn Legendre) with a
 geomTransf (Linear / PDelta / Corotational + vecxz), a nodal load pattern and the

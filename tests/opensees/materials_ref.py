@@ -11,7 +11,7 @@ commitState: one commit per step) and prints one JSON document on stdout:
 Every float array is given as the IEEE-754 bit patterns (unsigned 64-bit
 integers, `*_bits`) so that the Rust side reads exactly the same doubles
 (a decimal round trip through a JSON parser need not be exact). Used by
-tests/materials_opensees.rs, which drives fem2rbd's materials through the same
+crates/fem2rbd-fe/tests/it/fe/material/opensees.rs, which drives fem2rbd's materials through the same
 strains with the same commit pattern and compares.
 """
 import json
