@@ -562,6 +562,18 @@ fn cases() -> Vec<Case> {
         )
         .with("sc.json", "{ \"bodies\": [ }"),
         case(
+            "scene duration 1e9 s",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["sc.json", "physics substeps 240000000000 exceeds the limit"],
+        )
+        .with(
+            "sc.json",
+            std::fs::read_to_string(root().join("data/scenes/drop.json"))
+                .unwrap()
+                .replace("\"duration\": 2.0", "\"duration\": 1e9"),
+        ),
+        case(
             "scene is /dev/zero",
             "scene /dev/zero --out {w}/o.csv",
             1,
