@@ -41,7 +41,7 @@ pub const MAX_PHYSICS_SUBSTEPS: u64 = 20_000_000;
 // ---- physical ranges shared by every front end (scenario, `fe`, `export opensees`)
 
 /// Largest target PGA, g: above the largest ground accelerations ever recorded (about 4 g);
-/// a shaking table of frame3's kind reaches ≈ 2 g.
+/// the shipped LC5 scenario asks for 1.19 g.
 pub const MAX_PGA_G: f64 = 5.0;
 /// Range of a record's time-scale factor t' = f·t (dimensionless): similitude of models
 /// from 1/10 000 to 10 000 times full size (f = √λ).
