@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs the npm packages the glTF tests use, at the versions pinned in
 # tests/gltf/package.json and package-lock.json, into tests/gltf/node_modules:
-#   gltf-validator  the Khronos glTF validator (tests/gltf/validate.mjs, tests/gltf_validator.rs)
+#   gltf-validator  the Khronos glTF validator (tests/gltf/validate.mjs, tests/it/output/gltf_validator.rs)
 #   three           three.js, whose GLTFLoader plays our files (tests/gltf/three_sample.mjs,
-#                   tests/gltf_three.rs)
+#                   tests/it/output/gltf_three.rs)
 # Needs Node.js >= 18 and npm (Debian/Ubuntu: `apt-get install nodejs npm`).
 # Idempotent: does nothing when the pinned versions are already installed.
 set -euo pipefail

@@ -5,6 +5,8 @@
 #   apt: libbullet-dev (Bullet 3.24, double-precision libs + bullet-float64.pc),
 #        pkg-config, libclang-dev and clang (bindgen at build time), g++ (the C++
 #        shim; gcc links Rust binaries), python3 + pip,
+#        slurmctld slurmd slurm-client munge (tests/study_slurm.rs brings up a
+#        single-node Slurm; installed without starting any daemon),
 #        curl + ca-certificates (only when Rust must be installed)
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
 #        cross-checks of the FE stages), meshio==5.3.5 (reads back our VTK files)
@@ -64,10 +66,29 @@ else
     log "apt packages present"
 fi
 
+# Slurm for tests/study_slurm.rs: the daemons are started by the test itself, so apt must
+# not start them (no systemd here): a policy-rc.d that refuses, only while installing and
+# only if none exists.
+mapfile -t slurm_missing < <(apt_missing slurmctld slurmd slurm-client munge)
+if [ "${#slurm_missing[@]}" -gt 0 ]; then
+    log "apt-get install --no-install-recommends ${slurm_missing[*]}"
+    own_policy=0
+    if [ ! -e /usr/sbin/policy-rc.d ]; then
+        printf '#!/bin/sh\nexit 101\n' | "${SUDO[@]}" tee /usr/sbin/policy-rc.d >/dev/null
+        "${SUDO[@]}" chmod 755 /usr/sbin/policy-rc.d
+        own_policy=1
+    fi
+    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${slurm_missing[@]}"
+    if [ "$own_policy" -eq 1 ]; then "${SUDO[@]}" rm -f /usr/sbin/policy-rc.d; fi
+else
+    log "slurm packages present"
+fi
+
 # ---- Rust ----------------------------------------------------------------------------
 if [ "$need_rust" -eq 1 ]; then
     log "installing Rust (rustup, stable, minimal profile)"
-    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --profile minimal -c rustfmt,clippy
     # shellcheck disable=SC1091
     . "$HOME/.cargo/env"
 else

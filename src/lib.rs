@@ -10,21 +10,20 @@
 //!                motion ───────────────────────────────────────────────► ruin (ground after Tc)
 //! ```
 //!
-//! Units are SI throughout (m, kg, s, N, Pa). `unsafe` code lives only in the
-//! `bullet-sys` crate and in [`physics`], the one safe wrapper over it.
-#![deny(unsafe_code)]
+//! The structural stages (`model`, `motion`, `fe`, `collapse`, `export`) are the
+//! `fem2rbd-fe` crate and the Bullet wrapper (`physics`) is the `fem2rbd-bullet` crate;
+//! both are re-exported here under their module names. Units are SI throughout
+//! (m, kg, s, N, Pa). `unsafe` code lives only in `bullet-sys` and `fem2rbd-bullet`.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
-pub mod cli;
-pub mod collapse;
-pub mod export;
-pub mod fe;
+pub use fem2rbd_bullet as physics;
+pub use fem2rbd_fe::{collapse, export, fe, model, motion};
+
 pub mod mapping;
-pub mod model;
-pub mod motion;
 pub mod output;
-#[allow(unsafe_code)]
-pub mod physics;
 pub mod pipeline;
 pub mod plot;
 pub mod ruin;
 pub mod scene;
+pub mod study;

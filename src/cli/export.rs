@@ -1,13 +1,13 @@
 //! `fem2rbd export`: `opensees` writes an openseespy script of a model and its analysis;
 //! `gltf` and `vtk` turn a run folder (what `fem2rbd run` wrote) into an animated glTF
 //! binary or a ParaView time series, without the model.
-use crate::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};
-use crate::model::Model;
-use crate::output::gltf::{encode_glb, run_scene, AnimatedScene};
-use crate::output::location::check_output_file;
-use crate::output::run_folder::RunFolder;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};
+use fem2rbd::model::Model;
+use fem2rbd::output::gltf::{encode_glb, run_scene, AnimatedScene};
+use fem2rbd::output::location::check_output_file;
+use fem2rbd::output::run_folder::RunFolder;
 use std::path::{Path, PathBuf};
 
 /// Export targets.
@@ -89,9 +89,9 @@ pub struct OpenSeesArgs {
 }
 
 /// Parses one `--gm` value: the syntax shared with `fem2rbd fe`
-/// ([`crate::motion::spec`]), `DIR=PATH[,pga=G]`.
+/// ([`fem2rbd::motion::spec`]), `DIR=PATH[,pga=G]`.
 pub fn parse_gm(s: &str) -> Result<GroundMotionInput> {
-    let c = crate::motion::spec::parse_component(s)?;
+    let c = fem2rbd::motion::spec::parse_component(s)?;
     Ok(GroundMotionInput {
         direction: c.axis as u8 + 1,
         path: c.path,
@@ -121,7 +121,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 stop_uz: a.stop_uz,
             };
             let text = opensees_script(&model, &a.model.display().to_string(), &opts)?;
-            crate::output::write_atomic(&a.output, text.as_bytes())
+            fem2rbd::output::write_atomic(&a.output, text.as_bytes())
                 .with_context(|| format!("cannot write {}", a.output.display()))
         }
         ExportCommand::Gltf(a) => {
@@ -131,7 +131,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 .unwrap_or_else(|| a.run_dir.join("collapse.glb"));
             check_output_file(&out, "--output")?;
             let bytes = run_folder_glb(&a.run_dir)?;
-            crate::output::write_atomic(&out, &bytes)
+            fem2rbd::output::write_atomic(&out, &bytes)
                 .with_context(|| format!("cannot write {}", out.display()))
         }
         ExportCommand::Vtk(a) => {
@@ -140,7 +140,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 .clone()
                 .unwrap_or_else(|| a.run_dir.join("vtk").join("collapse.pvd"));
             let scene = run_folder_scene(&a.run_dir)?;
-            crate::output::vtk::write_pvd(&scene, &out)
+            fem2rbd::output::vtk::write_pvd(&scene, &out)
                 .with_context(|| format!("cannot write {}", out.display()))?;
             Ok(())
         }

@@ -1,19 +1,19 @@
 //! `fem2rbd fe model.toml --gm X=path[,pga=G] ... --out DIR`: a nonlinear time history
-//! of a model under a ground motion ([`crate::fe::run::run_ground_motion`]). Writes
+//! of a model under a ground motion ([`fem2rbd::fe::run::run_ground_motion`]). Writes
 //! `DIR/nodes.csv` (time and the six displacements of every node) and
 //! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
-//! as one folder replaced as a whole ([`crate::output::location`]). All input and the
+//! as one folder replaced as a whole ([`fem2rbd::output::location`]). All input and the
 //! output location are checked before anything runs. The exit code is non-zero when a
 //! step diverges (the outputs then hold the history up to the last converged step).
-use crate::fe::analysis::transient::{StepControl, StopReason};
-use crate::fe::build::{BuildOptions, Variant};
-use crate::fe::run::{run_ground_motion, RunOptions, RunResult};
-use crate::model::limits::{check_range, FE_DT, MAX_TIME_S};
-use crate::model::Model;
-use crate::motion::{Format, GroundMotion};
-use crate::output::location::{check_output_dir, check_replaceable, replace_dir};
 use anyhow::{bail, Result};
 use clap::Args;
+use fem2rbd::fe::analysis::transient::{StepControl, StopReason};
+use fem2rbd::fe::build::{BuildOptions, Variant};
+use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
+use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
+use fem2rbd::model::Model;
+use fem2rbd::motion::{Format, GroundMotion};
+use fem2rbd::output::location::{check_output_dir, check_replaceable, replace_dir};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use std::fmt::Write as _;
@@ -52,17 +52,17 @@ pub struct FeArgs {
     pub out: PathBuf,
 }
 
-/// One `--gm` component (the shared syntax of [`crate::motion::spec`]).
-pub type GmSpec = crate::motion::spec::ComponentArg;
+/// One `--gm` component (the shared syntax of [`fem2rbd::motion::spec`]).
+pub type GmSpec = fem2rbd::motion::spec::ComponentArg;
 
-/// Parses `X=path`, `X=path,pga=0.93` (or `X=path,0.93`): [`crate::motion::spec`].
+/// Parses `X=path`, `X=path,pga=0.93` (or `X=path,0.93`): [`fem2rbd::motion::spec`].
 pub fn parse_gm(s: &str) -> Result<GmSpec> {
-    Ok(crate::motion::spec::parse_component(s)?)
+    Ok(fem2rbd::motion::spec::parse_component(s)?)
 }
 
 /// Reads, scales and time-scales the ground motion of the `--gm` components.
 pub fn ground_motion(specs: &[GmSpec], time_scale: f64) -> Result<GroundMotion> {
-    crate::motion::spec::read_components(specs, time_scale, Format::Auto)
+    fem2rbd::motion::spec::read_components(specs, time_scale, Format::Auto)
 }
 
 /// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times

@@ -1,8 +1,8 @@
 //! `fem2rbd generate frame`: write a regular RC frame model (defaults = frame3).
-use crate::model::generate::{frame, FrameParams};
-use crate::model::{Formulation, TransfKind};
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use fem2rbd::model::generate::{frame, FrameParams};
+use fem2rbd::model::{Formulation, TransfKind};
 use std::path::PathBuf;
 
 /// What to generate.
@@ -229,7 +229,7 @@ impl FrameArgs {
 pub fn run(cmd: &GenerateCommand) -> Result<()> {
     match cmd {
         GenerateCommand::Frame(args) => {
-            crate::output::location::check_output_file(&args.output, "--output")?;
+            fem2rbd::output::location::check_output_file(&args.output, "--output")?;
             let model = frame(&args.params()?)?;
             let is_json = args
                 .output
@@ -240,7 +240,7 @@ pub fn run(cmd: &GenerateCommand) -> Result<()> {
             } else {
                 model.to_toml()?
             };
-            crate::output::write_atomic(&args.output, text.as_bytes())
+            fem2rbd::output::write_atomic(&args.output, text.as_bytes())
                 .with_context(|| format!("cannot write {}", args.output.display()))
         }
     }

@@ -1,10 +1,10 @@
 //! `fem2rbd map model.toml -o bodies.csv`: the rigid-body table of a model (paper §3.1,
 //! issue 3 item 8), written atomically, with a one-line summary on stdout.
-use crate::mapping::{self, table, MapOptions};
-use crate::model::Model;
-use crate::output::atomic::write_atomic;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use fem2rbd::mapping::{self, table, MapOptions};
+use fem2rbd::model::Model;
+use fem2rbd::output::atomic::write_atomic;
 use std::path::PathBuf;
 
 /// Options of `map`.
@@ -32,7 +32,7 @@ pub fn run(args: &MapArgs, quiet: bool) -> Result<()> {
             args.overlap_tolerance
         );
     }
-    crate::output::location::check_output_file(&args.output, "--output")?;
+    fem2rbd::output::location::check_output_file(&args.output, "--output")?;
     let model = Model::load(&args.model)?;
     let input =
         mapping::from_model(&model).with_context(|| format!("mapping {}", args.model.display()))?;

@@ -10,18 +10,23 @@ pub mod modal;
 pub mod plot;
 pub mod run;
 pub mod scene;
+pub mod study;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
-const LONG_VERSION: &str = concat!(
-    env!("CARGO_PKG_VERSION"),
-    " (Bullet ",
-    env!("FEM2RBD_BULLET_VERSION"),
-    ", double precision, Debian libbullet)"
-);
+fn long_version() -> &'static str {
+    static TEXT: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+        format!(
+            "{} (Bullet {}, double precision, Debian libbullet)",
+            env!("CARGO_PKG_VERSION"),
+            fem2rbd::physics::LINKED_BULLET_PKG_VERSION
+        )
+    });
+    &TEXT
+}
 
 /// Hybrid FE + rigid-body simulation of RC building collapse and ruin scenarios.
 #[derive(Debug, Parser)]
-#[command(name = "fem2rbd", version, long_version = LONG_VERSION, about, long_about = None)]
+#[command(name = "fem2rbd", version, long_version = long_version(), about, long_about = None)]
 pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]
@@ -51,6 +56,9 @@ pub enum Command {
     Run(run::RunArgs),
     /// Figures of a run folder: ruin plan and elevations, drift/drop and connection histories.
     Plot(plot::PlotArgs),
+    /// Batch studies: plan, run locally or on Slurm, collect (IDA, fragility, libraries).
+    #[command(subcommand)]
+    Study(study::StudyCommand),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -70,5 +78,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fe(args) => fe::run(&args, cli.quiet),
         Command::Run(args) => run::run(&args, cli.quiet),
         Command::Plot(args) => plot::run(&args, cli.quiet),
+        Command::Study(cmd) => study::run(&cmd, cli.quiet),
     }
 }

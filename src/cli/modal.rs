@@ -1,11 +1,11 @@
 //! `fem2rbd modal model.toml`: eigen periods of a model on its initial stiffness, with
 //! frequencies, effective modal mass ratios and each mode's character (by shape).
-use crate::fe::analysis::modal::{modal_analysis, ModalSettings};
-use crate::fe::build::{build_domain, BuildOptions, Variant};
-use crate::fe::run::mode_character;
-use crate::model::Model;
 use anyhow::{Context, Result};
 use clap::Args;
+use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings};
+use fem2rbd::fe::build::{build_domain, BuildOptions, Variant};
+use fem2rbd::fe::run::mode_character;
+use fem2rbd::model::Model;
 use std::path::PathBuf;
 
 /// Options of `modal`.

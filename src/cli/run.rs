@@ -1,10 +1,10 @@
 //! `fem2rbd run [scenario.toml] [--mode hybrid|physics|fe] [--out DIR]`: the whole
-//! pipeline ([`crate::pipeline`]). Without a scenario it runs the shipped frame3 LC5
+//! pipeline ([`fem2rbd::pipeline`]). Without a scenario it runs the shipped frame3 LC5
 //! example `data/frame3/lc5.toml`. The scenario is read and checked completely before
 //! anything runs; the outputs are written at the end, each atomically.
-use crate::pipeline::{self, Mode, Progress, Scenario};
 use anyhow::Result;
 use clap::Args;
+use fem2rbd::pipeline::{self, Mode, Progress, Scenario};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::cell::{Cell, RefCell};
 use std::io::IsTerminal;
@@ -105,8 +105,8 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         sc.output = o.clone();
     }
     // The output location and the work are checked before anything runs.
-    crate::output::location::check_output_dir(&sc.output, "output folder")?;
-    crate::output::location::check_replaceable(
+    fem2rbd::output::location::check_output_dir(&sc.output, "output folder")?;
+    fem2rbd::output::location::check_replaceable(
         &sc.output,
         pipeline::write::RUN_OWNED,
         "output folder",

@@ -30,11 +30,15 @@ pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
         );
         b
     };
-    let r =
-        crate::scene::run::run_scene_file_with(&args.scene, &args.out, args.frames, &mut |d, n| {
+    let r = fem2rbd::scene::run::run_scene_file_with(
+        &args.scene,
+        &args.out,
+        args.frames,
+        &mut |d, n| {
             bar.set_length(n);
             bar.set_position(d);
-        });
+        },
+    );
     bar.finish_and_clear();
     r
 }

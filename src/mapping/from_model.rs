@@ -20,7 +20,7 @@
 //!   FE lumps onto the fixed base nodes).
 
 use super::input::{LineMember, MappingInput, NodalMass, Quad};
-use crate::model::{ElementKind, Model, SectionKind};
+use crate::model::{ElementKind, Model};
 use anyhow::{anyhow, Result};
 
 /// Builds the mapping input of a model (module docs). Errors name the element.
@@ -106,14 +106,11 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
                 width, thickness, ..
             } => input.members.push(line(*width, *thickness)?),
             ElementKind::Shell { section, .. } => {
-                let h = match secs.get(section).map(|s| &s.kind) {
-                    Some(SectionKind::Plate { h, .. }) => *h,
-                    _ => {
-                        return Err(anyhow!(
-                            "element {}: section {section} is not a plate section",
-                            e.tag
-                        ))
-                    }
+                let Some(h) = secs.get(section).and_then(|s| s.shell_thickness()) else {
+                    return Err(anyhow!(
+                        "element {}: section {section} is not a shell section",
+                        e.tag
+                    ));
                 };
                 input.quads.push(quad(h)?);
             }

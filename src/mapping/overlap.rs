@@ -1,4 +1,4 @@
-//! Overlap removal (BCB step 2, `research/bcb.md` §7.2), keeping boxes as boxes.
+//! Overlap removal (BCB step 2, `docs/bcb.md` §7.2), keeping boxes as boxes.
 //!
 //! BCB cuts the lower of two intersecting objects by the upper one with a boolean
 //! difference. A difference of boxes is not a box, so here a box is only ever **shortened

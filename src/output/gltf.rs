@@ -35,9 +35,9 @@
 //! The output is deterministic: same scene, same bytes (materials are ordered by type
 //! name, everything else in input order; `serde_json` writes the JSON).
 //!
-//! Checked by tests/gltf_roundtrip.rs (own GLB reader), tests/gltf_validator.rs (Khronos
-//! validator: no errors, no warnings) and tests/gltf_three.rs (three.js plays the file);
-//! [`run_scene`] (a run's timeline) by tests/export_gltf.rs.
+//! Checked by tests/it/output/gltf_roundtrip.rs (own GLB reader), tests/it/output/gltf_validator.rs (Khronos
+//! validator: no errors, no warnings) and tests/it/output/gltf_three.rs (three.js plays the file);
+//! [`run_scene`] (a run's timeline) by tests/it/output/gltf_export.rs.
 use crate::output::run_folder::BodyInfo;
 use crate::output::AtomicFile;
 use anyhow::{bail, ensure, Context, Result};
@@ -82,7 +82,9 @@ pub struct GroundBox {
 /// Everything one animated glTF shows.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct AnimatedScene {
+    /// The boxes, one node each, in this order.
     pub bodies: Vec<AnimBody>,
+    /// The ground box (material [`GROUND_TYPE`]), if any.
     pub ground: Option<GroundBox>,
     /// Keyframe times (s): at least one, `>= 0`, strictly increasing (also once rounded to
     /// `f32`, glTF's time type).
@@ -359,31 +361,10 @@ pub fn run_scene(
     })
 }
 
-/// Base colour (linear RGB, 0..1) of an element type's material. Known types have fixed
-/// colours; any other name gets one of a fixed palette chosen by a hash of the name
-/// (FNV-1a), so the same name always gets the same colour.
+/// Base colour (linear RGB, 0..1) of an element type's material: the shared colour
+/// table ([`crate::output::palette`]) in linear light.
 pub fn type_colour(type_name: &str) -> [f32; 3] {
-    match type_name {
-        "Column" => [0.75, 0.22, 0.17],
-        "Beam" => [0.93, 0.60, 0.12],
-        "Slab" => [0.55, 0.60, 0.68],
-        "Wall" => [0.58, 0.47, 0.36],
-        GROUND_TYPE => [0.30, 0.36, 0.26],
-        other => {
-            const PALETTE: [[f32; 3]; 6] = [
-                [0.20, 0.45, 0.75],
-                [0.45, 0.70, 0.30],
-                [0.60, 0.35, 0.70],
-                [0.20, 0.65, 0.65],
-                [0.80, 0.45, 0.55],
-                [0.70, 0.70, 0.25],
-            ];
-            let hash = other.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-                (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-            });
-            PALETTE[(hash % PALETTE.len() as u64) as usize]
-        }
-    }
+    crate::output::palette::srgb_to_linear(crate::output::palette::type_srgb(type_name))
 }
 
 /// The shared box: a cube with corners at (±1, ±1, ±1), 4 vertices per face (24) so

@@ -6,6 +6,7 @@ pub mod gltf;
 pub mod history;
 pub mod keyframes;
 pub mod location;
+pub mod palette;
 pub mod ruins;
 pub mod run_folder;
 pub mod summary;

@@ -46,32 +46,14 @@ pub const LABEL_PX: u32 = 16;
 /// Tick label text size, px.
 pub const TICK_PX: u32 = 14;
 
-/// The known element types in legend order.
-pub const KNOWN_TYPES: [&str; 5] = ["Column", "Beam", "Slab", "Wall", "Foundation"];
+/// The known element types in legend order (one table with the glTF colours,
+/// [`crate::output::palette`]).
+pub use crate::output::palette::KNOWN_TYPES;
 
-/// Fill colour of an element type. Unknown names get one of a fixed palette by an
-/// FNV-1a hash of the name (the same name always gets the same colour).
+/// Fill colour of an element type ([`crate::output::palette::type_srgb`]).
 pub fn type_colour(type_name: &str) -> RGBColor {
-    match type_name {
-        "Column" => RGBColor(192, 57, 43),
-        "Beam" => RGBColor(240, 160, 20),
-        "Slab" => RGBColor(90, 130, 190),
-        "Wall" => RGBColor(140, 110, 70),
-        "Foundation" => RGBColor(120, 120, 120),
-        other => {
-            const PALETTE: [RGBColor; 5] = [
-                RGBColor(80, 160, 80),
-                RGBColor(150, 90, 170),
-                RGBColor(40, 160, 160),
-                RGBColor(200, 100, 140),
-                RGBColor(160, 160, 50),
-            ];
-            let h = other.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-                (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-            });
-            PALETTE[(h % PALETTE.len() as u64) as usize]
-        }
-    }
+    let [r, g, b] = crate::output::palette::type_srgb(type_name);
+    RGBColor(r, g, b)
 }
 
 /// Shade factor of story `story` (1-based) of `n`: 1 for the top story, linearly down to

@@ -1,6 +1,6 @@
 //! BCB connection type 22 ("6x GENERIC + 1x SPRING") as plain data.
 //!
-//! Source: BCB `builder_setc.py` (`setConstraintSettings`), bcb.md §2.1, §3.1, §4, §11.4.
+//! Source: BCB `builder_setc.py` (`setConstraintSettings`), docs/bcb.md §2.1, §3.1, §4, §11.4.
 //! Re-implemented, not copied. Per connection (one touching pair A–B):
 //!
 //! | # | role | Bullet class | locked DOF (frame axes: X = normal A→B) | limits | breaking impulse |
@@ -17,7 +17,7 @@
 //! mm²). Every unlisted DOF is free (Bullet: lower > upper, we give (0, −1) as Blender does).
 //! The generics use `useLinearReferenceFrameA = true`.
 //!
-//! * **Thresholds** (bcb.md §3.1): value × multiplier × time_scale / steps_per_second ×
+//! * **Thresholds** (docs/bcb.md §3.1): value × multiplier × time_scale / steps_per_second ×
 //!   correction / constCount, corrections 2.2 (linear generic rows), 1.5 (bending rows),
 //!   2 (spring); constCount = 1 for CT 22. The multiplier is the group's threshold
 //!   multiplier, ×2 when the partner is passive (BCB's "boundary condition case").
@@ -27,7 +27,7 @@
 //!   when both groups use the same connection type). Active–passive: the active group.
 //! * **No 90° values** for both S and B: bending rows get B·h/w and B·w/h (BCB's
 //!   `btRatio`), if h and w both exceed the search distance.
-//! * **Spring stiffness** (bcb.md §4): k = P / (L·tol2D) · 2 / constCount / 2 (the last /2
+//! * **Spring stiffness** (docs/bcb.md §4): k = P / (L·tol2D) · 2 / constCount / 2 (the last /2
 //!   for SPRING2), N/m, the same number for the angular axes (N·m/rad); damping 20 on all
 //!   six axes (SPRING2); L = the group's plastic length, or the centre distance if 0
 //!   (0.1 m if that is 0). The equilibrium point is set at creation (`setEquilibriumPoint()`),
@@ -57,7 +57,7 @@ pub const FREE: (f64, f64) = (0.0, -1.0);
 pub const BCB_UNLIMITED: f64 = 99999.0;
 
 /// Tolerances of the monitor as a group gives them, in BCB's convention
-/// (`connectsTol`, bcb.md §4): a value > 0 is used as is; **0 means automatic** for the
+/// (`connectsTol`, docs/bcb.md §4): a value > 0 is used as is; **0 means automatic** for the
 /// 2nd tolerances (Formula Assistant: tol2D = elu/100, tol2R = atan(tol2D·L/(h/2)); without
 /// a formula BCB's preset 0.2 / 0.8); a **negative value disables** that check.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -84,7 +84,7 @@ impl Default for Tolerances {
     }
 }
 
-/// BCB preset-0 2nd distance tolerance, used when a group has no formula (bcb.md §8).
+/// BCB preset-0 2nd distance tolerance, used when a group has no formula (docs/bcb.md §8).
 pub const PRESET_TOL2_DIST: f64 = 0.2;
 /// BCB preset-0 2nd rotation tolerance, rad.
 pub const PRESET_TOL2_ROT: f64 = 0.8;
@@ -191,7 +191,7 @@ impl GroupStrength {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum AngularSpring {
-    /// BCB: the same number, read as N·m/rad (bcb.md §4). Dimensionally inconsistent, so
+    /// BCB: the same number, read as N·m/rad (docs/bcb.md §4). Dimensionally inconsistent, so
     /// it does not scale with the model: at full size (a 0.3 m column, 3 m long) the
     /// angular spring is soft (ω ≈ 20 rad/s), at 1/4 scale 16 times stiffer relative to
     /// the members' rotational inertia (ω ∝ scale⁻²) and beyond explicit stepping.
@@ -200,7 +200,7 @@ pub enum AngularSpring {
     /// rectangle (h × w): r = w/2 for rotation about the h axis, h/2 about the w axis,
     /// √(h² + w²)/2 about the normal (torsion). It is the stiffness BCB's own tolerances
     /// imply: the moment P·h/2 is reached at the rotation tan θ = L·tol2D/(h/2), which is
-    /// BCB's Formula-Assistant tol2R = atan(tol2D·L/(h/2)) (bcb.md §4). Scales as
+    /// BCB's Formula-Assistant tol2R = atan(tol2D·L/(h/2)) (docs/bcb.md §4). Scales as
     /// k_θ ∝ scale³ with I ∝ scale⁵, so ω ∝ 1/scale like the linear axes.
     Lever,
 }
@@ -445,7 +445,7 @@ impl ConnectionSpec {
 }
 
 /// BCB's constraint rotation for a snapped normal: local X onto `sign·e[axis]`, as
-/// Blender's `to_track_quat('X','Z')` gives it (bcb.md §2.1; −Y worked out the same way):
+/// Blender's `to_track_quat('X','Z')` gives it (docs/bcb.md §2.1; −Y worked out the same way):
 /// +X → (X, Y, Z); −X → (−X, −Y, Z); +Y → (Y, −X, Z); −Y → (−Y, X, Z);
 /// +Z → (Z, Y, −X); −Z → (−Z, Y, X) (columns = images of local X, Y, Z).
 pub fn bcb_normal_rotation(axis: usize, sign: f64) -> UnitQuaternion<f64> {

@@ -1,5 +1,5 @@
 //! The ruin stage's ground: a large rigid box whose top face is the model's base, moved
-//! kinematically by the rest of the earthquake record (BCB step 3, bcb.md §6 and §11.6).
+//! kinematically by the rest of the earthquake record (BCB step 3, docs/bcb.md §6 and §11.6).
 //!
 //! * **Box** (BCB's `Ground_Motion` object): it spans the undeformed model's plan AABB
 //!   grown by [`GroundSpec::plan_margin_m`] (BCB: 500 m) on every side and is
@@ -14,7 +14,7 @@
 //!   Bullet's `saveKinematicState` then gives it the secant velocity (d(t_k+h) − d(t_k))/h
 //!   during that substep's solve, so a body resting on it is carried by exactly the
 //!   record's displacement increment (BCB/Blender 2.79 set the transform once per frame
-//!   instead, bcb.md §10.12; per substep is our documented option).
+//!   instead, docs/bcb.md §10.12; per substep is our documented option).
 //! * Without a history the ground is a **static** box (nothing moves it).
 
 use crate::motion::GroundHistory;

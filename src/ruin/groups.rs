@@ -17,7 +17,7 @@
 //!
 //! Passive foundation blocks get the group [`FOUNDATION_GROUP`], whose strength is never
 //! used for thresholds (an active–passive connection uses the active group's strength
-//! × 2, bcb.md §11) but must exist; it copies the first group's inputs.
+//! × 2, docs/bcb.md §11) but must exist; it copies the first group's inputs.
 
 use super::connection::GroupStrength;
 use super::strength::{FormulaInputs, FormulaKind};

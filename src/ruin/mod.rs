@@ -1,7 +1,7 @@
 //! The ruin stage's pure model: BCB-equivalent connections between rigid boxes.
 //!
 //! This module reproduces the constraint model of the Bullet Constraints Builder (BCB,
-//! K. Kostack; see `research/bcb.md`, §2–§4, §7.3 and §11), which the paper (Zheng et
+//! K. Kostack; see `docs/bcb.md`, §2–§4, §7.3 and §11), which the paper (Zheng et
 //! al. 2020) used for its ruin stage, as plain data and pure functions. It knows nothing
 //! of Bullet: the Bullet layer turns the [`connection::ConstraintSpec`]s into
 //! `btGeneric6DofConstraint` / `btGeneric6DofSpring2Constraint` objects and applies the

@@ -1,4 +1,4 @@
-//! BCB's per-frame monitor (`monitor.py`, `monitor_checkForChange`; bcb.md §4, §11.5) as a
+//! BCB's per-frame monitor (`monitor.py`, `monitor_checkForChange`; docs/bcb.md §4, §11.5) as a
 //! pure state machine. Re-implemented, not copied.
 //!
 //! Run [`Monitor::check`] once per frame (BCB: 25 Hz, not per substep) with the bodies'

@@ -1,4 +1,4 @@
-//! Connection search and contact geometry (BCB `builder_prep.py`, bcb.md §7.3 and §11.3).
+//! Connection search and contact geometry (BCB `builder_prep.py`, docs/bcb.md §7.3 and §11.3).
 //!
 //! 1. **Candidates.** Every body's world AABB is enlarged by half the search distance on
 //!    each side (BCB's `searchDistance` = 0.02 m total, so 0.01 m per side: gaps up to
@@ -12,7 +12,7 @@
 //!    is **h**, the largest **w** (so h ≤ w); ties go to the lower axis index, as BCB's
 //!    sort of (value, axis) pairs does. The normal points from A to B: its sign is the
 //!    sign of (centre_B − centre_A) along the normal axis (BCB's 90° axis snapping).
-//! 4. **Area.** Default [`ContactAreaRule::Rectangle`]: a = h·w (bcb.md §11.3).
+//! 4. **Area.** Default [`ContactAreaRule::Rectangle`]: a = h·w (docs/bcb.md §11.3).
 //!    [`ContactAreaRule::ProjectionSum`] is BCB's bbox fallback: a = oy·oz + ox·oz + ox·oy
 //!    with every overlap widened by 2e-6 m (BCB widens each box by 1e-6 m). For a clean face
 //!    contact the two agree up to that widening; they differ for interpenetrating boxes
@@ -33,7 +33,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactAreaRule {
-    /// a = h·w, the two larger overlaps (bcb.md §11.3).
+    /// a = h·w, the two larger overlaps (docs/bcb.md §11.3).
     #[default]
     Rectangle,
     /// BCB's bbox fallback: sum of the three projections of the overlap box, each

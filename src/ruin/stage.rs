@@ -1,7 +1,7 @@
 //! The ruin stage in Bullet: BCB's five steps as one builder ([`RuinStage::build`]) and a
 //! stepping loop with the per-frame monitor ([`RuinStage::run`]).
 //!
-//! Build (bcb.md §1, §6, §7.1, §11; docs/ruin-model.md):
+//! Build (docs/bcb.md §1, §6, §7.1, §11; docs/ruin-model.md):
 //!
 //! 1. **Ground**: a large box, friction 1, top at the model's base ([`GroundSpec`]);
 //!    kinematic when a ground motion is given, static otherwise. It is body 0 of the world.
@@ -25,7 +25,7 @@
 //! applied before the next substep; each frame is recorded ([`Frame`]). The run ends at
 //! [`StopRule::max_time_s`] or when the debris is at rest ([`RestTest`]).
 //!
-//! **Bullet's locked rows** (measured in `tests/ruin_stage_statics.rs`): a
+//! **Bullet's locked rows** (measured in `tests/it/ruin/stage_statics.rs`): a
 //! `btGeneric6DofConstraint` axis with lo = hi only produces a solver row while its error
 //! is strictly outside the limit; a joint that starts exactly in place (frames from the
 //! start poses) carries nothing in its first substep, and under load the row now and then
@@ -71,7 +71,7 @@ pub enum StageError {
     Physics(#[from] PhysicsError),
 }
 
-/// Body settings (BCB/Blender defaults, bcb.md §5 and §11.2).
+/// Body settings (BCB/Blender defaults, docs/bcb.md §5 and §11.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodySettings {
     /// Friction of the active bodies (BCB RC group: 1.0).
@@ -115,8 +115,8 @@ pub struct StageSettings {
     pub angle_rule: AngleRule,
     /// Warm-up, s: gravity grows from 0 to its full value over this time after the start,
     /// as g·s(τ) with the smoothstep s(τ) = 3τ² − 2τ³, τ = (t − t_start)/warm-up (BCB's
-    /// warm-up period: 20 frames = 0.8 s, a Bezier ease ≈ smoothstep, bcb.md §4). 0 = off,
-    /// the default: at a hand-off the structure is already loaded (bcb.md §10.6).
+    /// warm-up period: 20 frames = 0.8 s, a Bezier ease ≈ smoothstep, docs/bcb.md §4). 0 = off,
+    /// the default: at a hand-off the structure is already loaded (docs/bcb.md §10.6).
     pub warmup_s: f64,
     /// Build the CT 22 connections (default). `false`: loose debris only, no constraints
     /// (e.g. the debris phase of the pybullet cross-check).
@@ -124,7 +124,7 @@ pub struct StageSettings {
 }
 
 impl Default for StageSettings {
-    /// BCB's world (bcb.md §11.1): sequential impulses, 100 iterations, split impulse
+    /// BCB's world (docs/bcb.md §11.1): sequential impulses, 100 iterations, split impulse
     /// off, gravity (0, 0, −9.81); Bullet's process-globals set to Bullet's own values
     /// (gDbvtMargin 0.05, gContactBreakingThreshold 0.02) so a stage never depends on
     /// what ran before it in the process.

@@ -3,7 +3,7 @@
 //! Source: Bullet Constraints Builder (BCB, K. Kostack), `global_vars.py`
 //! (`formulaAssistants`, ids `con_rei_beam` and `con_rei_wall`) and `formula.py`
 //! (`combineExpressions`), read at HEAD 8972ecf and checked against the 2020 version;
-//! written up in `research/bcb.md` §3.2. Re-implemented here, not copied.
+//! written up in `docs/bcb.md` §3.2. Re-implemented here, not copied.
 //!
 //! Inputs are in BCB's units: lengths in **mm**, stresses in **N/mm²** (MPa), densities in
 //! kg/m³. The section capacities of a reference section `h × w` are
@@ -149,7 +149,7 @@ pub struct StrengthPerArea {
 }
 
 impl StrengthPerArea {
-    /// BCB's default element-group preset ("" / "RC Columns", bcb.md §8):
+    /// BCB's default element-group preset ("" / "RC Columns", docs/bcb.md §8):
     /// 35 / 5.2 / 155 / 1.0 / 1.3, no 90° values.
     pub fn bcb_default_preset() -> Self {
         StrengthPerArea {
@@ -256,12 +256,12 @@ impl FormulaInputs {
         rho * self.denss + (1.0 - rho) * self.densc
     }
 
-    /// 2nd distance tolerance from the Formula Assistant: tol2D = elu/100 (bcb.md §4).
+    /// 2nd distance tolerance from the Formula Assistant: tol2D = elu/100 (docs/bcb.md §4).
     pub fn tol2_dist(&self) -> f64 {
         self.elu / 100.0
     }
 
-    /// 2nd rotation tolerance from the Formula Assistant (bcb.md §4, `builder_setc.py`):
+    /// 2nd rotation tolerance from the Formula Assistant (docs/bcb.md §4, `builder_setc.py`):
     /// tol2R = atan((elu/100)·L / (h_contact/2)), L = centre distance in m, h in m.
     pub fn tol2_rot(&self, centre_distance_m: f64, contact_h_m: f64) -> f64 {
         ((self.elu / 100.0) * centre_distance_m / (contact_h_m / 2.0)).atan()
@@ -343,7 +343,7 @@ mod tests {
         (x * m).round() / m
     }
 
-    /// bcb.md §3.2 table, beams/columns with BCB's defaults, at the printed precision.
+    /// docs/bcb.md §3.2 table, beams/columns with BCB's defaults, at the printed precision.
     #[test]
     fn beam_column_table() {
         let f = FormulaInputs::default();
@@ -404,7 +404,7 @@ mod tests {
         assert!(sq.s90.is_none() && sq.b90.is_none());
     }
 
-    /// tol2R from the FA: L = 3 m, h = 0.25 m → 1.237 rad (bcb.md §4).
+    /// tol2R from the FA: L = 3 m, h = 0.25 m → 1.237 rad (docs/bcb.md §4).
     #[test]
     fn formula_rotation_tolerance() {
         let f = FormulaInputs::default();

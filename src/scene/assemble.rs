@@ -13,15 +13,26 @@ use std::path::Path;
 /// A constraint of a validated scene (bodies by index into [`Scene::bodies`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneConstraint {
+    /// The constraint class and its class-specific settings.
     pub kind: ConstraintKind,
+    /// Body A, by index into [`Scene::bodies`].
     pub body_a: usize,
+    /// Body B, by index into [`Scene::bodies`] (not `body_a`).
     pub body_b: usize,
+    /// The joint frame in body A's local frame.
     pub frame_a: Pose,
+    /// The joint frame in body B's local frame.
     pub frame_b: Pose,
+    /// Per-axis limits (0..2 linear \[m\], 3..5 angular \[rad\]); `None` keeps the class
+    /// default (see [`ConstraintDesc::limits`]).
     pub limits: [Option<(f64, f64)>; 6],
+    /// Breaking impulse threshold [N·s] per substep; `f64::INFINITY` = unbreakable.
     pub breaking_impulse_threshold: f64,
+    /// No contacts between the two bodies.
     pub disable_collisions_between: bool,
+    /// Initially enabled.
     pub enabled: bool,
+    /// Solver iterations for this constraint; `None` = the world's iteration count.
     pub override_solver_iterations: Option<u32>,
 }
 
@@ -32,6 +43,7 @@ pub struct KinematicMotion {
     pub body: usize,
     /// Its pose at t = 0.
     pub start: Pose,
+    /// Constant linear [m/s] and angular [rad/s] velocity, world frame.
     pub velocity: Velocity,
 }
 
@@ -71,6 +83,7 @@ fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
 /// A validated scene, ready to build.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// World and solver settings: the preset with the scene's overrides applied.
     pub world: WorldSettings,
     /// The fixed substep h \[s\].
     pub substep: f64,
@@ -78,6 +91,7 @@ pub struct Scene {
     pub num_substeps: u64,
     /// (name, description), in creation order.
     pub bodies: Vec<(String, BoxDesc)>,
+    /// Constraints, in creation order (after the bodies).
     pub constraints: Vec<SceneConstraint>,
     /// Kinematic bodies that move, in body order.
     pub kinematic_motions: Vec<KinematicMotion>,
@@ -85,8 +99,11 @@ pub struct Scene {
 
 /// A world built from a scene, with the handles in scene order.
 pub struct BuiltScene {
+    /// The Bullet world holding the scene's bodies and constraints.
     pub world: World,
+    /// Body handles; entry i is [`Scene::bodies`]\[i\].
     pub bodies: Vec<BodyHandle>,
+    /// Constraint handles; entry i is [`Scene::constraints`]\[i\].
     pub constraints: Vec<ConstraintHandle>,
 }
 

@@ -53,22 +53,40 @@ pub struct WorldSpec {
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
+    /// Overrides `num_iterations`: Gauss–Seidel iterations per substep.
     pub num_iterations: Option<u32>,
+    /// Overrides `erp`: joint error reduction parameter.
     pub erp: Option<f64>,
+    /// Overrides `erp2`: contact error reduction parameter.
     pub erp2: Option<f64>,
+    /// Overrides `friction_erp`: friction error reduction parameter.
     pub friction_erp: Option<f64>,
+    /// Overrides `global_cfm`: constraint force mixing.
     pub global_cfm: Option<f64>,
+    /// Overrides `linear_slop`: allowed penetration \[m\].
     pub linear_slop: Option<f64>,
+    /// Overrides `split_impulse`: split impulse on or off.
     pub split_impulse: Option<bool>,
+    /// Overrides `split_impulse_penetration_threshold`: penetration depth \[m\] (negative)
+    /// beyond which split impulse acts.
     pub split_impulse_penetration_threshold: Option<f64>,
+    /// Overrides `split_impulse_turn_erp`: split-impulse turn ERP.
     pub split_impulse_turn_erp: Option<f64>,
+    /// Overrides `solver_mode`: `btSolverMode` flags.
     pub solver_mode: Option<i32>,
+    /// Overrides `warmstarting_factor`: warm-starting factor.
     pub warmstarting_factor: Option<f64>,
+    /// Overrides `least_squares_residual_threshold`: residual for an early exit.
     pub least_squares_residual_threshold: Option<f64>,
+    /// Overrides `minimum_solver_batch_size`: minimum solver batch size.
     pub minimum_solver_batch_size: Option<u32>,
+    /// Overrides `restitution_velocity_threshold`: restitution velocity threshold [m/s].
     pub restitution_velocity_threshold: Option<f64>,
+    /// Overrides `max_error_reduction`: maximum error reduction [m/s].
     pub max_error_reduction: Option<f64>,
+    /// Overrides `sor`: successive over-relaxation factor.
     pub sor: Option<f64>,
+    /// Overrides `damping`: damping of non-contact constraints.
     pub damping: Option<f64>,
 }
 
@@ -91,21 +109,28 @@ pub struct BodySpec {
     #[serde(default)]
     pub orientation: Option<[f64; 4]>,
     #[serde(default)]
+    /// Initial linear velocity [m/s], world frame; dynamic bodies only; default 0.
     pub linear_velocity: Option<[f64; 3]>,
     #[serde(default)]
+    /// Initial angular velocity [rad/s], world frame; dynamic bodies only; default 0.
     pub angular_velocity: Option<[f64; 3]>,
     /// Default 0.5.
     #[serde(default)]
     pub friction: Option<f64>,
     #[serde(default)]
+    /// Rolling friction coefficient; default 0.
     pub rolling_friction: Option<f64>,
     #[serde(default)]
+    /// Spinning (torsional) friction coefficient; default 0.
     pub spinning_friction: Option<f64>,
     #[serde(default)]
+    /// Restitution coefficient (0 = no bounce); default 0.
     pub restitution: Option<f64>,
     #[serde(default)]
+    /// Linear damping factor in [0, 1] (`btRigidBody::setDamping`); default 0.
     pub linear_damping: Option<f64>,
     #[serde(default)]
+    /// Angular damping factor in [0, 1] (`btRigidBody::setDamping`); default 0.
     pub angular_damping: Option<f64>,
     /// Collision margin \[m\]; default the world's `default_margin`.
     #[serde(default)]
@@ -135,8 +160,11 @@ pub struct MotionSpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrameSpec {
+    /// Origin of the joint frame in the body's local frame \[m\].
     pub position: [f64; 3],
     #[serde(default)]
+    /// Unit quaternion (w, x, y, z) of the joint frame relative to the body frame; default
+    /// identity.
     pub orientation: Option<[f64; 4]>,
 }
 
@@ -163,8 +191,11 @@ pub struct ConstraintSpec {
     pub kind: String,
     /// Body names.
     pub body_a: String,
+    /// Name of the second body (not `body_a`).
     pub body_b: String,
+    /// The joint frame in `body_a`'s local frame.
     pub frame_a: FrameSpec,
+    /// The joint frame in `body_b`'s local frame.
     pub frame_b: FrameSpec,
     /// generic6dof only (default true).
     #[serde(default)]
@@ -188,5 +219,7 @@ pub struct ConstraintSpec {
     #[serde(default)]
     pub enabled: Option<bool>,
     #[serde(default)]
+    /// Solver iterations for this constraint (`setOverrideNumSolverIterations`); default
+    /// the world's `num_iterations`.
     pub override_solver_iterations: Option<u32>,
 }

@@ -38,7 +38,7 @@
 //!   `btContactSolverInfo` — 10 iterations, ERP 0.2, contact ERP 0.2, split impulse on at
 //!   −0.04 m, solver mode 260, warm starting 0.85, batch size 128 — with gDbvtMargin 0.05,
 //!   gContactBreakingThreshold 0.02, box margin 0.04) or `"pybullet"` (pybullet 3.2.7 for
-//!   plain rigid bodies, `shared/research/bullet-ffi.md` §3.3: 50 iterations, contact ERP
+//!   plain rigid bodies, `docs/bullet-ffi.md` §3.3: 50 iterations, contact ERP
 //!   0.08, slop 1e-5, warm starting 0.1, residual threshold 1e-7, batch size 0, solver mode
 //!   276 = warm starting | SIMD | two friction directions, gDbvtMargin 0, box margin 0.001).
 //!   `gravity` [m/s²] defaults to (0, 0, −9.81) (z up). `solver` overrides any field of

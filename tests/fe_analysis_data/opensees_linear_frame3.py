@@ -5,7 +5,7 @@ the analysis layers can be compared number for number.
 
 Prints one JSON object: eigen periods (initial stiffness), gravity sag of node 312,
 and the LC1 roof-centre (312) history ux, uy, uz for t <= --tmax.
-Analysis exactly as shared/reference/opensees-frame3/run_frame3.py: gravity in 10
+Analysis exactly as tests/fixtures/opensees-frame3/run_frame3.py: gravity in 10
 LoadControl steps (NormDispIncr 1e-10/50, Newton), loadConst -time 0, Rayleigh
 5 % at T1 and T1/3 on the initial stiffness, Newmark 0.5/0.25, dt 0.005,
 NormDispIncr 1e-8/50, UniformExcitation X/Y/Z from Path series (-dt, -factor).

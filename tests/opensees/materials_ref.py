@@ -29,7 +29,7 @@ except Exception as exc:  # pragma: no cover - reported to the Rust test
         "`pip install openseespy==3.7.1` (scripts/setup.sh does)\n" % exc)
     sys.exit(3)
 
-# frame3's materials (../shared/reference/opensees-frame3/frame3.json) plus the
+# frame3's materials (../data/frame3-standin/reference-frame3.json) plus the
 # other laws and option branches.
 FT = 1565327.4417833479
 ETS = 782663720.8916739

@@ -4,7 +4,7 @@
 Each scenario is built twice from one description: as a fem2rbd JSON scene (world preset
 "pybullet", run with --frames 1 so every substep is written) and directly in pybullet
 (DIRECT, plain rigid bodies via useMaximalCoordinates=True, pybullet's own defaults, which
-the "pybullet" preset mirrors: shared/research/bullet-ffi.md §3.3). Positions and
+the "pybullet" preset mirrors: docs/bullet-ffi.md §3.3). Positions and
 orientations of every dynamic body are compared at every substep.
 
 Usage: crosscheck.py --bin PATH/TO/fem2rbd [--write-scenes DIR] [--only NAME]

@@ -1,0 +1,328 @@
+//! Builds the FE [`Domain`] of a [`Model`]: nodes, supports, lumped masses (nodal masses
+//! plus element self-weight split to the element's nodes, as
+//! [`Model::lumped_masses`] documents), gravity loads, materials, sections and
+//! beam-column elements with their geometric transformations.
+//!
+//! The element formulation is the model's unless a [`Variant`] overrides it — the same
+//! three variants the OpenSees reference runs use (`force`, `disp`, `elastic`; see
+//! `tests/fixtures/opensees-frame3/run_frame3.py`). The `elastic` variant replaces
+//! every nonlinear beam-column by an elastic one with its section's initial transformed
+//! properties (EA, EIz, EIy, GJ from Σ E_i A_i, Σ E_i A_i y_i², Σ E_i A_i z_i²).
+
+use crate::fe::domain::Domain;
+use crate::fe::element::beam::{BeamColumnSpec, Formulation};
+use crate::fe::element::elastic_beam::ElasticProps;
+use crate::fe::element::force_beam::ForceBeamOptions;
+use crate::fe::element::Element;
+use crate::fe::material::{self, UniaxialMaterial};
+use crate::fe::section::elastic::ElasticSection;
+use crate::fe::section::fiber::FiberSection;
+use crate::fe::section::Section;
+use crate::fe::transform::TransformKind;
+use crate::model::{self, ElementKind, Model, SectionKind, TransfKind};
+use anyhow::{anyhow, bail, Context, Result};
+use nalgebra::Vector3;
+use std::collections::BTreeMap;
+
+/// Which element formulation to use for the model's nonlinear beam-columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Variant {
+    /// As each element says (`formulation = "force" | "disp"`).
+    #[default]
+    AsModel,
+    /// Every beam-column force-based (Gauss-Lobatto).
+    Force,
+    /// Every beam-column displacement-based (Gauss-Legendre).
+    Disp,
+    /// Every beam-column elastic with its section's initial properties.
+    Elastic,
+}
+
+impl std::str::FromStr for Variant {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "model" | "as-model" => Ok(Variant::AsModel),
+            "force" => Ok(Variant::Force),
+            "disp" => Ok(Variant::Disp),
+            "elastic" => Ok(Variant::Elastic),
+            other => Err(format!(
+                "unknown element variant `{other}` (expected model, force, disp or elastic)"
+            )),
+        }
+    }
+}
+
+/// Options of the domain builder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BuildOptions {
+    /// Formulation override.
+    pub variant: Variant,
+    /// Element iteration controls of force-based elements. The frame3 reference runs use
+    /// `-iter 50 1e-12`.
+    pub force_options: ForceBeamOptions,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        Self {
+            variant: Variant::AsModel,
+            force_options: ForceBeamOptions {
+                max_iter: 50,
+                tol: 1e-12,
+                ..ForceBeamOptions::default()
+            },
+        }
+    }
+}
+
+/// A built domain and the tag ↔ index maps of the model it came from.
+#[derive(Debug)]
+pub struct BuiltDomain {
+    /// The FE domain, DOFs numbered, gravity loads in its reference load pattern.
+    pub domain: Domain,
+    /// Node tag → domain node index.
+    pub node_index: BTreeMap<u32, usize>,
+    /// Element tag → domain element index.
+    pub element_index: BTreeMap<u32, usize>,
+}
+
+fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
+    let params: BTreeMap<String, f64> = m
+        .parameters()
+        .into_iter()
+        .filter(|(k, _)| *k != "density")
+        .map(|(k, v)| (k.to_string(), v))
+        .collect();
+    material::build(m.type_name(), &params)
+        .map_err(|e| anyhow!("material {} ({}): {e}", m.tag, m.name))
+}
+
+fn section_prototype(
+    s: &model::Section,
+    mats: &BTreeMap<u32, &model::Material>,
+) -> Result<Box<dyn Section>> {
+    match &s.kind {
+        SectionKind::Elastic {
+            e, g, a, iy, iz, j, ..
+        } => Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j))),
+        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => bail!(
+            "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
+            s.tag
+        ),
+        _ => {
+            let fibers = s.fibers().expect("fiber or rc_rect section has fibers");
+            let gj = s.gj().expect("beam section has GJ");
+            let mut list = Vec::with_capacity(fibers.len());
+            for f in &fibers {
+                let m = mats.get(&f.material()).ok_or_else(|| {
+                    anyhow!("section {}: unknown material {}", s.tag, f.material())
+                })?;
+                list.push((f.y(), f.z(), f.area(), uniaxial(m)?));
+            }
+            Ok(Box::new(
+                FiberSection::new(list, gj).map_err(|e| anyhow!("section {}: {e}", s.tag))?,
+            ))
+        }
+    }
+}
+
+/// Initial transformed elastic properties of a beam section, as an elastic element with
+/// E = 1 (so A, Iz, Iy, J carry EA, EIz, EIy, GJ), the `elastic` variant of the
+/// reference runs.
+fn elastic_equivalent(
+    s: &model::Section,
+    mats: &BTreeMap<u32, &model::Material>,
+) -> Result<ElasticProps> {
+    if let SectionKind::Elastic {
+        e, g, a, iy, iz, j, ..
+    } = &s.kind
+    {
+        return Ok(ElasticProps {
+            e: *e,
+            g: *g,
+            a: *a,
+            iy: *iy,
+            iz: *iz,
+            j: *j,
+        });
+    }
+    let fibers = s
+        .fibers()
+        .ok_or_else(|| anyhow!("section {} has no fibers", s.tag))?;
+    let (mut ea, mut eiz, mut eiy) = (0.0, 0.0, 0.0);
+    for f in &fibers {
+        let m = mats
+            .get(&f.material())
+            .ok_or_else(|| anyhow!("section {}: unknown material {}", s.tag, f.material()))?;
+        let e = m.initial_tangent();
+        ea += e * f.area();
+        eiz += e * f.area() * f.y() * f.y();
+        eiy += e * f.area() * f.z() * f.z();
+    }
+    Ok(ElasticProps {
+        e: 1.0,
+        g: 1.0,
+        a: ea,
+        iy: eiy,
+        iz: eiz,
+        j: s.gj().unwrap_or(0.0),
+    })
+}
+
+fn transform_kind(k: TransfKind) -> TransformKind {
+    match k {
+        TransfKind::Linear => TransformKind::Linear,
+        TransfKind::Pdelta => TransformKind::PDelta,
+        TransfKind::Corotational => TransformKind::Corotational,
+    }
+}
+
+/// Builds the domain of `model` (which must have passed validation, as
+/// [`Model::load`] guarantees). Shell elements are refused: the FE solver has no shell
+/// element yet.
+pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain> {
+    if !model
+        .elements
+        .iter()
+        .any(|e| !matches!(e.kind, crate::model::ElementKind::Panel { .. }))
+    {
+        anyhow::bail!(
+            "model {:?} has no structural elements ({} nodes, {} elements, panels are \
+             rigid-body only): nothing to analyse",
+            model.name,
+            model.nodes.len(),
+            model.elements.len()
+        );
+    }
+    let mut domain = Domain::new();
+    let mut node_index = BTreeMap::new();
+    for n in &model.nodes {
+        let i = domain
+            .add_node(i64::from(n.tag), n.xyz())
+            .with_context(|| format!("node {}", n.tag))?;
+        node_index.insert(n.tag, i);
+    }
+    let idx = |tag: u32| -> Result<usize> {
+        node_index
+            .get(&tag)
+            .copied()
+            .ok_or_else(|| anyhow!("unknown node {tag}"))
+    };
+    for (tag, dofs) in model.fixity() {
+        domain.fix(idx(tag)?, dofs.map(|d| d != 0))?;
+    }
+    for (tag, m) in model.lumped_masses() {
+        domain.set_mass(idx(tag)?, m)?;
+    }
+    for (tag, fz) in model.gravity_loads() {
+        domain.add_nodal_load(idx(tag)?, [0.0, 0.0, fz, 0.0, 0.0, 0.0])?;
+    }
+
+    let mats = model.material_map();
+    let secs = model.section_map();
+    let transfs = model.transformation_map();
+    let mut element_index = BTreeMap::new();
+    for e in &model.elements {
+        let tag = i64::from(e.tag);
+        let (nodes, transf) = match &e.kind {
+            ElementKind::BeamColumn { nodes, transf, .. }
+            | ElementKind::ElasticBeamColumn { nodes, transf, .. }
+            | ElementKind::ElasticStrip { nodes, transf, .. } => (*nodes, *transf),
+            ElementKind::Panel { .. } => continue, // rigid-body model only
+            ElementKind::Shell { .. } => bail!(
+                "element {}: shell elements are not supported by the FE solver yet \
+                 (model slabs as elastic strips, as data/frame3 does)",
+                e.tag
+            ),
+        };
+        let t = transfs
+            .get(&transf)
+            .ok_or_else(|| anyhow!("element {}: unknown transformation {transf}", e.tag))?;
+        let [ni, nj] = nodes;
+        let xi = Vector3::from(model.node_map()[&ni].xyz());
+        let xj = Vector3::from(model.node_map()[&nj].xyz());
+        let (formulation, section) = match &e.kind {
+            ElementKind::BeamColumn {
+                section,
+                formulation,
+                points,
+                ..
+            } => {
+                let s = secs
+                    .get(section)
+                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let n_ip = *points as usize;
+                let chosen = match options.variant {
+                    Variant::AsModel => match formulation {
+                        model::Formulation::Force => Variant::Force,
+                        model::Formulation::Disp => Variant::Disp,
+                    },
+                    v => v,
+                };
+                match chosen {
+                    Variant::Elastic => (Formulation::Elastic(elastic_equivalent(s, &mats)?), None),
+                    Variant::Disp => (
+                        Formulation::DispBased { n_ip },
+                        Some(section_prototype(s, &mats)?),
+                    ),
+                    _ => (
+                        Formulation::ForceBased {
+                            n_ip,
+                            options: options.force_options,
+                        },
+                        Some(section_prototype(s, &mats)?),
+                    ),
+                }
+            }
+            ElementKind::ElasticBeamColumn { section, .. } => {
+                let s = secs
+                    .get(section)
+                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                (Formulation::Elastic(elastic_equivalent(s, &mats)?), None)
+            }
+            ElementKind::ElasticStrip {
+                e: young,
+                g,
+                width,
+                thickness,
+                ..
+            } => {
+                let (a, iy, iz, j) = model::element::strip_properties(*width, *thickness);
+                (
+                    Formulation::Elastic(ElasticProps {
+                        e: *young,
+                        g: *g,
+                        a,
+                        iy,
+                        iz,
+                        j,
+                    }),
+                    None,
+                )
+            }
+            ElementKind::Shell { .. } | ElementKind::Panel { .. } => unreachable!("refused above"),
+        };
+        let spec = BeamColumnSpec {
+            tag,
+            nodes: [idx(ni)?, idx(nj)?],
+            xi,
+            xj,
+            transform: transform_kind(t.kind),
+            vecxz: Vector3::from(t.vecxz),
+            formulation,
+            section,
+        };
+        let element: Box<dyn Element> = spec.build()?;
+        let i = domain
+            .add_element(element)
+            .with_context(|| format!("element {}", e.tag))?;
+        element_index.insert(e.tag, i);
+    }
+    domain.number_dofs();
+    Ok(BuiltDomain {
+        domain,
+        node_index,
+        element_index,
+    })
+}

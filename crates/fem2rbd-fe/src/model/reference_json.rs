@@ -1,0 +1,339 @@
+//! Importer for the reference JSON layout of `data/frame3-standin/reference-frame3.json`
+//! (written by `gen_frame3.py`; layout described in that folder's README).
+//!
+//! Mapping: `uniaxial_materials` → materials (density 0: the JSON lumps all mass into
+//! `nodal_masses`); `sections` (type Fiber) → fiber sections; `fixed_nodes` → supports;
+//! `geom_transforms` → transformations; `beam_column` elements → force-based beam-columns
+//! (5 Lobatto points, as the reference runs); `elastic_beam_column` elements → elastic
+//! beam-columns with one elastic section per distinct property set (tags after the
+//! largest fiber-section tag); `nodal_masses` → nodal masses; `damping` a0/a1 → explicit
+//! Rayleigh coefficients. Element `group` column/beam/slab_strip becomes type name
+//! Column/Beam/Slab and the `story`/`floor` number the material group. `scale` is read
+//! from a top-level `scale` key if present, else 1.
+use super::*;
+use anyhow::{anyhow, bail, Context, Result};
+use serde_json::Value;
+
+fn num(v: &Value, key: &str, what: &str) -> Result<f64> {
+    v.get(key)
+        .and_then(Value::as_f64)
+        .with_context(|| format!("{what}: missing number `{key}`"))
+}
+
+fn tag(v: &Value, key: &str, what: &str) -> Result<u32> {
+    v.get(key)
+        .and_then(Value::as_u64)
+        .and_then(|t| u32::try_from(t).ok())
+        .with_context(|| format!("{what}: missing tag `{key}`"))
+}
+
+fn arr<'a>(v: &'a Value, key: &str) -> Result<&'a Vec<Value>> {
+    v.get(key)
+        .and_then(Value::as_array)
+        .with_context(|| format!("missing array `{key}`"))
+}
+
+/// Whether JSON text is in the reference layout (a root object with `uniaxial_materials`).
+pub fn is_reference_layout(text: &str) -> bool {
+    serde_json::from_str::<Value>(text)
+        .ok()
+        .is_some_and(|v| v.get("uniaxial_materials").is_some())
+}
+
+/// Reads a reference-layout JSON file into a validated [`Model`].
+pub fn import_reference_json(path: impl AsRef<Path>) -> Result<Model> {
+    let path = path.as_ref();
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let file = path.display().to_string();
+    let v: Value = serde_json::from_str(&text)
+        .map_err(|e| anyhow!("{file}:{}: not valid JSON: {e}", e.line()))?;
+    let model = from_value(&v).with_context(|| format!("{file}: cannot import reference model"))?;
+    model.validate().map_err(|mut e| {
+        e.file = file.clone();
+        e
+    })?;
+    Ok(model)
+}
+
+fn from_value(v: &Value) -> Result<Model> {
+    let mut materials = Vec::new();
+    for m in arr(v, "uniaxial_materials")? {
+        let t = tag(m, "tag", "material")?;
+        let what = format!("material {t}");
+        let ty = m.get("type").and_then(Value::as_str).unwrap_or("");
+        let law = match ty {
+            "Concrete02" => MaterialLaw::Concrete02 {
+                fpc: num(m, "fpc", &what)?,
+                epsc0: num(m, "epsc0", &what)?,
+                fpcu: num(m, "fpcu", &what)?,
+                epscu: num(m, "epscu", &what)?,
+                lambda: num(m, "lambda", &what)?,
+                ft: num(m, "ft", &what)?,
+                ets: num(m, "Ets", &what)?,
+            },
+            "Concrete01" => MaterialLaw::Concrete01 {
+                fpc: num(m, "fpc", &what)?,
+                epsc0: num(m, "epsc0", &what)?,
+                fpcu: num(m, "fpcu", &what)?,
+                epscu: num(m, "epscU", &what)?,
+            },
+            "Steel02" => MaterialLaw::Steel02 {
+                fy: num(m, "Fy", &what)?,
+                e0: num(m, "E0", &what)?,
+                b: num(m, "b", &what)?,
+                r0: num(m, "R0", &what)?,
+                cr1: num(m, "cR1", &what)?,
+                cr2: num(m, "cR2", &what)?,
+                a: None,
+            },
+            "Steel01" => MaterialLaw::Steel01 {
+                fy: num(m, "Fy", &what)?,
+                e0: num(m, "E0", &what)?,
+                b: num(m, "b", &what)?,
+            },
+            "Elastic" => MaterialLaw::Elastic {
+                e: num(m, "E", &what)?,
+                eta: 0.0,
+                e_neg: None,
+            },
+            other => bail!("{what}: unsupported type {other:?}"),
+        };
+        materials.push(Material {
+            tag: t,
+            name: m
+                .get("name")
+                .and_then(Value::as_str)
+                .unwrap_or("")
+                .to_string(),
+            density: 0.0,
+            law,
+        });
+    }
+
+    let mut sections = Vec::new();
+    for s in arr(v, "sections")? {
+        let t = tag(s, "tag", "section")?;
+        let what = format!("section {t}");
+        let mut fibers = Vec::new();
+        for f in arr(s, "fibers").with_context(|| what.clone())? {
+            let f = f.as_array().filter(|f| f.len() == 4);
+            let f = f.with_context(|| format!("{what}: a fiber is not [y, z, area, mat]"))?;
+            let g = |k: usize| f[k].as_f64().with_context(|| format!("{what}: bad fiber"));
+            let mat = f[3]
+                .as_u64()
+                .and_then(|t| u32::try_from(t).ok())
+                .with_context(|| format!("{what}: bad fiber material"))?;
+            fibers.push(Fiber(g(0)?, g(1)?, g(2)?, mat));
+        }
+        sections.push(Section {
+            tag: t,
+            name: s
+                .get("name")
+                .and_then(Value::as_str)
+                .unwrap_or("")
+                .to_string(),
+            kind: SectionKind::Fiber {
+                gj: num(s, "GJ", &what)?,
+                fibers,
+                width: None,
+                depth: None,
+            },
+        });
+    }
+
+    let mut nodes = Vec::new();
+    for n in arr(v, "nodes")? {
+        let t = tag(n, "tag", "node")?;
+        let what = format!("node {t}");
+        nodes.push(Node {
+            tag: t,
+            x: num(n, "x", &what)?,
+            y: num(n, "y", &what)?,
+            z: num(n, "z", &what)?,
+        });
+    }
+
+    let mut supports = Vec::new();
+    for f in arr(v, "fixed_nodes")? {
+        let t = tag(f, "tag", "fixed node")?;
+        let d = arr(f, "dofs")?;
+        if d.len() != 6 {
+            bail!("fixed node {t}: dofs must have 6 entries");
+        }
+        let mut dofs = [0u8; 6];
+        for (k, x) in d.iter().enumerate() {
+            dofs[k] = x.as_u64().unwrap_or(2).min(2) as u8;
+        }
+        supports.push(Support { node: t, dofs });
+    }
+
+    let mut transformations = Vec::new();
+    for g in arr(v, "geom_transforms")? {
+        let t = tag(g, "tag", "transformation")?;
+        let kind = match g.get("type").and_then(Value::as_str).unwrap_or("") {
+            "Linear" => TransfKind::Linear,
+            "PDelta" => TransfKind::Pdelta,
+            "Corotational" => TransfKind::Corotational,
+            other => bail!("transformation {t}: unknown type {other:?}"),
+        };
+        let vx = arr(g, "vecxz")?;
+        if vx.len() != 3 {
+            bail!("transformation {t}: vecxz must have 3 entries");
+        }
+        let c = |k: usize| vx[k].as_f64().context("vecxz entry is not a number");
+        transformations.push(Transformation {
+            tag: t,
+            kind,
+            vecxz: [c(0)?, c(1)?, c(2)?],
+        });
+    }
+
+    let mut elements = Vec::new();
+    let mut elastic_secs: Vec<[f64; 6]> = Vec::new();
+    let first_elastic_tag = sections.iter().map(|s| s.tag).max().unwrap_or(0) + 1;
+    for e in arr(v, "elements")? {
+        let t = tag(e, "tag", "element")?;
+        let what = format!("element {t}");
+        let en = arr(e, "nodes").with_context(|| what.clone())?;
+        let node = |k: usize| -> Result<u32> {
+            en.get(k)
+                .and_then(Value::as_u64)
+                .and_then(|x| u32::try_from(x).ok())
+                .with_context(|| format!("{what}: bad node list"))
+        };
+        let nodes2 = [node(0)?, node(1)?];
+        let type_name = match e.get("group").and_then(Value::as_str).unwrap_or("") {
+            "column" => "Column",
+            "beam" => "Beam",
+            "slab_strip" => "Slab",
+            other if !other.is_empty() => other,
+            _ => "Element",
+        }
+        .to_string();
+        let group = e
+            .get("story")
+            .or_else(|| e.get("floor"))
+            .and_then(Value::as_u64)
+            .map_or_else(|| "1".to_string(), |g| g.to_string());
+        let transf = tag(e, "transf", &what)?;
+        let kind = match e.get("type").and_then(Value::as_str).unwrap_or("") {
+            "beam_column" => ElementKind::BeamColumn {
+                nodes: nodes2,
+                section: tag(e, "section", &what)?,
+                transf,
+                formulation: Formulation::Force,
+                points: 5,
+                integration: None,
+            },
+            "elastic_beam_column" => {
+                let p = [
+                    num(e, "E", &what)?,
+                    num(e, "G", &what)?,
+                    num(e, "A", &what)?,
+                    num(e, "Iy", &what)?,
+                    num(e, "Iz", &what)?,
+                    num(e, "J", &what)?,
+                ];
+                let k = match elastic_secs.iter().position(|q| *q == p) {
+                    Some(k) => k,
+                    None => {
+                        elastic_secs.push(p);
+                        elastic_secs.len() - 1
+                    }
+                };
+                ElementKind::ElasticBeamColumn {
+                    nodes: nodes2,
+                    section: first_elastic_tag + k as u32,
+                    transf,
+                }
+            }
+            other => bail!("{what}: unsupported type {other:?}"),
+        };
+        let rigid_body = e.get("group").and_then(Value::as_str) != Some("slab_strip");
+        elements.push(Element {
+            tag: t,
+            rigid_body,
+            type_name,
+            group: Group(group),
+            kind,
+        });
+    }
+    for (k, p) in elastic_secs.iter().enumerate() {
+        sections.push(Section {
+            tag: first_elastic_tag + k as u32,
+            name: format!("elastic_{}", k + 1),
+            kind: SectionKind::Elastic {
+                e: p[0],
+                g: p[1],
+                a: p[2],
+                iy: p[3],
+                iz: p[4],
+                j: p[5],
+                mass_per_length: 0.0,
+                width: None,
+                depth: None,
+            },
+        });
+    }
+
+    let mut masses = Vec::new();
+    for m in arr(v, "nodal_masses")? {
+        let t = tag(m, "tag", "nodal mass")?;
+        let what = format!("nodal mass of node {t}");
+        let (mx, my, mz) = (
+            num(m, "mx", &what)?,
+            num(m, "my", &what)?,
+            num(m, "mz", &what)?,
+        );
+        if mx != my || my != mz {
+            bail!("{what}: mx, my, mz differ; the model format has one translational mass");
+        }
+        let r = [
+            num(m, "mrx", &what)?,
+            num(m, "mry", &what)?,
+            num(m, "mrz", &what)?,
+        ];
+        masses.push(NodalMass {
+            node: t,
+            m: mz,
+            rotational: if r == [0.0; 3] { None } else { Some(r) },
+        });
+    }
+
+    let damping = match v.get("damping") {
+        Some(d) => Some(Damping {
+            xi: None,
+            periods: None,
+            a0: Some(num(d, "a0_mass", "damping")?),
+            a1: Some(num(d, "a1_initial_stiffness", "damping")?),
+        }),
+        None => None,
+    };
+
+    Ok(Model {
+        name: v
+            .get("name")
+            .and_then(Value::as_str)
+            .unwrap_or("")
+            .to_string(),
+        description: v
+            .get("description")
+            .and_then(Value::as_str)
+            .unwrap_or("")
+            .to_string(),
+        scale: v.get("scale").and_then(Value::as_f64).unwrap_or(1.0),
+        gravity: Gravity {
+            g: v.get("gravity").and_then(Value::as_f64).unwrap_or(9.81),
+            load_steps: 10,
+        },
+        damping,
+        materials,
+        sections,
+        transformations,
+        nodes,
+        supports,
+        elements,
+        masses,
+    })
+}

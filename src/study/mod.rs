@@ -1,0 +1,24 @@
+//! Batch studies (`fem2rbd study …`, issue 15): many independent runs of one base
+//! scenario over models × records × modes × intensities — incremental dynamic analysis
+//! (IDA), collapse fragility, ruin-scenario libraries — on one machine or on a Slurm
+//! cluster.
+//!
+//! * [`format`] — the study file (`docs/study-format.md`), checked completely first;
+//! * [`plan`] — the manifest of runs with stable ids, the adaptive IDA rule, the study
+//!   folder ([`plan::Store`]: `runs/<id>/`, `results/`, `slurm/`);
+//! * [`exec`] — one run in this process (its folder written atomically, failures
+//!   recorded) and the local scheduler;
+//! * [`slurm`] — sbatch job-array scripts and the submit loop;
+//! * [`collect`] — completeness check and aggregation (`results/`);
+//! * [`fragility`] — lognormal collapse fragility by maximum likelihood;
+//! * [`plot`] — IDA and fragility figures of a collected study.
+pub mod collect;
+pub mod exec;
+pub mod format;
+pub mod fragility;
+pub mod plan;
+pub mod plot;
+pub mod slurm;
+
+pub use format::Study;
+pub use plan::{Entry, Outcome, Plan, Store};

@@ -1,0 +1,157 @@
+//! `fem2rbd modal` and `fem2rbd fe` on frame3: the printed periods and mode characters,
+//! the written `nodes.csv` against OpenSees's LC1 elastic run at t = 2.0 s (results.md:
+//! node 312 ux/uy = +0.457/−1.740 mm), the summary, and bad input refused with nothing
+//! written.
+
+use crate::support::{read_csv, root};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fem2rbd"))
+}
+
+fn gm(dir: &str, file: &str, pga: f64) -> String {
+    format!(
+        "{dir}={},pga={pga}",
+        root().join("data/ground-motions").join(file).display()
+    )
+}
+
+#[test]
+fn modal_prints_frame3_periods_and_characters() {
+    let out = bin()
+        .args(["modal", "--modes", "4", "--variant", "force"])
+        .arg(root().join("data/frame3-standin/model.toml"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{text}");
+    let expect = [
+        ("0.31600", "X"),
+        ("0.31599", "Y"),
+        ("0.18349", "vertical"),
+        ("0.18060", "torsion"),
+    ];
+    for (r, (t, c)) in rows.iter().zip(expect) {
+        assert_eq!((r[1], r[6]), (t, c), "{text}");
+    }
+    // effective mass ratio of the X mode in X
+    assert_eq!(rows[0][3], "0.873", "{text}");
+}
+
+#[test]
+fn fe_lc1_elastic_two_seconds_matches_opensees() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("run");
+    let out = bin()
+        .args(["--quiet", "fe"])
+        .arg(root().join("data/frame3-standin/model.toml"))
+        .args(["--gm", &gm("X", "RSN6_IMPVALL.I_I-ELC180.AT2", 0.10)])
+        .args(["--gm", &gm("Y", "RSN6_IMPVALL.I_I-ELC270.AT2", 0.08)])
+        .args(["--gm", &gm("Z", "RSN6_IMPVALL.I_I-ELC-UP.AT2", 0.06)])
+        .args([
+            "--variant",
+            "elastic",
+            "--duration",
+            "2.0",
+            "--every",
+            "20",
+            "--out",
+        ])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "--quiet prints nothing: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (head, rows) = read_csv(&out_dir.join("nodes.csv"));
+    assert_eq!(head.len(), 1 + 6 * 43);
+    assert_eq!(rows.len(), 21, "t = 0, 0.1, ..., 2.0");
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let last = rows.last().unwrap();
+    assert!((last[0] - 2.0).abs() < 1e-9);
+    let (ux, uy) = (last[col("ux_312")] * 1e3, last[col("uy_312")] * 1e3);
+    eprintln!("fe CLI LC1 elastic t = 2 s: node 312 ux/uy = {ux:+.4}/{uy:+.4} mm (OpenSees +0.457/-1.740)");
+    // 2 % of the peak response (7.363 / 5.280 mm)
+    assert!((ux - 0.457).abs() < 0.02 * 7.363, "ux {ux}");
+    assert!((uy + 1.740).abs() < 0.02 * 5.280, "uy {uy}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("fe_summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(s["stop"]["reason"], "completed");
+    assert_eq!(s["steps"], 400);
+    assert!((s["periods_s"][0].as_f64().unwrap() - 0.316).abs() < 1e-4);
+    // The largest uz is the gravity sag of a slab centre (OpenSees: -8.5 mm elastic).
+    let uz = s["peaks"]["uz"]["value"].as_f64().unwrap();
+    assert!((uz + 0.0085).abs() < 0.001, "uz peak {uz}");
+}
+
+#[test]
+fn fe_bad_input_is_refused_and_nothing_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("run");
+    let model = root().join("data/frame3-standin/model.toml");
+    let cases: [(Vec<String>, &str); 4] = [
+        (
+            vec!["--gm".into(), "W=x.at2".into()],
+            "unknown direction \"W\"",
+        ),
+        (
+            vec!["--gm".into(), "X=missing.at2".into()],
+            "missing.at2 does not exist",
+        ),
+        (
+            vec![
+                "--gm".into(),
+                gm("X", "RSN6_IMPVALL.I_I-ELC180.AT2", 0.1) + "x",
+            ],
+            "is not a number",
+        ),
+        (vec!["--gm".into(), "X".into()], "expected DIR=PATH"),
+    ];
+    for (args, msg) in cases {
+        let out = bin()
+            .arg("fe")
+            .arg(&model)
+            .args(&args)
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(msg), "{args:?}: {err}");
+        assert!(!out_dir.exists(), "{args:?} wrote output");
+    }
+    let out = bin()
+        .arg("fe")
+        .arg(dir.path().join("nomodel.toml"))
+        .args([
+            "--gm",
+            &gm("X", "RSN6_IMPVALL.I_I-ELC180.AT2", 0.1),
+            "--out",
+        ])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nomodel.toml"));
+    assert!(!out_dir.exists());
+}

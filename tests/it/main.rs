@@ -1,0 +1,62 @@
+//! The integration tests of `fem2rbd`, as one test crate (one link after a change), laid
+//! out like `src/`: `cli/*` runs the real binary, `physics/*` includes the pybullet
+//! cross-checks, `pipeline/*` whole runs with insta snapshots. The structural stages are
+//! tested in `crates/fem2rbd-fe/tests/it`.
+#![allow(clippy::needless_range_loop)]
+
+mod support;
+
+mod cli {
+    mod export_opensees;
+    mod fe;
+    mod hostile_inputs;
+    mod model;
+}
+mod mapping {
+    mod frame3;
+    mod geometry;
+    mod handoff_frame3;
+    mod model_frame3;
+    mod model_panels;
+    mod overlap;
+}
+mod output {
+    mod gltf_common;
+    mod gltf_export;
+    mod gltf_roundtrip;
+    mod gltf_three;
+    mod gltf_validator;
+    mod gltf_vtk;
+}
+mod physics {
+    mod pybullet_debris;
+    mod pybullet_scenes;
+    mod world;
+}
+mod pipeline {
+    mod groups_measures;
+    mod run_frame3;
+}
+mod plot {
+    mod fonts;
+    mod run_folder;
+}
+mod repo {
+    mod no_unsafe;
+    mod test_layout;
+}
+mod ruin {
+    mod contacts;
+    mod monitor;
+    mod stage_ground;
+    mod stage_statics;
+    mod thresholds;
+}
+mod scene {
+    mod cli;
+}
+mod study {
+    mod fragility;
+    mod local;
+    mod slurm;
+}
