@@ -70,7 +70,7 @@ pub fn main() -> anyhow::Result<()> {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Scene(args) => scene::run(args),
+        Command::Scene(args) => scene::run(args, cli.quiet),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd),
         Command::Map(args) => map::run(&args, cli.quiet),

@@ -15,7 +15,30 @@ pub struct SceneArgs {
     pub frames: Option<u64>,
 }
 
-/// Runs the subcommand.
-pub fn run(args: SceneArgs) -> anyhow::Result<()> {
-    fem2rbd::scene::run_scene_file(&args.scene, &args.out, args.frames)
+/// Runs the subcommand; a progress bar over the substeps on a terminal (not with
+/// `--quiet`).
+pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+    use std::io::IsTerminal;
+    let bar = if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("scene {bar:40} {pos}/{len} substeps [{elapsed_precise}]")
+                .expect("valid template"),
+        );
+        b
+    };
+    let r = fem2rbd::scene::run::run_scene_file_with(
+        &args.scene,
+        &args.out,
+        args.frames,
+        &mut |d, n| {
+            bar.set_length(n);
+            bar.set_position(d);
+        },
+    );
+    bar.finish_and_clear();
+    r
 }

@@ -694,11 +694,44 @@ pub fn run_perturbed(
         })
         .context("running the ruin stage")?;
     progress.done();
+    check_finite(&result, &bodies, sc)?;
     rec.ruin_wall = t0.elapsed();
     rec.ruin_in_bullet = result.wall.in_bullet;
     rec.final_poses = result.final_poses.clone();
     rec.ruin = Some(result);
     Ok(rec)
+}
+
+/// A ruin stage that blew up (a non-finite pose) is an error naming the first body, the
+/// time and the settings that bear on it, instead of a NaN found later in the written
+/// tables ("cannot build collapse.glb: keyframes.csv:26: column x: NaN").
+fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<()> {
+    let bad = |p: &Pose| {
+        !(p.position.iter().all(|v| v.is_finite()) && p.orientation.iter().all(|v| v.is_finite()))
+    };
+    for f in &result.frames {
+        if let Some(i) = f.poses.iter().position(bad) {
+            anyhow::bail!(
+                "{}: the ruin stage blew up: body {} has a non-finite pose at t = {:.4} s \
+                 (physics.steps_per_second = {}, spring_correction = {}, spring_damping = {}; \
+                 a higher substep rate or spring_limit = true may help)",
+                sc.path.display(),
+                bodies[i].name,
+                f.time_s,
+                sc.physics.steps_per_second,
+                sc.physics.spring_correction,
+                sc.physics.spring_damping
+            );
+        }
+    }
+    if let Some(i) = result.final_poses.iter().position(bad) {
+        anyhow::bail!(
+            "{}: the ruin stage blew up: body {} has a non-finite final pose",
+            sc.path.display(),
+            bodies[i].name
+        );
+    }
+    Ok(())
 }
 
 /// FE damage of every beam-column element (model tag → flag) in a built domain.

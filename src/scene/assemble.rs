@@ -339,6 +339,13 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
     }
     let num_substeps = crate::physics::whole_substeps(f.duration, substep)
         .map_err(|e| anyhow!("duration: {e}"))?;
+    // Resource bound (docs/reliability.md): a scene of 1e9 s would run for days.
+    crate::model::limits::check(
+        "duration / substep",
+        "physics substeps",
+        num_substeps,
+        crate::model::limits::MAX_PHYSICS_SUBSTEPS,
+    )?;
 
     // Bodies.
     let mut names: BTreeMap<&str, usize> = BTreeMap::new();

@@ -198,7 +198,7 @@ fn bad_export_options_are_clear_errors() {
         (vec!["--gm", "X=x.AT2,abc"], "PGA \"abc\" is not a number"),
         (
             vec!["--gm", "X=/nonexistent/x.AT2,0.1"],
-            "ground-motion file /nonexistent/x.AT2",
+            "ground-motion file: /nonexistent/x.AT2 does not exist",
         ),
         (
             vec!["--variant", "fiber"],

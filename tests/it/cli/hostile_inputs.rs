@@ -562,6 +562,18 @@ fn cases() -> Vec<Case> {
         )
         .with("sc.json", "{ \"bodies\": [ }"),
         case(
+            "scene duration 1e9 s",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["sc.json", "physics substeps 240000000000 exceeds the limit"],
+        )
+        .with(
+            "sc.json",
+            std::fs::read_to_string(root().join("data/scenes/drop.json"))
+                .unwrap()
+                .replace("\"duration\": 2.0", "\"duration\": 1e9"),
+        ),
+        case(
             "scene is /dev/zero",
             "scene /dev/zero --out {w}/o.csv",
             1,
@@ -873,6 +885,7 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
 /// mode, 0.1 s), its run folder reads back, and `export gltf` of the folder gives the
 /// run's own `collapse.glb` byte for byte. (On main before issue 16: "cannot build
 /// collapse.glb from the run's own tables: bodies.csv:2: 19 fields, expected 17".)
+/// Then `export vtk` twice: the second replaces the frame folder as a whole.
 #[test]
 fn a_comma_in_a_name_survives_a_whole_run() {
     let tmp = tempfile::tempdir().unwrap();
@@ -914,4 +927,33 @@ fn a_comma_in_a_name_survives_a_whole_run() {
         std::fs::read(w.join("again.glb")).unwrap(),
         std::fs::read(w.join("out/collapse.glb")).unwrap()
     );
+    // Defect 6 for `export vtk`: a second export replaces the frame folder as a whole
+    // (a stale frame of a longer earlier run is gone) and leaves no temporary beside it.
+    let vtk = |args: &[&str]| {
+        let st = Command::new(BIN)
+            .current_dir(w)
+            .args(["export", "vtk", "out"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+    };
+    vtk(&[]);
+    let frames = w.join("out/vtk/collapse");
+    let n = std::fs::read_dir(&frames).unwrap().count();
+    assert!(n >= 2, "{n} frames");
+    std::fs::write(frames.join("step_999999.vtu"), "stale").unwrap();
+    vtk(&[]);
+    assert!(!frames.join("step_999999.vtu").exists());
+    assert_eq!(std::fs::read_dir(&frames).unwrap().count(), n);
+    let mut left: Vec<String> = std::fs::read_dir(w.join("out/vtk"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["collapse", "collapse.pvd"]);
 }
