@@ -115,7 +115,10 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     assert_eq!(fig.members, 3);
     for v in fig.share.values() {
         let k = v * 3.0;
-        assert!((k - k.round()).abs() < 1e-12 && *v > 0.0 && *v <= 1.0, "{v}");
+        assert!(
+            (k - k.round()).abs() < 1e-12 && *v > 0.0 && *v <= 1.0,
+            "{v}"
+        );
     }
     assert!(fig.share.values().any(|v| *v == 1.0));
     let written = fem2rbd::plot::write_ensemble(
