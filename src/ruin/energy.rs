@@ -152,9 +152,8 @@ pub fn substep_balance(
     for (((p, pose), v0), v1) in props.iter().zip(poses0).zip(vels0).zip(vels1) {
         let Some(p) = p else { continue };
         let mut v2 = 0.0;
-        for k in 0..3 {
-            out.ground_impulse[k] +=
-                p.mass_kg * (v1.linear[k] - ll * v0.linear[k] - gravity[k] * h);
+        for (k, (j, g)) in out.ground_impulse.iter_mut().zip(gravity).enumerate() {
+            *j += p.mass_kg * (v1.linear[k] - ll * v0.linear[k] - g * h);
             v2 += v0.linear[k] * v0.linear[k];
         }
         out.damping_j += 0.5 * p.mass_kg * v2 * (1.0 - ll * ll)

@@ -234,9 +234,9 @@ fn min_overturning(grid: &[f64], overturns: &mut dyn FnMut(f64) -> bool) -> Opti
 /// Housner's momentum rule; the margin part is measured by the thin-margin run.
 #[test]
 fn rocking_block_overturning_amplitude_matches_housner() {
-    let (b, hh) = (0.3, 1.5);
-    let alpha = (b / hh as f64).atan();
-    let r = (b * b + hh * hh as f64).sqrt();
+    let (b, hh): (f64, f64) = (0.3, 1.5);
+    let alpha = (b / hh).atan();
+    let r = (b * b + hh * hh).sqrt();
     let p = (3.0 * G / (4.0 * r)).sqrt();
     let grid: Vec<f64> = (0..=40).map(|k| 1.0 + 0.1 * k as f64).collect();
     for (wp_over_p, tol) in [(2.0, 0.15), (3.0, 0.15), (4.0, 0.15), (5.0, 0.15)] {
