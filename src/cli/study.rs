@@ -273,7 +273,11 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                 extra += &format!(" --partition '{}'", v.replace('\'', r"'\''"));
                 spec.partition = v.clone();
             }
-            if spec.shard == 0 || !(spec.estimate_s > 0.0) || spec.mem_mb == 0 {
+            if spec.shard == 0
+                || spec.estimate_s.is_nan()
+                || spec.estimate_s <= 0.0
+                || spec.mem_mb == 0
+            {
                 bail!("--shard, --estimate-s and --mem-mb must be positive");
             }
             let exe = match &a.exe {

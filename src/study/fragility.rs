@@ -261,7 +261,7 @@ pub fn fit_stripes(stripes: &[(f64, usize, usize)]) -> Result<Fit> {
     let mu0 = stripes.iter().map(|s| s.1 as f64 * s.0.ln()).sum::<f64>() / total as f64;
     let x = nelder_mead(&|p| -ll(p[0], p[1].exp()), [mu0, 0.4f64.ln()], [0.2, 0.2]);
     let (mu, beta) = (x[0], x[1].exp());
-    if beta > 50.0 || beta < 1e-6 {
+    if !(1e-6..=50.0).contains(&beta) {
         bail!("fragility: the data do not bound the fit (β → {beta:.3e}); separate outcomes overlap or are perfectly split");
     }
     Ok(Fit {

@@ -83,12 +83,12 @@ fn ida_fit_with_censoring_recovers_a_known_lognormal() {
 /// likelihood is maximal where the fitted probabilities equal the observed fractions).
 #[test]
 fn stripe_fit_with_two_stripes_matches_the_observed_fractions() {
-    let (x1, n1, z1) = (0.6, 20, 3);
-    let (x2, n2, z2) = (1.4, 20, 15);
+    let (x1, n1, z1) = (0.6f64, 20, 3);
+    let (x2, n2, z2) = (1.4f64, 20, 15);
     let (p1, p2) = (z1 as f64 / n1 as f64, z2 as f64 / n2 as f64);
-    let beta = (x2 as f64).ln() - (x1 as f64).ln();
+    let beta = f64::ln(x2) - f64::ln(x1);
     let beta = beta / (phi_inv(p2) - phi_inv(p1));
-    let mu = (x1 as f64).ln() - beta * phi_inv(p1);
+    let mu = f64::ln(x1) - beta * phi_inv(p1);
     let f = fit_stripes(&[(x1, n1, z1), (x2, n2, z2)]).unwrap();
     assert!(
         (f.median_g / mu.exp() - 1.0).abs() < 1e-7,

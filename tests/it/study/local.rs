@@ -272,3 +272,109 @@ fn failing_runs_are_recorded_resume_skips_and_jobs_do_not_change_the_bytes() {
         assert!(!n.starts_with('.'), "{n} left behind");
     }
 }
+
+/// A hybrid run through a study: the ruin columns of `runs.csv` are those of the run's
+/// `summary.json`, and `fem2rbd plot` draws the study's figures, the same bytes twice.
+#[test]
+fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
+    let t = tempfile::tempdir().unwrap();
+    fs::write(
+        t.path().join("base.toml"),
+        format!(
+            "model = \"{}\"\nmode = \"hybrid\"\n[[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n[fe]\ndt = 0.01\nduration = 2.0\n[collapse]\ncriterion = \"drift_4pct\"\n[physics]\ntime_limit_s = 2.5\n",
+            repo("data/frame3/model.toml"),
+            repo("data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2")
+        ),
+    )
+    .unwrap();
+    let study = t.path().join("study.toml");
+    fs::write(
+        &study,
+        format!(
+            "base = \"base.toml\"\n[records]\ntime_scale = 0.5\n[[records.list]]\nname = \"elcentro\"\nx = \"{gm}/RSN6_IMPVALL.I_I-ELC180.AT2\"\ny = \"{gm}/RSN6_IMPVALL.I_I-ELC270.AT2\"\n[intensity]\npga_g = [1.5]\n",
+            gm = repo("data/ground-motions")
+        ),
+    )
+    .unwrap();
+    let out = t.path().join("out");
+    let (ok, _, err) = fem2rbd(&[
+        "--quiet",
+        "study",
+        "run",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let runs = fs::read_to_string(out.join("results/runs.csv")).unwrap();
+    let row: Vec<&str> = runs.lines().nth(1).unwrap().split(',').collect();
+    let s: serde_json::Value = serde_json::from_str(
+        &fs::read_to_string(out.join("runs/base__elcentro__hybrid__1.500g/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(row[0], "base__elcentro__hybrid__1.500g");
+    assert_eq!(row[7], "1", "collapse: {runs}");
+    assert_eq!(row[8], format!("{:.4}", s["tc_s"].as_f64().unwrap()));
+    assert_eq!(row[9], "criterion");
+    assert_eq!(row[12], s["ruin_stage"]["stop"].as_str().unwrap());
+    assert_eq!(
+        row[13],
+        s["connections"]["broken"].as_u64().unwrap().to_string()
+    );
+    let r = &s["ruins"];
+    assert_eq!(
+        row[14],
+        format!(
+            "{:.4}",
+            r["extent_beyond_footprint_m"]["max"].as_f64().unwrap()
+        )
+    );
+    assert_eq!(
+        row[15],
+        format!("{:.4}", r["debris_footprint_area_m2"].as_f64().unwrap())
+    );
+    assert_eq!(
+        row[16],
+        format!("{:.4}", r["max_debris_height_m"].as_f64().unwrap())
+    );
+    let min_overlap = r["slab_overlap"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["overlap_ratio"].as_f64().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(row[17], format!("{min_overlap:.4}"));
+    assert!(s["connections"]["broken"].as_u64().unwrap() > 0);
+    // Peak roof drift up to Tc from history.csv: the largest |roof_drift| of FE rows.
+    let hist =
+        fs::read_to_string(out.join("runs/base__elcentro__hybrid__1.500g/history.csv")).unwrap();
+    let tc = s["tc_s"].as_f64().unwrap();
+    let peak = hist
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| f[1] == "fe" && f[0].parse::<f64>().unwrap() <= tc + 1e-9)
+        .map(|f| f[2].parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max);
+    assert_eq!(row[10], format!("{peak:.6}"));
+    assert!(peak > 0.01, "{peak}");
+    // Study figures, twice: the same bytes.
+    let mut first = Vec::new();
+    for k in 0..2 {
+        let (ok, stdout, err) = fem2rbd(&["plot", out.to_str().unwrap(), "--format", "png"]);
+        assert!(ok, "{err}");
+        let files: Vec<&str> = stdout.lines().collect();
+        assert_eq!(files.len(), 2, "{stdout}");
+        assert!(
+            files[0].ends_with("ida_base_hybrid.png")
+                && files[1].ends_with("fragility_base_hybrid.png")
+        );
+        let bytes: Vec<Vec<u8>> = files.iter().map(|f| fs::read(f).unwrap()).collect();
+        assert!(bytes.iter().all(|b| b.starts_with(b"\x89PNG")));
+        if k == 0 {
+            first = bytes;
+        } else {
+            assert_eq!(first, bytes);
+        }
+    }
+}
