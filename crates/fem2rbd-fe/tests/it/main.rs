@@ -48,6 +48,7 @@ mod fe {
         mod frame_modal;
         mod model;
         mod stiffness;
+        mod support;
         mod wall;
     }
     mod verify {

@@ -2,55 +2,22 @@
 //! smeared-rebar layers), validation errors naming file, line and item, and the OpenSees
 //! export (`LayeredShell` + `PlateRebar` + `ASDShellQ4 -local`) checked on openseespy
 //! against a closed form. Needs python3 with openseespy 3.7.1.
+use super::support::wall_mesh;
 use fem2rbd_fe::export::{opensees_script, OpenSeesOptions};
 use fem2rbd_fe::model::Model;
 use serde_json::Value;
-use std::fmt::Write as _;
 use std::process::Command;
 
 /// A vertical wall in the XZ plane, `b` wide (2 elements) and `h` tall (`ne` elements),
 /// base fixed, with the given `[[section]]` entries (tag 10) and materials.
 fn wall(b: f64, h: f64, ne: usize, materials: &str, section: &str) -> String {
-    let mut t = String::from("name = \"wall\"\n");
-    t.push_str(materials);
-    t.push_str(section);
-    let tag = |i: usize, j: usize| 100 * j + i + 1;
-    for j in 0..=ne {
-        for i in 0..=2 {
-            writeln!(
-                t,
-                "[[node]]\ntag = {}\nx = {:?}\ny = 0.0\nz = {:?}",
-                tag(i, j),
-                b * i as f64 / 2.0,
-                h * j as f64 / ne as f64
-            )
-            .unwrap();
-        }
-    }
-    for i in 0..=2 {
-        writeln!(
-            t,
-            "[[support]]\nnode = {}\ndofs = [1, 1, 1, 1, 1, 1]",
-            tag(i, 0)
-        )
-        .unwrap();
-    }
-    let mut e = 1;
-    for j in 0..ne {
-        for i in 0..2 {
-            writeln!(
-                t,
-                "[[element]]\ntag = {e}\ntype_name = \"Wall\"\ngroup = 1\ntype = \"shell\"\nnodes = [{}, {}, {}, {}]\nsection = 10",
-                tag(i, j),
-                tag(i + 1, j),
-                tag(i + 1, j + 1),
-                tag(i, j + 1)
-            )
-            .unwrap();
-            e += 1;
-        }
-    }
-    t
+    wall_mesh(
+        &format!("name = \"wall\"\n{materials}{section}"),
+        b,
+        h,
+        2,
+        ne,
+    )
 }
 
 const STEEL: &str = "[[material]]\ntag = 1\ntype = \"Elastic\"\nE = 200e9\n";

@@ -4,7 +4,7 @@
 //! assembled here) against openseespy running the *exported* script (`build()`, then the
 //! same imposed top displacement with a static linear analysis). Base shear and every
 //! free displacement to 1e-6. Needs python3 with openseespy 3.7.1.
-use std::fmt::Write as _;
+use super::support::wall_mesh;
 use std::process::Command;
 
 use fem2rbd_fe::export::{opensees_script, OpenSeesOptions};
@@ -18,7 +18,7 @@ const TOP_UX: f64 = 1e-3;
 /// The wall in the XZ plane, base (z = 0) fixed, `nx` × `nz` elements.
 fn wall_model(nx: usize, nz: usize) -> String {
     let (b, h) = (1.0, 2.0);
-    let mut t = String::from(
+    let header = String::from(
         r#"name = "elastic-layered-wall"
 [[material]]
 tag = 1
@@ -42,43 +42,7 @@ layers = [
 ]
 "#,
     );
-    let tag = |i: usize, j: usize| 100 * j + i + 1;
-    for j in 0..=nz {
-        for i in 0..=nx {
-            writeln!(
-                t,
-                "[[node]]\ntag = {}\nx = {:?}\ny = 0.0\nz = {:?}",
-                tag(i, j),
-                b * i as f64 / nx as f64,
-                h * j as f64 / nz as f64
-            )
-            .unwrap();
-        }
-    }
-    for i in 0..=nx {
-        writeln!(
-            t,
-            "[[support]]\nnode = {}\ndofs = [1, 1, 1, 1, 1, 1]",
-            tag(i, 0)
-        )
-        .unwrap();
-    }
-    let mut e = 1;
-    for j in 0..nz {
-        for i in 0..nx {
-            writeln!(
-                t,
-                "[[element]]\ntag = {e}\ntype_name = \"Wall\"\ngroup = 1\ntype = \"shell\"\nnodes = [{}, {}, {}, {}]\nsection = 10",
-                tag(i, j),
-                tag(i + 1, j),
-                tag(i + 1, j + 1),
-                tag(i, j + 1)
-            )
-            .unwrap();
-            e += 1;
-        }
-    }
-    t
+    wall_mesh(&header, b, h, nx, nz)
 }
 
 /// Imports the exported script as a module, builds, imposes ux = TOP_UX on the top nodes
