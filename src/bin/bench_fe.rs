@@ -10,7 +10,7 @@
 //! gravity) / steps, for both programs; both record every node's displacements at every
 //! step (fem2rbd in memory, the exported script to a CSV file).
 use anyhow::{bail, Context, Result};
-use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant as OsVariant};
+use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions};
 use fem2rbd::fe::analysis::transient::StepControl;
 use fem2rbd::fe::build::{BuildOptions, Variant};
 use fem2rbd::fe::run::{prepare, run_ground_motion, RunOptions};
@@ -117,7 +117,7 @@ fn main() -> Result<()> {
             .collect(),
         dt: DT,
         duration: Some(duration),
-        variant: Some(OsVariant::Force),
+        variant: Variant::Force,
         ..Default::default()
     };
     let text = opensees_script(&model, &model_path.display().to_string(), &opts)?;

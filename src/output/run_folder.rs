@@ -13,6 +13,7 @@
 //!
 //! Numbers come back as written: times to 4 decimals (s), lengths to 6 (m), quaternions
 //! and ratios to 8.
+use crate::body::BodyId;
 use crate::output::history::{BodyRow, BODIES_HEADER, HISTORY_HEADER};
 use crate::output::{keyframes, ruins};
 use crate::physics::Pose;
@@ -35,16 +36,8 @@ pub const FILES: [&str; 5] = [
 /// One row of `bodies.csv`: a body's identity, undeformed geometry and mass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyInfo {
-    /// Name (`Type:material:element`, or `Foundation:base:<node>`).
-    pub name: String,
-    /// Element group.
-    pub group: String,
-    /// Element type (`Column`, `Beam`, `Slab`, `Foundation`, …).
-    pub type_name: String,
-    /// Material id.
-    pub material: String,
-    /// Element id.
-    pub element: String,
+    /// Identity (`Type:material:element`, or `Foundation:base:<node>`).
+    pub id: BodyId,
     /// Passive (kinematic foundation block, moved with the ground).
     pub passive: bool,
     /// Undeformed pose: box centre (m) and unit quaternion of the box axes.
@@ -59,11 +52,7 @@ impl BodyInfo {
     /// The row [`crate::output::history::bodies_csv`] writes for this body.
     pub fn row(&self) -> BodyRow<'_> {
         BodyRow {
-            name: &self.name,
-            group: &self.group,
-            type_name: &self.type_name,
-            material: &self.material,
-            element: &self.element,
+            id: &self.id,
             passive: self.passive,
             pose0: self.pose0,
             half_extents: self.half_extents,
@@ -309,15 +298,26 @@ pub fn parse_bodies(text: &str, file: &str) -> Result<Vec<BodyInfo>> {
             return Err(r.err(16, format!("mass {mass_kg} kg must be >= 0")));
         }
         let name = r.text(0)?.to_string();
-        if let Some(k) = out.iter().position(|b| b.name == name) {
+        r.text(2)?;
+        let id = BodyId::from_columns(
+            &name,
+            &r.fields[1],
+            &r.fields[2],
+            &r.fields[3],
+            &r.fields[4],
+        )
+        .map_err(|e| {
+            let c = ["name", "group", "type", "material", "element"]
+                .iter()
+                .position(|c| *c == e.column)
+                .unwrap_or(0);
+            r.err(c, e.message)
+        })?;
+        if let Some(k) = out.iter().position(|b| b.id == id) {
             return Err(r.err(0, format!("body {name:?} is already on line {}", k + 2)));
         }
         out.push(BodyInfo {
-            name,
-            group: r.fields[1].to_string(),
-            type_name: r.text(2)?.to_string(),
-            material: r.fields[3].to_string(),
-            element: r.fields[4].to_string(),
+            id,
             passive: r.flag(5)?,
             pose0: r.pose(6)?,
             half_extents,
@@ -347,17 +347,18 @@ pub fn parse_keyframes(
         return Ok(Vec::new());
     }
     let mut frames: Vec<(f64, Vec<Pose>)> = Vec::with_capacity(rows.len() / n);
+    let names: Vec<String> = bodies.iter().map(|b| b.id.name()).collect();
     for (k, r) in rows.iter().enumerate() {
         let i = k % n;
         let t = r.f64(0)?;
         let name = r.fields[1].as_str();
-        if name != bodies[i].name {
+        if name != names[i] {
             return Err(r.err(
                 1,
                 format!(
                     "body {name:?} where bodies.csv has {:?} (body #{i}; each frame lists \
                      every body in bodies.csv order)",
-                    bodies[i].name
+                    names[i]
                 ),
             ));
         }
@@ -491,9 +492,15 @@ pub fn parse_ruins(
                 bodies.len()
             );
         };
-        let want = [&b.name, &b.group, &b.type_name, &b.material, &b.element];
+        let want = [
+            b.id.name(),
+            b.id.group().to_string(),
+            b.id.body_type().to_string(),
+            b.id.material().to_string(),
+            b.id.element_field(),
+        ];
         for (c, w) in want.iter().enumerate() {
-            if r.fields[c] != w.as_str() {
+            if r.fields[c] != *w {
                 return Err(r.err(
                     c,
                     format!(
@@ -536,12 +543,8 @@ mod tests {
             let s = (a / 2.0).sin() / n;
             [(a / 2.0).cos(), s * axis[0], s * axis[1], s * axis[2]]
         };
-        let b = |name: &str, t: &str, passive, p: [f64; 3], o, h, m| BodyInfo {
-            name: name.to_string(),
-            group: if passive { "foundation" } else { "frame" }.to_string(),
-            type_name: t.to_string(),
-            material: "mat1".to_string(),
-            element: name.rsplit(':').next().unwrap().to_string(),
+        let b = |name: &str, _t: &str, passive, p: [f64; 3], o, h, m| BodyInfo {
+            id: name.parse().unwrap(),
             passive,
             pose0: Pose {
                 position: p,
@@ -626,7 +629,8 @@ mod tests {
             .iter()
             .map(|(t, _)| [0.01 * (9.0 * t).sin(), -0.003 * t, 1e-4 / 3.0])
             .collect();
-        let names: Vec<&str> = bs.iter().map(|b| b.name.as_str()).collect();
+        let names: Vec<String> = bs.iter().map(|b| b.id.name()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
         let hf: Vec<HistoryFrame> = frames
             .iter()
@@ -647,11 +651,7 @@ mod tests {
             .zip(last)
             .enumerate()
             .map(|(i, (b, p))| RuinRow {
-                name: &b.name,
-                group: &b.group,
-                type_name: &b.type_name,
-                material: &b.material,
-                element: &b.element,
+                id: &b.id,
                 pose: *p,
                 at_rest: [None, Some(true), Some(false)][i],
             })
@@ -709,24 +709,9 @@ mod tests {
         let bs = bodies();
         assert_eq!(rf.bodies.len(), 3);
         for (got, want) in rf.bodies.iter().zip(&bs) {
-            assert_eq!(
-                (
-                    &got.name,
-                    &got.group,
-                    &got.type_name,
-                    &got.material,
-                    &got.element
-                ),
-                (
-                    &want.name,
-                    &want.group,
-                    &want.type_name,
-                    &want.material,
-                    &want.element
-                )
-            );
+            assert_eq!(got.id, want.id);
             assert_eq!(got.passive, want.passive);
-            assert_pose(&got.pose0, &want.pose0, &want.name);
+            assert_pose(&got.pose0, &want.pose0, &want.id.name());
             for d in 0..3 {
                 assert!(close(got.half_extents[d], want.half_extents[d], 5e-7));
             }
@@ -769,7 +754,8 @@ mod tests {
         // Writing what was read gives the same text.
         let rows: Vec<BodyRow> = rf.bodies.iter().map(BodyInfo::row).collect();
         assert_eq!(bodies_csv(&rows), w.bodies);
-        let names: Vec<&str> = rf.bodies.iter().map(|b| b.name.as_str()).collect();
+        let names: Vec<String> = rf.bodies.iter().map(|b| b.id.name()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let fr: Vec<(f64, &[Pose])> = rf.frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
         assert_eq!(keyframes_csv(&names, &fr), w.keyframes);
     }

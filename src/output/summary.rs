@@ -13,7 +13,7 @@
 //!   floors is the area of the intersection of their final slab projections divided by
 //!   the upper floor's undeformed slab area (1 = fully stacked, 0 = no overlap).
 use crate::physics::Pose;
-use crate::pipeline::{ruin_stop_name, RunRecord, TcReason};
+use crate::pipeline::{RunRecord, TcReason};
 use crate::ruin::connection::ConnectionState;
 use crate::ruin::stage::to_isometry;
 use nalgebra::{Point3, Vector3};
@@ -226,7 +226,7 @@ pub fn ruin_measures(rec: &RunRecord) -> Value {
     // Floors.
     let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
     for &i in &active {
-        if rec.bodies[i].kind == Some(crate::mapping::BodyKind::Slab) {
+        if rec.bodies[i].kind == Some(crate::mapping::Role::Slab) {
             let z = (rec.bodies[i].pose0.position[2] * 1000.0).round() as i64;
             floors.entry(z).or_default().push(i);
         }
@@ -351,7 +351,7 @@ pub fn energy_summary(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Va
         },
         "speed": {
             "max_mps": r6(l.max_speed_mps),
-            "max_body": l.max_speed_at.map(|(i, _)| rec.bodies[i].name.clone()),
+            "max_body": l.max_speed_at.map(|(i, _)| rec.bodies[i].id.name()),
             "max_at_s": l.max_speed_at.map(|(_, t)| r6(t)),
             "start_max_mps": r6(l.start_max_speed_mps),
             "peak_ground_mps": r6(peak_ground),
@@ -370,7 +370,7 @@ pub fn unsettled(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Value {
             .enumerate()
             .filter(|(_, ok)| !**ok)
             .map(|(i, _)| {
-                json!({"body": rec.bodies[i].name, "speed_mps": r6(r.ledger.final_point_speeds_mps[i])})
+                json!({"body": rec.bodies[i].id.name(), "speed_mps": r6(r.ledger.final_point_speeds_mps[i])})
             })
             .collect(),
     )
@@ -418,7 +418,7 @@ pub fn summary(rec: &RunRecord, timing: bool) -> Value {
             json!({
                 "start_s": r6(rec.tc_s.unwrap_or(0.0)),
                 "end_s": r6(r.end_time_s),
-                "stop": ruin_stop_name(r.stop),
+                "stop": r.stop.name(),
                 "frames": r.frames.len(),
                 "bodies_at_rest": r.at_rest.iter().filter(|b| **b).count(),
                 "first_frame_penetration_m": r6(r.first_frame_penetration_m),

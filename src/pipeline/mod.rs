@@ -39,20 +39,21 @@ pub mod scenario;
 pub mod strengths;
 pub mod write;
 
+use crate::body::BodyId;
 use crate::collapse::{CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
 use crate::fe::build::BuildOptions;
 use crate::fe::run::{run_ground_motion, RunOptions};
 use crate::mapping::handoff::{node_states, GroundState, Handoff, NodeState};
-use crate::mapping::{self, BodyKind, MapOptions};
+use crate::mapping::{self, MapOptions, Role};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
 use crate::ruin::ground::GroundSpec;
-use crate::ruin::groups::{group_strengths, FOUNDATION_GROUP};
+use crate::ruin::groups::group_strengths;
 use crate::ruin::monitor::FeDamage;
 use crate::ruin::stage::{
-    to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopReason, StopRule,
+    to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopRule,
 };
 use crate::ruin::BodyGeom;
 use anyhow::{anyhow, Context, Result};
@@ -67,18 +68,10 @@ pub const FRAME_RATE: f64 = 25.0;
 /// One rigid body of the run (the mapping's boxes, then the foundation blocks).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
-    /// Name, e.g. `Column:1:4`, `Foundation:base:1`.
-    pub name: String,
-    /// Group (element group; `foundation`).
-    pub group: String,
-    /// Element type (`Column`, `Beam`, `Slab`, `Foundation`).
-    pub type_name: String,
-    /// Material / group id of the element (`-` for foundations).
-    pub material: String,
-    /// FE element id (`-` for foundations, which carry the base node tag in the name).
-    pub element: String,
+    /// Identity, named e.g. `Column:1:4`, `Foundation:base:1`.
+    pub id: BodyId,
     /// Geometric role (`None` for foundations).
-    pub kind: Option<BodyKind>,
+    pub kind: Option<Role>,
     /// Half extents, m.
     pub half_extents: [f64; 3],
     /// Undeformed pose.
@@ -189,11 +182,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .bodies
         .iter()
         .map(|b| Body {
-            name: b.name.clone(),
-            group: b.group.clone(),
-            type_name: b.type_name.clone(),
-            material: b.material.clone(),
-            element: b.element.to_string(),
+            id: b.id.clone(),
             kind: Some(b.kind),
             half_extents: b.half_extents,
             pose0: to_pose(&BodyGeom::pose(&geom_of_box(b))),
@@ -208,7 +197,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .fold(f64::INFINITY, f64::min);
     let mut feet = Vec::new();
     for b in &mapping.bodies {
-        if b.kind != BodyKind::Column {
+        if b.kind != Role::Column {
             continue;
         }
         let Some(base) = b.nodes.iter().find(|n| (n[2] - zmin).abs() < 1e-9) else {
@@ -221,11 +210,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
             .find(|n| n.xyz() == *base)
             .map_or(0, |n| n.tag);
         feet.push(Body {
-            name: format!("Foundation:base:{tag}"),
-            group: FOUNDATION_GROUP.into(),
-            type_name: "Foundation".into(),
-            material: "-".into(),
-            element: "-".into(),
+            id: BodyId::Foundation { node: tag },
             kind: None,
             half_extents: [a, a, a / 2.0],
             pose0: Pose::at([base[0], base[1], zmin - a / 2.0]),
@@ -239,8 +224,8 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
 
 fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
     BodyGeom {
-        name: b.name.clone(),
-        group: b.group.clone(),
+        name: b.id.name(),
+        group: b.id.group().to_string(),
         centre: b.centre,
         rotation: b.rotation,
         half_extents: b.half_extents,
@@ -255,8 +240,8 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
         .map(|b| {
             let iso = to_isometry(&b.pose0);
             BodyGeom {
-                name: b.name.clone(),
-                group: b.group.clone(),
+                name: b.id.name(),
+                group: b.id.group().to_string(),
                 centre: [iso.translation.x, iso.translation.y, iso.translation.z],
                 rotation: iso.rotation,
                 half_extents: b.half_extents,
@@ -643,9 +628,7 @@ pub fn run_perturbed(
         let body_damage: Vec<FeDamage> = bodies
             .iter()
             .map(|b| {
-                b.element
-                    .parse::<u32>()
-                    .ok()
+                b.id.element_tag()
                     .and_then(|e| damage.get(&e).copied())
                     .unwrap_or(FeDamage::Intact)
             })
@@ -716,7 +699,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
                  (physics.steps_per_second = {}, spring_correction = {}, spring_damping = {}; \
                  a higher substep rate or spring_limit = true may help)",
                 sc.path.display(),
-                bodies[i].name,
+                bodies[i].id,
                 f.time_s,
                 sc.physics.steps_per_second,
                 sc.physics.spring_correction,
@@ -728,7 +711,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
         anyhow::bail!(
             "{}: the ruin stage blew up: body {} has a non-finite final pose",
             sc.path.display(),
-            bodies[i].name
+            bodies[i].id
         );
     }
     Ok(())
@@ -754,12 +737,4 @@ fn element_damage(model: &Model, built: &crate::fe::build::BuiltDomain) -> BTree
         }
     }
     out
-}
-
-/// Why the ruin stage stopped, as written in the summary.
-pub fn ruin_stop_name(s: StopReason) -> &'static str {
-    match s {
-        StopReason::AtRest => "at_rest",
-        StopReason::TimeLimit => "time_limit",
-    }
 }

@@ -30,18 +30,15 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
         .iter()
         .enumerate()
         .map(|(i, b)| RuinRow {
-            name: &b.name,
-            group: &b.group,
-            type_name: &b.type_name,
-            material: &b.material,
-            element: &b.element,
+            id: &b.id,
             pose: rec.final_poses[i],
             at_rest: at_rest.map(|a| a[i]),
         })
         .collect();
     out.push(("ruins.csv", ruins_csv(&rows).into_bytes()));
     let frames = timeline(rec);
-    let names: Vec<&str> = rec.bodies.iter().map(|b| b.name.as_str()).collect();
+    let names: Vec<String> = rec.bodies.iter().map(|b| b.id.name()).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
     let keyframes_text = keyframes_csv(&names, &fr);
     let body_rows = body_rows(rec);
@@ -63,8 +60,8 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
             let _ = writeln!(
                 s,
                 "{},{},{},{},{}",
-                field(&rec.bodies[c.a].name),
-                field(&rec.bodies[c.b].name),
+                field(&rec.bodies[c.a].id.name()),
+                field(&rec.bodies[c.b].id.name()),
                 st(c.start_state),
                 st(c.state),
                 c.broke_at_s.map_or(String::new(), |t| format!("{t:.4}"))
@@ -98,11 +95,7 @@ fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
     rec.bodies
         .iter()
         .map(|b| BodyRow {
-            name: &b.name,
-            group: &b.group,
-            type_name: &b.type_name,
-            material: &b.material,
-            element: &b.element,
+            id: &b.id,
             passive: b.passive,
             pose0: b.pose0,
             half_extents: b.half_extents,

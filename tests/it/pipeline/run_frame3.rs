@@ -304,7 +304,11 @@ fn bad_scenarios_name_the_file_line_and_item_and_write_nothing() {
         dir.path(),
         &good.replace("direction = \"Y\"", "direction = \"W\""),
     );
-    assert!(e.contains("ground_motion[1]") && e.contains("\"W\""), "{e}");
+    let l = good.lines().position(|l| l == "direction = \"Y\"").unwrap() + 1;
+    assert!(
+        e.contains(&format!("bad.toml:{l}:")) && e.contains("\"W\""),
+        "{e}"
+    );
     let e = cli_error(dir.path(), &good.replace("ELC270.AT2", "ELC999.AT2"));
     assert!(
         e.contains("ground_motion[1]") && e.contains("ELC999.AT2"),
