@@ -255,6 +255,23 @@ impl FromStr for BodyId {
     }
 }
 
+/// One rigid body of the run (the mapping's boxes, then the foundation blocks).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Identity, named e.g. `Column:1:4`, `Foundation:base:1`.
+    pub id: BodyId,
+    /// Geometric role (`None` for foundations).
+    pub kind: Option<crate::mapping::Role>,
+    /// Half extents, m.
+    pub half_extents: [f64; 3],
+    /// Undeformed pose.
+    pub pose0: crate::physics::Pose,
+    /// Mass, kg (0 for passive).
+    pub mass_kg: f64,
+    /// Passive (kinematic foundation).
+    pub passive: bool,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

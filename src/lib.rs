@@ -22,6 +22,7 @@ pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
 pub mod body;
 pub mod mapping;
+pub mod mode;
 pub mod output;
 pub mod pipeline;
 pub mod plot;

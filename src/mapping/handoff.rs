@@ -279,29 +279,6 @@ impl Handoff {
     }
 }
 
-/// The committed FE state of every model node (model order), read from a built domain
-/// ([`crate::fe::build::BuiltDomain`]): displacement/rotation and velocity/rotational
-/// velocity, relative to the ground. Errors name a model node missing from the domain.
-pub fn node_states(model: &Model, built: &crate::fe::build::BuiltDomain) -> Result<Vec<NodeState>> {
-    model
-        .nodes
-        .iter()
-        .map(|n| {
-            let k = *built
-                .node_index
-                .get(&n.tag)
-                .ok_or_else(|| anyhow!("hand-off: node {} is not in the FE domain", n.tag))?;
-            let (d, v) = (built.domain.displacement(k), built.domain.velocity(k));
-            Ok(NodeState {
-                u: [d[0], d[1], d[2]],
-                theta: [d[3], d[4], d[5]],
-                v: [v[0], v[1], v[2]],
-                omega: [v[3], v[4], v[5]],
-            })
-        })
-        .collect()
-}
-
 /// The translations of node states, for [`crate::collapse::CollapseMonitor::observe`].
 pub fn translations(nodes: &[NodeState]) -> Vec<[f64; 3]> {
     nodes.iter().map(|n| n.u).collect()

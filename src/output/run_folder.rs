@@ -15,6 +15,7 @@
 //! and ratios to 8.
 use crate::body::BodyId;
 use crate::output::history::{BodyRow, BODIES_HEADER, HISTORY_HEADER};
+use crate::output::summary::RunSummary;
 use crate::output::{keyframes, ruins};
 use crate::physics::Pose;
 use anyhow::{anyhow, bail, Context, Result};
@@ -97,7 +98,7 @@ pub struct RunFolder {
     /// `ruins.csv`: at rest per body (`None`: no ruin stage ran).
     pub at_rest: Vec<Option<bool>>,
     /// `summary.json`.
-    pub summary: serde_json::Value,
+    pub summary: RunSummary,
 }
 
 impl RunFolder {
@@ -130,11 +131,8 @@ impl RunFolder {
         let (rf, rt) = read("ruins.csv")?;
         let (final_poses, at_rest) = parse_ruins(&rt, &rf, &bodies)?;
         let (sf, st) = read("summary.json")?;
-        let summary: serde_json::Value = serde_json::from_str(&st)
+        let summary: RunSummary = serde_json::from_str(&st)
             .map_err(|e| anyhow!("{sf}:{}:{}: {e}", e.line(), e.column()))?;
-        if !summary.is_object() {
-            bail!("{sf}:1: expected a JSON object");
-        }
         Ok(RunFolder {
             dir: dir.to_path_buf(),
             bodies,
@@ -671,7 +669,7 @@ mod tests {
         std::fs::write(dir.join("keyframes.csv"), &w.keyframes).unwrap();
         std::fs::write(dir.join("history.csv"), &w.history).unwrap();
         std::fs::write(dir.join("ruins.csv"), &w.ruins).unwrap();
-        std::fs::write(dir.join("summary.json"), "{\n  \"mode\": \"hybrid\"\n}\n").unwrap();
+        std::fs::write(dir.join("summary.json"), "{\"mode\": \"hybrid\", \"tc_s\": 1.0, \"tc_reason\": \"criterion\", \"tc_detail\": \"d\", \"fe_end_s\": 1.0, \"bodies\": 2, \"foundation_blocks\": 1, \"keyframes_fe\": 3, \"ruins\": {\"original_footprint_m\": {\"x\": [0, 1], \"y\": [0, 1]}, \"extent_beyond_footprint_m\": {\"x_minus\": 0, \"x_plus\": 0, \"y_minus\": 0, \"y_plus\": 0, \"max\": 0}, \"debris_footprint_area_m2\": 1, \"original_footprint_area_m2\": 1, \"max_debris_height_m\": 1, \"floors\": [], \"slab_overlap\": []}}\n").unwrap();
     }
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -748,7 +746,7 @@ mod tests {
         for (a, b) in rf.final_poses.iter().zip(&w.frames.last().unwrap().1) {
             assert_pose(a, b, "ruins");
         }
-        assert_eq!(rf.summary["mode"], "hybrid");
+        assert_eq!(rf.summary.mode, crate::mode::Mode::Hybrid);
         assert_eq!(rf.ground_per_frame().len(), 6);
 
         // Writing what was read gives the same text.

@@ -14,28 +14,7 @@ use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// What runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "snake_case")]
-pub enum Mode {
-    /// FE until the collapse moment Tc, then Bullet with the remaining ground motion.
-    Hybrid,
-    /// Bullet alone from t = 0 on the undeformed model (BCB alone).
-    Physics,
-    /// FE only.
-    Fe,
-}
-
-impl Mode {
-    /// The name used in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Hybrid => "hybrid",
-            Mode::Physics => "physics",
-            Mode::Fe => "fe",
-        }
-    }
-}
+pub use crate::mode::Mode;
 
 /// How the bodies' velocities at Tc are obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]

@@ -163,17 +163,17 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
 /// The run's mode and collapse moment for titles, from `summary.json`:
 /// `mode physics, no Tc (physics_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
 pub fn run_label(run: &RunFolder) -> String {
-    let mode = run.summary["mode"].as_str().unwrap_or("?");
-    let reason = run.summary["tc_reason"].as_str().unwrap_or("?");
+    let mode = run.summary.mode.name();
+    let reason = run.summary.tc_reason.name();
     match tc_s(run) {
         Some(tc) => format!("mode {mode}, Tc = {tc:.3} s ({reason})"),
         None => format!("mode {mode}, no Tc ({reason})"),
     }
 }
 
-/// Tc from `summary.json` (`tc_s`), s; None when null or absent.
+/// Tc from `summary.json` (`tc_s`), s; None without collapse.
 pub fn tc_s(run: &RunFolder) -> Option<f64> {
-    run.summary["tc_s"].as_f64()
+    run.summary.tc_s
 }
 
 /// The run folder's name for titles (its last path component).

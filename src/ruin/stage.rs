@@ -229,8 +229,9 @@ pub struct Frame {
     pub energy: EnergyFrame,
 }
 
-/// Why a ruin stage ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Why a ruin stage ended (`summary.json`: `at_rest`, `time_limit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum RuinStop {
     /// The rest test held for its hold time.
     AtRest,

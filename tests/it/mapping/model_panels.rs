@@ -3,9 +3,10 @@
 use fem2rbd::collapse::{CollapseMonitor, Criterion, Trigger};
 use fem2rbd::export::{opensees_script, OpenSeesOptions};
 use fem2rbd::fe::build::{build_domain, BuildOptions};
-use fem2rbd::mapping::handoff::{node_states, translations, GroundState, Handoff};
+use fem2rbd::mapping::handoff::{translations, GroundState, Handoff};
 use fem2rbd::mapping::{self, MapOptions};
 use fem2rbd::model::{ElementKind, Model};
+use fem2rbd::pipeline::node_states;
 
 const TOML: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -194,7 +194,12 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
     std::fs::write(
         dir.join("summary.json"),
         format!(
-            "{{\n  \"mode\": \"{mode}\",\n  \"tc_s\": {tc},\n  \"tc_reason\": \"{reason}\"\n}}\n"
+            "{{\"mode\": \"{mode}\", \"tc_s\": {tc}, \"tc_reason\": \"{reason}\", \"tc_detail\": \"\", \
+             \"fe_end_s\": {tc}, \"bodies\": 5, \"foundation_blocks\": 1, \"keyframes_fe\": 26, \
+             \"ruins\": {{\"original_footprint_m\": {{\"x\": [-0.2, 2.2], \"y\": [-0.2, 2.2]}}, \
+             \"extent_beyond_footprint_m\": {{\"x_minus\": 0, \"x_plus\": 0, \"y_minus\": 0, \"y_plus\": 0, \"max\": 0}}, \
+             \"debris_footprint_area_m2\": 0, \"original_footprint_area_m2\": 0, \"max_debris_height_m\": 0, \
+             \"floors\": [], \"slab_overlap\": []}}}}\n"
         ),
     )
     .unwrap();
