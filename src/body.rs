@@ -17,7 +17,7 @@ use std::str::FromStr;
 pub const FOUNDATION_GROUP: &str = "foundation";
 
 /// The material field of a foundation block, and its element field.
-pub const NO_FIELD: &str = "-";
+pub(crate) const NO_FIELD: &str = "-";
 
 /// A body's member type: the element's `type_name` in the model
 /// (docs/model-format.md), or the foundation block the pipeline adds.

@@ -31,7 +31,7 @@ fn key(p: [f64; 3]) -> Key {
 
 /// Adds the nodal masses to the bodies (module docs). Returns, per nodal mass, the body
 /// indices that received a share.
-pub fn distribute_nodal_masses(
+pub(crate) fn distribute_nodal_masses(
     boxes: &mut [RigidBox],
     masses: &[PointMass],
 ) -> Result<Vec<Vec<usize>>> {

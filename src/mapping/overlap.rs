@@ -37,7 +37,7 @@ use anyhow::{bail, Result};
 use nalgebra::Vector3;
 
 /// The oriented box of a body.
-pub fn obb(b: &RigidBox) -> Obb {
+pub(crate) fn obb(b: &RigidBox) -> Obb {
     Obb {
         centre: Vector3::from(b.centre),
         axes: b.rotation.to_rotation_matrix().into_inner(),
@@ -52,7 +52,7 @@ pub fn overlap_volume(a: &RigidBox, b: &RigidBox) -> f64 {
 
 /// Pairs (i < j) whose axis-aligned bounds overlap, by sort and sweep along X
 /// (O(n log n + pairs)); sorted, so the result is deterministic.
-pub fn candidate_pairs(aabbs: &[([f64; 3], [f64; 3])]) -> Vec<(usize, usize)> {
+pub(crate) fn candidate_pairs(aabbs: &[([f64; 3], [f64; 3])]) -> Vec<(usize, usize)> {
     let mut order: Vec<usize> = (0..aabbs.len()).collect();
     order.sort_by(|&i, &j| aabbs[i].0[0].total_cmp(&aabbs[j].0[0]).then(i.cmp(&j)));
     let mut pairs = Vec::new();
@@ -110,7 +110,7 @@ fn kind_rank(k: Role) -> u8 {
 }
 
 /// The precedence order of the module docs (indices into `boxes`).
-pub fn precedence(boxes: &[RigidBox]) -> Vec<usize> {
+pub(crate) fn precedence(boxes: &[RigidBox]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..boxes.len()).collect();
     order.sort_by(|&i, &j| {
         let (a, b) = (&boxes[i], &boxes[j]);
@@ -133,7 +133,7 @@ struct Cut {
 
 /// Trims the boxes in place so that no pair overlaps by more than `tolerance_m3` (module
 /// docs). Deterministic: the result depends only on the input order and values.
-pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimReport> {
+pub(crate) fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimReport> {
     if !(tolerance_m3 >= 0.0 && tolerance_m3.is_finite()) {
         bail!("overlap tolerance must be ≥ 0 m³, got {tolerance_m3}");
     }

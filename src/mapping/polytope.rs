@@ -6,7 +6,7 @@ use nalgebra::{Matrix3, Vector3};
 
 /// A convex polyhedron as a list of planar polygon faces (vertices in cyclic order).
 #[derive(Debug, Clone, Default)]
-pub struct Polytope {
+pub(crate) struct Polytope {
     faces: Vec<Vec<Vector3<f64>>>,
 }
 
@@ -191,7 +191,7 @@ fn cap_polygon(pts: &[Vector3<f64>], n: &Vector3<f64>, eps: f64) -> Option<Vec<V
 }
 
 /// The intersection of two boxes (empty polytope if disjoint).
-pub fn intersect(a: &Obb, b: &Obb) -> Polytope {
+pub(crate) fn intersect(a: &Obb, b: &Obb) -> Polytope {
     let scale = a.half.max().max(b.half.max()).max(1e-3);
     let eps = 1e-12 * scale;
     let mut p = Polytope::from_obb(b);

@@ -53,7 +53,7 @@ use std::path::Path;
 pub use crate::physics::Pose;
 
 /// The element type given to the ground box's material.
-pub const GROUND_TYPE: &str = "Ground";
+pub(crate) const GROUND_TYPE: &str = "Ground";
 
 /// Name of the root node that turns our Z-up frame into glTF's Y-up frame.
 pub const ROOT_NODE_NAME: &str = "Z-up to Y-up";
@@ -259,10 +259,10 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
 }
 
 /// Half thickness of the ground slab of [`run_scene`], m.
-pub const RUN_GROUND_HALF_THICKNESS_M: f64 = 0.05;
+pub(crate) const RUN_GROUND_HALF_THICKNESS_M: f64 = 0.05;
 
 /// Margin of the ground slab of [`run_scene`] around the bodies' plan extent, m.
-pub const RUN_GROUND_MARGIN_M: f64 = 2.0;
+pub(crate) const RUN_GROUND_MARGIN_M: f64 = 2.0;
 
 /// The animated scene of a run's timeline (what `collapse.glb` shows; used by
 /// `fem2rbd run` and by `fem2rbd export gltf`, which rebuilds it from a run folder):
@@ -366,7 +366,7 @@ pub fn type_colour(type_name: &str) -> [f32; 3] {
 /// each face has its own outward normal, and 2 counter-clockwise triangles per face seen
 /// from outside (glTF front faces, spec §3.7.2.1). Returns flat xyz positions, flat xyz
 /// normals and the triangle indices.
-pub fn unit_box() -> (Vec<f32>, Vec<f32>, Vec<u16>) {
+pub(crate) fn unit_box() -> (Vec<f32>, Vec<f32>, Vec<u16>) {
     let mut positions = Vec::with_capacity(72);
     let mut normals = Vec::with_capacity(72);
     let mut indices = Vec::with_capacity(36);
@@ -398,7 +398,7 @@ pub fn unit_box() -> (Vec<f32>, Vec<f32>, Vec<u16>) {
 
 /// Converts one pose's quaternion `[w, x, y, z]` to glTF order `[x, y, z, w]`, normalised,
 /// with its sign chosen so that its dot product with `previous` (glTF order) is >= 0.
-pub fn gltf_rotation(q_wxyz: [f64; 4], previous: Option<[f64; 4]>) -> Option<[f64; 4]> {
+pub(crate) fn gltf_rotation(q_wxyz: [f64; 4], previous: Option<[f64; 4]>) -> Option<[f64; 4]> {
     let [w, x, y, z] = q_wxyz;
     let norm = (w * w + x * x + y * y + z * z).sqrt();
     if !norm.is_finite() || norm < 1e-12 {

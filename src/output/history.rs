@@ -40,7 +40,7 @@ use crate::physics::Pose;
 use std::fmt::Write as _;
 
 /// `history.csv` header.
-pub const HISTORY_HEADER: &str = "t,stage,roof_drift,max_drop_m,intact,plastic,broken,ground_x,ground_y,ground_z,kinetic_j,rotational_j,potential_j,ground_work_j,damping_j,dissipated_j,injected_j";
+pub(crate) const HISTORY_HEADER: &str = "t,stage,roof_drift,max_drop_m,intact,plastic,broken,ground_x,ground_y,ground_z,kinetic_j,rotational_j,potential_j,ground_work_j,damping_j,dissipated_j,injected_j";
 
 /// The energy columns of a `history.csv` row (module docs), J.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -62,7 +62,7 @@ pub struct EnergyRow {
 }
 
 /// `bodies.csv` header.
-pub const BODIES_HEADER: &str =
+pub(crate) const BODIES_HEADER: &str =
     "name,group,type,material,element,passive,cx,cy,cz,qw,qx,qy,qz,hx,hy,hz,mass_kg";
 
 /// The identity, undeformed geometry and mass of one body, as `bodies.csv` holds it.
@@ -112,7 +112,7 @@ pub fn bodies_csv(rows: &[BodyRow]) -> String {
 }
 
 /// The connection counts of a ruin-stage frame: (intact, plastic, broken).
-pub type Counts = (usize, usize, usize);
+pub(crate) type Counts = (usize, usize, usize);
 
 /// One timeline frame as `history.csv` needs it.
 #[derive(Debug, Clone)]

@@ -150,7 +150,7 @@ fn sibling(target: &Path, kind: &str) -> Result<PathBuf> {
 
 /// Removes `.NAME.tmp-PID` and `.NAME.old-PID` beside `target` left by processes that no
 /// longer run (Linux: no `/proc/PID`). Elsewhere it does nothing.
-pub fn sweep_stale(target: &Path) {
+pub(crate) fn sweep_stale(target: &Path) {
     if !cfg!(target_os = "linux") || !Path::new("/proc/self").exists() {
         return;
     }
@@ -184,7 +184,7 @@ pub fn sweep_stale(target: &Path) {
 
 /// A folder being built beside its target; dropped without [`StagedDir::swap_in`], it is
 /// removed.
-pub struct StagedDir {
+pub(crate) struct StagedDir {
     target: PathBuf,
     stage: PathBuf,
     done: bool,
@@ -211,11 +211,6 @@ impl StagedDir {
             stage,
             done: false,
         })
-    }
-
-    /// The folder to write into.
-    pub fn path(&self) -> &Path {
-        &self.stage
     }
 
     /// Writes one file into the staged folder (synced, so the swap publishes whole files).

@@ -9,7 +9,7 @@
 pub const KNOWN_TYPES: [&str; 6] = ["Column", "Beam", "Slab", "Wall", "Foundation", "Ground"];
 
 /// sRGB colour of an element type (or of `Ground`, the glTF ground box).
-pub fn type_srgb(type_name: &str) -> [u8; 3] {
+pub(crate) fn type_srgb(type_name: &str) -> [u8; 3] {
     match type_name {
         "Column" => [192, 57, 43],
         "Beam" => [240, 160, 20],
@@ -35,7 +35,7 @@ pub fn type_srgb(type_name: &str) -> [u8; 3] {
 
 /// Linear-light RGB (0..1) of an sRGB colour, as glTF's `baseColorFactor` wants it
 /// (IEC 61966-2-1: c ≤ 0.04045 → c/12.92, else ((c + 0.055)/1.055)^2.4).
-pub fn srgb_to_linear(c: [u8; 3]) -> [f32; 3] {
+pub(crate) fn srgb_to_linear(c: [u8; 3]) -> [f32; 3] {
     c.map(|v| {
         let c = f64::from(v) / 255.0;
         let l = if c <= 0.04045 {

@@ -23,10 +23,10 @@ use std::path::{Path, PathBuf};
 
 /// Largest accepted |‖q‖ − 1| of a quaternion read from a file. The writers round unit
 /// quaternions to 8 decimals, which moves the norm by at most 2·10⁻⁸.
-pub const QUATERNION_NORM_TOL: f64 = 1e-6;
+pub(crate) const QUATERNION_NORM_TOL: f64 = 1e-6;
 
 /// The file names a run folder must hold, in the order they are read.
-pub const FILES: [&str; 5] = [
+pub(crate) const FILES: [&str; 5] = [
     "bodies.csv",
     "keyframes.csv",
     "history.csv",
@@ -397,7 +397,7 @@ pub fn parse_keyframes(
 }
 
 /// Parses `history.csv` (header [`HISTORY_HEADER`]); `file` names it in errors.
-pub fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
+pub(crate) fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
     let mut out = Vec::new();
     for r in rows(text, file, HISTORY_HEADER)? {
         let fe = match r.fields[1].as_str() {
@@ -444,7 +444,7 @@ pub fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
 
 /// Checks that `history` has one row per frame of `frames`, at the same times.
 /// `hist_file` and `kf_file` name the files in errors.
-pub fn check_history_times(
+pub(crate) fn check_history_times(
     history: &[HistoryRow],
     frames: &[(f64, Vec<Pose>)],
     hist_file: &str,
@@ -474,7 +474,7 @@ pub fn check_history_times(
 /// Parses `ruins.csv` (header [`ruins::HEADER`]) against the bodies of `bodies.csv`
 /// (same names, groups, types, materials and elements, same order): final poses and
 /// at-rest flags. `file` names it in errors.
-pub fn parse_ruins(
+pub(crate) fn parse_ruins(
     text: &str,
     file: &str,
     bodies: &[BodyInfo],

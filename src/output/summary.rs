@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Raster resolution of the area measures: cells across the smallest projection side.
-pub const CELLS_PER_SIDE: f64 = 20.0;
+pub(crate) const CELLS_PER_SIDE: f64 = 20.0;
 
 /// The 8 corners of a box of half extents `he` at `pose`, m.
 pub fn corners(pose: &Pose, he: [f64; 3]) -> Vec<[f64; 3]> {
@@ -167,13 +167,13 @@ pub fn intersection_area(a: &[&Vec<[f64; 2]>], b: &[&Vec<[f64; 2]>]) -> f64 {
 }
 
 /// Rounds to 6 decimals (and −0 to 0), as every number of `summary.json`.
-pub fn r6(x: f64) -> f64 {
+pub(crate) fn r6(x: f64) -> f64 {
     (x * 1e6).round() / 1e6 + 0.0
 }
 
 /// The ruin measures (module docs) of `bodies` at `final_poses`; `ground_z` is the
 /// ground's vertical displacement at the end, m.
-pub fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64) -> RuinMeasures {
+pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64) -> RuinMeasures {
     let active: Vec<usize> = (0..bodies.len()).filter(|&i| !bodies[i].passive).collect();
     // Original footprint.
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -290,7 +290,7 @@ fn floor_index(list: &[(i64, Vec<usize>)], z: i64) -> usize {
 
 /// Settle-phase energy rises larger than this share of the initial potential energy fail
 /// the check of docs/ruin-numerics.md.
-pub const SETTLE_RISE_LIMIT: f64 = 1e-3;
+pub(crate) const SETTLE_RISE_LIMIT: f64 = 1e-3;
 
 /// The energy ledger's summary (docs/ruin-numerics.md): start and end energies, ground
 /// work, damping, dissipated (J); the settle phase's largest rise of the mechanical energy
@@ -298,7 +298,7 @@ pub const SETTLE_RISE_LIMIT: f64 = 1e-3;
 /// [`SETTLE_RISE_LIMIT`] × the undeformed building's potential energy; the fastest body
 /// against √(v_Tc,max² + 2·g·H) + the record's peak ground speed (m/s). `None` without
 /// frames.
-pub fn energy_summary(
+pub(crate) fn energy_summary(
     bodies: &[Body],
     ground: &GroundHistory,
     r: &RuinResult,
@@ -370,7 +370,7 @@ pub fn energy_summary(
 
 /// The bodies not at rest at the end (name and point speed relative to the ground, m/s),
 /// in body order.
-pub fn unsettled(bodies: &[Body], r: &RuinResult) -> Vec<UnsettledBody> {
+pub(crate) fn unsettled(bodies: &[Body], r: &RuinResult) -> Vec<UnsettledBody> {
     r.at_rest
         .iter()
         .enumerate()

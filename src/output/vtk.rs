@@ -25,7 +25,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// VTK cell type of an 8-node hexahedron (vtkCellType.h).
-pub const VTK_HEXAHEDRON: u8 = 12;
+pub(crate) const VTK_HEXAHEDRON: u8 = 12;
 
 /// Corner signs of a box in VTK_HEXAHEDRON order.
 pub const HEX_CORNERS: [[f64; 3]; 8] = [
@@ -104,7 +104,7 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
 }
 
 /// The sorted element type names, as numbered by the `element_type` cell data.
-pub fn type_names(scene: &AnimatedScene) -> Vec<String> {
+pub(crate) fn type_names(scene: &AnimatedScene) -> Vec<String> {
     let mut names: BTreeSet<&str> = scene.bodies.iter().map(|b| b.type_name.as_str()).collect();
     if scene.ground.is_some() {
         names.insert(GROUND_TYPE);
@@ -114,7 +114,7 @@ pub fn type_names(scene: &AnimatedScene) -> Vec<String> {
 
 /// The 8 corners (m) of a box of half sizes `h` at pose `(p, q)`, `q = [w, x, y, z]`
 /// normalised here, in VTK_HEXAHEDRON order.
-pub fn box_corners(pose: &Pose, h: [f64; 3]) -> [[f64; 3]; 8] {
+pub(crate) fn box_corners(pose: &Pose, h: [f64; 3]) -> [[f64; 3]; 8] {
     let (p, q) = (&pose.position, &pose.orientation);
     let n = q.iter().map(|c| c * c).sum::<f64>().sqrt();
     let [w, x, y, z] = q.map(|c| c / n);

@@ -24,7 +24,7 @@ use std::sync::Mutex;
 
 /// How one member's start is perturbed (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Perturbation {
+pub(crate) struct Perturbation {
     /// Ensemble seed.
     pub seed: u64,
     /// Member number (≥ 1; member 0 is not perturbed).
@@ -97,7 +97,7 @@ pub fn run_ensemble(sc: &Scenario, n: usize, seed: u64, threads: usize) -> Resul
 
 /// Percentiles (nearest rank) 50 / 90 / 100 of the horizontal distance of the active
 /// bodies' final centres beyond the original footprint (0 inside), m.
-pub fn distance_percentiles(rec: &RunRecord) -> [f64; 3] {
+pub(crate) fn distance_percentiles(rec: &RunRecord) -> [f64; 3] {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for b in rec.bodies.iter().filter(|b| !b.passive) {
         for c in crate::output::summary::corners(&b.pose0, b.half_extents) {

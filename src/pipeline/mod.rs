@@ -68,7 +68,7 @@ use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 /// Keyframe rate, frames per second (BCB/Blender 25 fps).
-pub const FRAME_RATE: f64 = 25.0;
+pub(crate) const FRAME_RATE: f64 = 25.0;
 
 pub use crate::body::Body;
 
@@ -242,7 +242,7 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
 }
 
 /// The ruin stage's settings from the scenario.
-pub fn stage_settings(sc: &Scenario) -> StageSettings {
+pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     let mut s = StageSettings::default();
     let p = &sc.physics;
     s.ruin.steps_per_second = p.steps_per_second;
@@ -323,7 +323,7 @@ fn ground_at(h: &GroundHistory, t: f64) -> GroundState {
 }
 
 /// The end of the timeline: `physics.time_limit_s`, else the record's end + settle time.
-pub fn time_limit(sc: &Scenario, gm: &GroundMotion) -> f64 {
+pub(crate) fn time_limit(sc: &Scenario, gm: &GroundMotion) -> f64 {
     sc.physics
         .time_limit_s
         .unwrap_or(gm.duration_s() + sc.physics.settle_s)
@@ -333,7 +333,7 @@ pub fn time_limit(sc: &Scenario, gm: &GroundMotion) -> f64 {
 /// ([`crate::model::limits`]) once the records are read and before anything runs:
 /// FE steps (duration / Δt), ground-history samples (record / Δt) and physics substeps
 /// (timeline × steps per second). Returns (FE steps, physics substeps).
-pub fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64)> {
+pub(crate) fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64)> {
     use crate::model::limits::{
         grid_count, show_number, MAX_FE_STEPS, MAX_PHYSICS_SUBSTEPS, MAX_SAMPLES,
     };
@@ -412,7 +412,10 @@ pub struct Inputs {
 
 /// Loads and checks the scenario's inputs (module docs of [`Inputs`]). In the physics
 /// mode an ensemble member's ground motion is scaled by its perturbation.
-pub fn load_inputs(sc: &Scenario, perturbation: Option<&ensemble::Perturbation>) -> Result<Inputs> {
+pub(crate) fn load_inputs(
+    sc: &Scenario,
+    perturbation: Option<&ensemble::Perturbation>,
+) -> Result<Inputs> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
     let mut motion = ground_motion(sc)?;
     if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
@@ -445,7 +448,7 @@ pub fn load_inputs(sc: &Scenario, perturbation: Option<&ensemble::Perturbation>)
 /// variant, the initial modal analysis, gravity applied and held). The FE-derived
 /// connection strengths read its gravity state; the FE stage then runs the time history
 /// on it.
-pub fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
+pub(crate) fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
     prepare(model, &fe_build(sc), RunOptions::default().modes).context("building the FE domain")
 }
 
@@ -457,7 +460,7 @@ fn fe_build(sc: &Scenario) -> BuildOptions {
 }
 
 /// What the FE stage produced.
-pub struct FeStageOutput {
+pub(crate) struct FeStageOutput {
     /// The domain in its last converged state.
     pub built: BuiltDomain,
     /// Why the time history ended.
@@ -477,7 +480,7 @@ pub struct FeStageOutput {
 /// The FE stage: the time history on the prepared domain `prepared` under the scenario's
 /// ground motion, the collapse monitor observing every converged step; in the hybrid mode
 /// it stops when the criterion is met. Keyframes of the nodal state every 1/25 s.
-pub fn fe_stage(
+pub(crate) fn fe_stage(
     sc: &Scenario,
     inputs: &Inputs,
     prepared: Prepared,
@@ -594,7 +597,7 @@ fn states_at(domain: &Domain, index: &[usize]) -> Vec<NodeState> {
 
 /// The collapse decision: Tc and why.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CollapseDecision {
+pub(crate) struct CollapseDecision {
     /// Tc, s: the criterion's time, or the last converged step when the FE diverged;
     /// `None` without collapse.
     pub tc_s: Option<f64>,
@@ -605,7 +608,7 @@ pub struct CollapseDecision {
 /// Decides Tc from the FE stage: a step that did not converge first means a hand-off at
 /// the last converged step; else the criterion's event (in the `fe` mode the FE runs on
 /// past it, Tc is still the event's time); else no collapse.
-pub fn collapse_decision(fe: &FeStageOutput) -> CollapseDecision {
+pub(crate) fn collapse_decision(fe: &FeStageOutput) -> CollapseDecision {
     let tc = fe.end_s;
     let reason = match (&fe.stop, &fe.event) {
         (
@@ -637,7 +640,7 @@ pub fn collapse_decision(fe: &FeStageOutput) -> CollapseDecision {
 /// The hand-off's result: the bodies' keyframes up to the end of the FE stage and their
 /// poses and velocities there.
 #[derive(Debug, Clone)]
-pub struct HandoffOutput {
+pub(crate) struct HandoffOutput {
     /// Keyframes (t, one pose per body), every 1/25 s from 0.
     pub frames: Vec<(f64, Vec<Pose>)>,
     /// Poses at the end of the FE stage (Tc).
@@ -650,7 +653,7 @@ pub struct HandoffOutput {
 /// the ground's displacement plus the FE's relative state; foundations move with the
 /// ground), with the instantaneous velocities at the end, or the paper's secant through
 /// the last keyframe before it.
-pub fn hand_off(
+pub(crate) fn hand_off(
     sc: &Scenario,
     inputs: &Inputs,
     handoff: &Handoff,
@@ -712,7 +715,7 @@ pub fn hand_off(
 
 /// The connection strengths of the ruin stage: FE-derived ([`ConnectionModel::Fe`]:
 /// capacities at the gravity axial loads, [`strengths`]) or BCB's per group.
-pub struct FeStrengths {
+pub(crate) struct FeStrengths {
     /// Gravity axial loads, by element.
     pub gravity_n: AxialLoads,
     /// Undamaged capacities at them, by element.
@@ -765,7 +768,7 @@ pub fn ruin_stage(
 /// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
 /// The stages in order: [`load_inputs`], [`fe_domain`] (once), [`fe_stage`],
 /// [`collapse_decision`], [`hand_off`], the ruin stage's start state, [`ruin_stage`].
-pub fn run_perturbed(
+pub(crate) fn run_perturbed(
     sc: &Scenario,
     progress: &dyn Progress,
     perturbation: Option<&ensemble::Perturbation>,

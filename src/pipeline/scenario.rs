@@ -50,7 +50,7 @@ fn one() -> f64 {
 /// FE settings.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct FeSpec {
+pub(crate) struct FeSpec {
     /// Time step, s.
     pub dt: f64,
     /// `model`, `force`, `disp` or `elastic`.
@@ -72,7 +72,7 @@ impl Default for FeSpec {
 /// The collapse criterion as written.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct CollapseSpec {
+pub(crate) struct CollapseSpec {
     /// `vertical_drop` (default), `drift_1_50` (GB 50011), `drift_4pct` (FEMA 356) or
     /// `drift` (with `ratio`).
     pub criterion: CriterionName,
@@ -94,7 +94,7 @@ impl Default for CollapseSpec {
 
 /// The collapse criteria a scenario can name (`[collapse] criterion`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CriterionName {
+pub(crate) enum CriterionName {
     /// `vertical_drop`: a main member's vertical drop (paper Criterion 4).
     VerticalDrop,
     /// `drift_1_50`: story drift ratio 1/50 (GB 50011).

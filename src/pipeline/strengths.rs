@@ -48,14 +48,3 @@ pub fn body_strengths(
         })
         .collect()
 }
-
-/// Counts of member ends: (total, lost) — for reports.
-pub fn lost_ends(caps: &BTreeMap<u32, MemberCapacity>) -> (usize, usize) {
-    let total = caps.len() * 2;
-    let lost = caps
-        .values()
-        .flat_map(|m| m.ends.iter())
-        .filter(|e| e.lost)
-        .count();
-    (total, lost)
-}

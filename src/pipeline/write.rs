@@ -80,7 +80,7 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
 
 /// The ruin measures of a record (`summary.json` `ruins`): its bodies at their final
 /// poses, against the ground's height at the end of the timeline.
-pub fn record_measures(rec: &RunRecord) -> RuinMeasures {
+pub(crate) fn record_measures(rec: &RunRecord) -> RuinMeasures {
     let t_end = rec
         .ruin
         .as_ref()

@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 /// The energy figure of a run.
-pub struct EnergyFigure<'a> {
+pub(crate) struct EnergyFigure<'a> {
     run: &'a RunFolder,
 }
 

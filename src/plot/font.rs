@@ -8,7 +8,7 @@ use plotters::style::FontStyle;
 use std::sync::OnceLock;
 
 /// The font family name every figure asks for.
-pub const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
 /// DejaVu Sans 2.37 (Debian `fonts-dejavu-core` 2.37-6), unmodified.
 static DEJAVU_SANS: &[u8] = include_bytes!("../../data/fonts/DejaVuSans.ttf");

@@ -73,7 +73,7 @@ pub fn project(pose: &Pose, half_extents: [f64; 3], view: View) -> Vec<[f64; 2]>
 }
 
 /// The indices `ids` in drawing order for `view` (back to front; ties by index).
-pub fn draw_order(poses: &[Pose], ids: &[usize], view: View) -> Vec<usize> {
+pub(crate) fn draw_order(poses: &[Pose], ids: &[usize], view: View) -> Vec<usize> {
     let mut out = ids.to_vec();
     out.sort_by(|&i, &j| {
         view.depth_key(poses[i].position)
@@ -85,7 +85,7 @@ pub fn draw_order(poses: &[Pose], ids: &[usize], view: View) -> Vec<usize> {
 
 /// Floor levels of the undeformed building (module docs), m, ascending.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Stories {
+pub(crate) struct Stories {
     /// Floor levels, m.
     pub levels: Vec<f64>,
 }
@@ -189,7 +189,7 @@ impl Bounds {
 }
 
 /// The original footprint in `view` (module docs); None without active bodies.
-pub fn original_outline(bodies: &[BodyInfo], view: View) -> Option<Bounds> {
+pub(crate) fn original_outline(bodies: &[BodyInfo], view: View) -> Option<Bounds> {
     Bounds::of(
         bodies
             .iter()
@@ -199,7 +199,7 @@ pub fn original_outline(bodies: &[BodyInfo], view: View) -> Option<Bounds> {
 }
 
 /// The base level: top of the passive foundations, else the lowest active corner, m.
-pub fn base_level(bodies: &[BodyInfo]) -> Option<f64> {
+pub(crate) fn base_level(bodies: &[BodyInfo]) -> Option<f64> {
     let top = |passive: bool, f: fn(f64, f64) -> f64, init: f64| {
         bodies
             .iter()
@@ -217,7 +217,7 @@ pub fn base_level(bodies: &[BodyInfo]) -> Option<f64> {
 }
 
 /// The ground level at the end of the run: base level + final ground z displacement, m.
-pub fn final_ground_level(run: &RunFolder) -> Option<f64> {
+pub(crate) fn final_ground_level(run: &RunFolder) -> Option<f64> {
     let gz = run.history.last().map_or(0.0, |h| h.ground_m[2]);
     base_level(&run.bodies).map(|b| b + gz)
 }

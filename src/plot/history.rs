@@ -24,7 +24,7 @@ impl<'a> HistoryFigure<'a> {
 }
 
 /// Runs of consecutive rows with a value and the same stage: (FE?, points (t, value)).
-pub fn segments(
+pub(crate) fn segments(
     rows: &[HistoryRow],
     value: impl Fn(&HistoryRow) -> Option<f64>,
 ) -> Vec<(bool, Vec<(f64, f64)>)> {
@@ -46,7 +46,7 @@ pub fn segments(
 }
 
 /// A value range holding `values` and 0, padded 5 % (a unit range when empty or flat).
-pub fn value_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn value_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (0.0_f64, 0.0_f64);
     for v in values.into_iter().filter(|v| v.is_finite()) {
         lo = lo.min(v);
@@ -60,7 +60,7 @@ pub fn value_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
 }
 
 /// The time range of `rows` (and Tc), s.
-pub fn time_range(rows: &[HistoryRow], tc: Option<f64>) -> (f64, f64) {
+pub(crate) fn time_range(rows: &[HistoryRow], tc: Option<f64>) -> (f64, f64) {
     let ts = rows.iter().map(|r| r.t_s).chain(tc);
     let (lo, hi) = ts.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
         (a.min(t), b.max(t))
@@ -86,7 +86,7 @@ pub struct Curve {
 }
 
 /// Width of the legend strip of the time-history figures, px.
-pub const LEGEND_W: u32 = 210;
+pub(crate) const LEGEND_W: u32 = 210;
 
 /// One time-history panel: the curves (colour, label, points) and Tc; `empty_note` is
 /// written in the middle when there is no point at all.

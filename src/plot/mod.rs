@@ -162,7 +162,7 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
 
 /// The run's mode and collapse moment for titles, from `summary.json`:
 /// `mode physics, no Tc (physics_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
-pub fn run_label(run: &RunFolder) -> String {
+pub(crate) fn run_label(run: &RunFolder) -> String {
     let mode = run.summary.mode.name();
     let reason = run.summary.tc_reason.name();
     match tc_s(run) {
@@ -174,12 +174,4 @@ pub fn run_label(run: &RunFolder) -> String {
 /// Tc from `summary.json` (`tc_s`), s; None without collapse.
 pub fn tc_s(run: &RunFolder) -> Option<f64> {
     run.summary.tc_s
-}
-
-/// The run folder's name for titles (its last path component).
-pub fn run_name(run: &RunFolder) -> String {
-    run.dir.file_name().map_or_else(
-        || run.dir.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    )
 }

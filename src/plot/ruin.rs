@@ -26,7 +26,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 /// Width of the legend panel, px.
-pub const LEGEND_W: u32 = 230;
+pub(crate) const LEGEND_W: u32 = 230;
 
 /// One ruin figure of a run.
 pub struct RuinFigure<'a> {

@@ -13,9 +13,9 @@ use plotters::prelude::*;
 /// Background of every figure.
 pub const BACKGROUND: RGBColor = RGBColor(255, 255, 255);
 /// Outline of the passive foundation blocks.
-pub const FOUNDATION_OUTLINE: RGBColor = RGBColor(110, 110, 110);
+pub(crate) const FOUNDATION_OUTLINE: RGBColor = RGBColor(110, 110, 110);
 /// The original-footprint outline (dashed).
-pub const FOOTPRINT: RGBColor = RGBColor(0, 0, 0);
+pub(crate) const FOOTPRINT: RGBColor = RGBColor(0, 0, 0);
 /// The ground line of the elevations.
 pub const GROUND: RGBColor = RGBColor(120, 85, 40);
 /// FE-stage curves.
@@ -23,7 +23,7 @@ pub const FE_STAGE: RGBColor = RGBColor(0, 90, 181);
 /// Ruin-stage (Bullet) curves.
 pub const PHYSICS_STAGE: RGBColor = RGBColor(220, 50, 32);
 /// The Tc marker.
-pub const TC_MARKER: RGBColor = RGBColor(60, 60, 60);
+pub(crate) const TC_MARKER: RGBColor = RGBColor(60, 60, 60);
 /// Intact connections.
 pub const INTACT: RGBColor = RGBColor(0, 140, 90);
 /// Plastic connections.
@@ -35,16 +35,16 @@ pub const GRID_LIGHT: RGBColor = RGBColor(238, 238, 238);
 /// Major grid lines.
 pub const GRID_BOLD: RGBColor = RGBColor(210, 210, 210);
 /// Neutral swatch colour of the story legend.
-pub const STORY_SWATCH: RGBColor = RGBColor(170, 170, 170);
+pub(crate) const STORY_SWATCH: RGBColor = RGBColor(170, 170, 170);
 /// Shade factor of the lowest story (the top story has 1).
-pub const LOWEST_STORY_SHADE: f64 = 0.5;
+pub(crate) const LOWEST_STORY_SHADE: f64 = 0.5;
 
 /// Title text size, px.
-pub const TITLE_PX: u32 = 20;
+pub(crate) const TITLE_PX: u32 = 20;
 /// Axis label and legend text size, px.
-pub const LABEL_PX: u32 = 16;
+pub(crate) const LABEL_PX: u32 = 16;
 /// Tick label text size, px.
-pub const TICK_PX: u32 = 14;
+pub(crate) const TICK_PX: u32 = 14;
 
 /// The known element types in legend order (one table with the glTF colours,
 /// [`crate::output::palette`]).
@@ -58,7 +58,7 @@ pub fn type_colour(type_name: &str) -> RGBColor {
 
 /// Shade factor of story `story` (1-based) of `n`: 1 for the top story, linearly down to
 /// [`LOWEST_STORY_SHADE`] for story 1.
-pub fn story_shade(story: usize, n: usize) -> f64 {
+pub(crate) fn story_shade(story: usize, n: usize) -> f64 {
     if n <= 1 {
         return 1.0;
     }
@@ -78,13 +78,13 @@ pub fn body_fill(type_name: &str, story: usize, n: usize) -> RGBColor {
 }
 
 /// Outline of a body filled with `fill`.
-pub fn body_outline(fill: RGBColor) -> RGBColor {
+pub(crate) fn body_outline(fill: RGBColor) -> RGBColor {
     scaled(fill, 0.55)
 }
 
 /// The types present in `names`, known types first in [`KNOWN_TYPES`] order, then the
 /// others sorted.
-pub fn legend_types<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+pub(crate) fn legend_types<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String> {
     let mut set: std::collections::BTreeSet<&str> = names.into_iter().collect();
     let mut out: Vec<String> = Vec::new();
     for k in KNOWN_TYPES {
@@ -98,7 +98,7 @@ pub fn legend_types<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<String>
 
 /// A tick-label formatter with as many decimals as a span of `span` m needs (steps of
 /// about a tenth of it): 0 from 20 m, 1 from 2 m, 2 from 0.2 m, else 3.
-pub fn tick_format(span: f64) -> impl Fn(&f64) -> String {
+pub(crate) fn tick_format(span: f64) -> impl Fn(&f64) -> String {
     let d = if span >= 20.0 {
         0
     } else if span >= 2.0 {
@@ -113,7 +113,7 @@ pub fn tick_format(span: f64) -> impl Fn(&f64) -> String {
 
 /// A legend symbol.
 #[derive(Debug, Clone, Copy)]
-pub enum Swatch {
+pub(crate) enum Swatch {
     /// A heading line (no symbol).
     Heading,
     /// A filled square.
@@ -127,7 +127,7 @@ pub enum Swatch {
 }
 
 /// Draws the legend `entries` top-down in `area` (one 22 px row each).
-pub fn draw_legend<DB: DrawingBackend>(
+pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     entries: &[(Swatch, String)],
 ) -> Result<()>

@@ -52,7 +52,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Bullet's "free" limit pair (lower > upper), as Blender passes for unused axes.
-pub const FREE: (f64, f64) = (0.0, -1.0);
+pub(crate) const FREE: (f64, f64) = (0.0, -1.0);
 /// BCB's "unlimited" linear bound for the one-sided compression/tension rows, m.
 pub const BCB_UNLIMITED: f64 = 99999.0;
 
@@ -85,9 +85,9 @@ impl Default for Tolerances {
 }
 
 /// BCB preset-0 2nd distance tolerance, used when a group has no formula (docs/bcb.md §8).
-pub const PRESET_TOL2_DIST: f64 = 0.2;
+pub(crate) const PRESET_TOL2_DIST: f64 = 0.2;
 /// BCB preset-0 2nd rotation tolerance, rad.
-pub const PRESET_TOL2_ROT: f64 = 0.8;
+pub(crate) const PRESET_TOL2_ROT: f64 = 0.8;
 
 /// Tolerances resolved for one connection; `None` = check disabled.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -432,10 +432,10 @@ pub struct ConnectionSpec {
 }
 
 /// Constraint indices of the bending rows (ductile in FE-derived connections).
-pub const BENDING_ROWS: [usize; 2] = [4, 5];
+pub(crate) const BENDING_ROWS: [usize; 2] = [4, 5];
 
 /// Number of generic constraints of a CT 22 connection.
-pub const GENERIC_COUNT: usize = 6;
+pub(crate) const GENERIC_COUNT: usize = 6;
 
 impl ConnectionSpec {
     /// Whether the connection has a plastic spring (index 6).
@@ -463,7 +463,7 @@ impl ConnectionSpec {
 /// Blender's `to_track_quat('X','Z')` gives it (docs/bcb.md §2.1; −Y worked out the same way):
 /// +X → (X, Y, Z); −X → (−X, −Y, Z); +Y → (Y, −X, Z); −Y → (−Y, X, Z);
 /// +Z → (Z, Y, −X); −Z → (−Z, Y, X) (columns = images of local X, Y, Z).
-pub fn bcb_normal_rotation(axis: usize, sign: f64) -> UnitQuaternion<f64> {
+pub(crate) fn bcb_normal_rotation(axis: usize, sign: f64) -> UnitQuaternion<f64> {
     let e = |i: usize, s: f64| {
         let mut v = Vector3::zeros();
         v[i] = s;
@@ -887,7 +887,7 @@ fn scale(p: &StrengthPerArea, f: f64) -> StrengthPerArea {
 
 /// Carries a world frame `p0` defined on the undeformed bodies to the start poses and
 /// returns (frame in A, frame in B) — module docs, "Frames".
-pub fn frames_at_start(
+pub(crate) fn frames_at_start(
     p0: &Isometry3<f64>,
     a0: &Isometry3<f64>,
     b0: &Isometry3<f64>,
@@ -1007,7 +1007,7 @@ fn constraint_specs(
 /// The plastic spring's stiffness on its six world-aligned axes (0–2 N/m, 3–5 N·m/rad)
 /// from the linear k (see [`AngularSpring`]). The spring frame is world-aligned in the
 /// undeformed configuration, so its axis i is the contact's normal, h or w axis.
-pub fn spring_stiffness_axes(k: f64, c: &Contact, rule: AngularSpring) -> [f64; 6] {
+pub(crate) fn spring_stiffness_axes(k: f64, c: &Contact, rule: AngularSpring) -> [f64; 6] {
     let mut out = [k; 6];
     if rule == AngularSpring::Lever {
         for i in 0..3 {

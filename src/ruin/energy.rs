@@ -45,7 +45,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// Mass properties of one dynamic body for the ledger.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MassProps {
+pub(crate) struct MassProps {
     /// Mass, kg.
     pub mass_kg: f64,
     /// Principal inertia in the body frame, kg·m².
@@ -88,7 +88,7 @@ fn quat(p: &Pose) -> UnitQuaternion<f64> {
 }
 
 /// Rotational kinetic energy ½·Σₖ Iₖ·(Rᵀω)ₖ² of one body, J.
-pub fn rotational_j(props: &MassProps, pose: &Pose, angular: [f64; 3]) -> f64 {
+pub(crate) fn rotational_j(props: &MassProps, pose: &Pose, angular: [f64; 3]) -> f64 {
     let w = quat(pose).inverse() * Vector3::from(angular);
     0.5 * (props.inertia[0] * w.x * w.x
         + props.inertia[1] * w.y * w.y
@@ -97,7 +97,7 @@ pub fn rotational_j(props: &MassProps, pose: &Pose, angular: [f64; 3]) -> f64 {
 
 /// T_t, T_r and V of the bodies with `Some` mass properties (module docs), J.
 /// `gravity` in m/s², `reference` a point of the ground's top at rest (m).
-pub fn mechanical(
+pub(crate) fn mechanical(
     props: &[Option<MassProps>],
     poses: &[Pose],
     vels: &[Velocity],
@@ -121,7 +121,7 @@ pub fn mechanical(
 
 /// One substep's contribution to the ledger (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct SubstepBalance {
+pub(crate) struct SubstepBalance {
     /// Σ J_i, the impulse of the ground and passive bodies on the dynamic bodies, N·s.
     pub ground_impulse: [f64; 3],
     /// ΔW_g = v_g·Σ J_i, J.
@@ -135,7 +135,7 @@ pub struct SubstepBalance {
 /// substep, `ground_velocity` the kinematic ground's (secant) velocity, damping factors
 /// per second as Bullet's `setDamping`.
 #[allow(clippy::too_many_arguments)]
-pub fn substep_balance(
+pub(crate) fn substep_balance(
     props: &[Option<MassProps>],
     poses0: &[Pose],
     vels0: &[Velocity],

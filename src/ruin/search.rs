@@ -143,7 +143,7 @@ pub fn find_contacts(
 
 /// Sort-and-sweep on x over the AABBs enlarged by `margin`: all pairs (i < j) whose
 /// enlarged boxes overlap with positive volume, sorted.
-pub fn candidate_pairs(raw: &[Aabb], margin: f64) -> Vec<(usize, usize)> {
+pub(crate) fn candidate_pairs(raw: &[Aabb], margin: f64) -> Vec<(usize, usize)> {
     let boxes: Vec<Aabb> = raw.iter().map(|b| b.enlarged(margin)).collect();
     let mut order: Vec<usize> = (0..boxes.len()).collect();
     order.sort_by(|&i, &j| boxes[i].min[0].total_cmp(&boxes[j].min[0]).then(i.cmp(&j)));

@@ -5,7 +5,7 @@ use serde::Deserialize;
 /// A whole scene file.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SceneFile {
+pub(crate) struct SceneFile {
     /// World settings (preset and overrides); all optional.
     #[serde(default)]
     pub world: WorldSpec,
@@ -27,7 +27,7 @@ pub struct SceneFile {
 /// `"world"`: a preset plus overrides.
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct WorldSpec {
+pub(crate) struct WorldSpec {
     /// `"bullet"` (default) or `"pybullet"`.
     #[serde(default)]
     pub preset: Option<Preset>,
@@ -52,7 +52,7 @@ pub struct WorldSpec {
 /// [`crate::physics::SolverSettings`] for meanings).
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SolverSpec {
+pub(crate) struct SolverSpec {
     /// Overrides `num_iterations`: Gauss–Seidel iterations per substep.
     pub num_iterations: Option<u32>,
     /// Overrides `erp`: joint error reduction parameter.
@@ -93,7 +93,7 @@ pub struct SolverSpec {
 /// One box body.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BodySpec {
+pub(crate) struct BodySpec {
     /// Unique name; constraints refer to bodies by it.
     pub name: String,
     /// Outer half extents \[m\].
@@ -147,7 +147,7 @@ pub struct BodySpec {
 /// (p0 + v·t, rot(ω·t)·q0), with ω in the world frame.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct MotionSpec {
+pub(crate) struct MotionSpec {
     /// [m/s]
     #[serde(default)]
     pub linear_velocity: Option<[f64; 3]>,
@@ -159,7 +159,7 @@ pub struct MotionSpec {
 /// A joint frame in a body's local frame.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct FrameSpec {
+pub(crate) struct FrameSpec {
     /// Origin of the joint frame in the body's local frame \[m\].
     pub position: [f64; 3],
     #[serde(default)]
@@ -171,7 +171,7 @@ pub struct FrameSpec {
 /// A spring on one axis.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpringSpec {
+pub(crate) struct SpringSpec {
     /// [N/m] or [N·m/rad].
     pub stiffness: f64,
     /// [N·s/m] or [N·m·s/rad]; default 0.
@@ -185,7 +185,7 @@ pub struct SpringSpec {
 
 /// The constraint classes a scene can name (`kind`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ConstraintType {
+pub(crate) enum ConstraintType {
     /// `"generic6dof"`: btGeneric6DofConstraint.
     Generic6dof,
     /// `"spring2"`: btGeneric6DofSpring2Constraint.
@@ -211,7 +211,7 @@ impl<'de> Deserialize<'de> for ConstraintType {
 
 /// The world presets (`world.preset`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Preset {
+pub(crate) enum Preset {
     /// `"bullet"`: Bullet's own defaults (default).
     #[default]
     Bullet,
@@ -236,7 +236,7 @@ impl<'de> Deserialize<'de> for Preset {
 /// One constraint.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ConstraintEntry {
+pub(crate) struct ConstraintEntry {
     /// `"generic6dof"`, `"spring2"` or `"fixed"`.
     pub kind: ConstraintType,
     /// Body names.

@@ -3,7 +3,7 @@
 
 /// Where the elements of a top-level array start, and where the array ends.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct ArrayLines {
+pub(crate) struct ArrayLines {
     /// 1-based line on which each element starts.
     pub starts: Vec<usize>,
     /// 1-based line of the closing `]` (0 if not found).
@@ -21,7 +21,7 @@ impl ArrayLines {
 
 /// The lines of the elements of the array under the top-level key `key`.
 /// Returns no elements if the key is not found or the text is not the expected shape.
-pub fn array_element_lines(text: &str, key: &str) -> ArrayLines {
+pub(crate) fn array_element_lines(text: &str, key: &str) -> ArrayLines {
     let bytes = text.as_bytes();
     let mut line = 1usize;
     let mut depth = 0i32; // nesting of {} and []

@@ -17,12 +17,12 @@ pub fn run_scene(scene: &Scene, every: Option<u64>, out: &mut dyn Write) -> Resu
 
 /// Substeps between two progress reports of [`run_scene_with`] (at most; fewer near a
 /// frame): about 0.2 s of work for a small scene in a debug build.
-pub const PROGRESS_SUBSTEPS: u64 = 1000;
+pub(crate) const PROGRESS_SUBSTEPS: u64 = 1000;
 
 /// [`run_scene`], calling `progress(done, total)` (substeps) at least every
 /// [`PROGRESS_SUBSTEPS`] substeps. Bullet steps one substep at a time whatever the chunk
 /// size, so the output is byte-identical to [`run_scene`]'s.
-pub fn run_scene_with(
+pub(crate) fn run_scene_with(
     scene: &Scene,
     every: Option<u64>,
     out: &mut dyn Write,

@@ -30,7 +30,7 @@ use std::path::PathBuf;
 
 /// One run's row.
 #[derive(Debug, Clone, PartialEq)]
-pub struct RunRow {
+pub(crate) struct RunRow {
     /// Run id.
     pub id: String,
     /// IDA round.
@@ -143,7 +143,7 @@ fn field(s: &str) -> String {
 }
 
 /// `runs.csv` text.
-pub fn runs_csv(rows: &[RunRow]) -> String {
+pub(crate) fn runs_csv(rows: &[RunRow]) -> String {
     let mut s = String::from("id,round,model,record,mode,pga_g,status,collapse,tc_s,tc_reason,peak_roof_drift,fe_end_s,ruin_stop,connections_broken,extent_max_m,debris_area_m2,debris_height_m,min_slab_overlap,error\n");
     for r in rows {
         let ok = r.error.is_none();
@@ -183,7 +183,7 @@ pub fn runs_csv(rows: &[RunRow]) -> String {
 }
 
 /// `ida.csv` text: ok runs by (model, mode, record, pga).
-pub fn ida_csv(rows: &[RunRow]) -> String {
+pub(crate) fn ida_csv(rows: &[RunRow]) -> String {
     let mut ok: Vec<&RunRow> = rows.iter().filter(|r| r.error.is_none()).collect();
     ok.sort_by(|a, b| {
         (&a.model, a.mode, &a.record)
@@ -211,7 +211,7 @@ fn r6(v: f64) -> Value {
 }
 
 /// The `study.json` value.
-pub fn study_json(study: &Study, plan: &Plan, rows: &[RunRow]) -> Value {
+pub(crate) fn study_json(study: &Study, plan: &Plan, rows: &[RunRow]) -> Value {
     let failed = rows.iter().filter(|r| r.error.is_some()).count();
     let mut groups: BTreeMap<(usize, usize), Vec<Value>> = BTreeMap::new();
     let mut fits = Vec::new();

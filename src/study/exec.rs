@@ -34,7 +34,7 @@ pub fn scale_factor(study: &Study, entry: &Entry) -> f64 {
 /// The scenario of one entry: the base scenario with the entry's model, mode and record,
 /// each component scaled by the entry's factor (its PGA target = factor × its recorded
 /// PGA) and time-scaled by `records.time_scale`.
-pub fn scenario_for(study: &Study, entry: &Entry, out: &Path) -> Scenario {
+pub(crate) fn scenario_for(study: &Study, entry: &Entry, out: &Path) -> Scenario {
     let mut sc = study.base.clone();
     sc.model = study.models[entry.model].file.clone();
     sc.mode = entry.mode;
@@ -95,7 +95,7 @@ fn round6(v: f64) -> f64 {
 }
 
 /// Writes `files` as the folder `runs/<id>/` atomically (module docs).
-pub fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]) -> Result<()> {
+pub(crate) fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]) -> Result<()> {
     let runs = store.runs_dir();
     std::fs::create_dir_all(&runs).with_context(|| format!("cannot create {}", runs.display()))?;
     let pid = std::process::id();
@@ -136,7 +136,12 @@ fn status_json(id: &str, error: Option<&str>, wall_s: f64) -> Vec<u8> {
 
 /// Records `entry` as failed with `error` (its folder holds `entry.json` and
 /// `status.json`).
-pub fn record_failure(study: &Study, store: &Store, entry: &Entry, error: &str) -> Result<()> {
+pub(crate) fn record_failure(
+    study: &Study,
+    store: &Store,
+    entry: &Entry,
+    error: &str,
+) -> Result<()> {
     let files = vec![
         (
             "entry.json".to_string(),

@@ -19,7 +19,7 @@ use toml::Spanned;
 
 /// Intensities are kept on a grid of 0.001 g (integer milli-g) so that run ids and the
 /// IDA bisection are exact.
-pub const MILLI_G: f64 = 0.001;
+pub(crate) const MILLI_G: f64 = 0.001;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -220,7 +220,7 @@ pub struct Study {
 }
 
 /// 1-based line of byte offset `at` in `text`.
-pub fn line_of(text: &str, at: usize) -> usize {
+pub(crate) fn line_of(text: &str, at: usize) -> usize {
     text[..at.min(text.len())].matches('\n').count() + 1
 }
 

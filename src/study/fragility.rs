@@ -32,7 +32,7 @@ pub struct Fit {
 
 /// erf(x): the Maclaurin series for |x| < 2, else 1 − erfc by the continued fraction
 /// (Lentz); both to about 1e-15.
-pub fn erf(x: f64) -> f64 {
+pub(crate) fn erf(x: f64) -> f64 {
     if x == 0.0 {
         return 0.0;
     }
@@ -81,7 +81,7 @@ fn erfc_cf(x: f64) -> f64 {
 }
 
 /// erfc(x) = 1 − erf(x), accurate in both tails.
-pub fn erfc(x: f64) -> f64 {
+pub(crate) fn erfc(x: f64) -> f64 {
     if x >= 2.0 {
         erfc_cf(x)
     } else if x <= -2.0 {
@@ -97,7 +97,7 @@ pub fn phi(z: f64) -> f64 {
 }
 
 /// ln Φ(z), accurate far in the lower tail.
-pub fn ln_phi(z: f64) -> f64 {
+pub(crate) fn ln_phi(z: f64) -> f64 {
     phi(z).max(1e-300).ln()
 }
 

@@ -54,7 +54,7 @@ impl Entry {
 }
 
 /// The run id of (model, record, mode, intensity).
-pub fn run_id(model: &str, record: &str, mode: Mode, milli_g: u32) -> String {
+pub(crate) fn run_id(model: &str, record: &str, mode: Mode, milli_g: u32) -> String {
     format!(
         "{model}__{record}__{}__{}.{:03}g",
         mode.name(),
@@ -99,7 +99,7 @@ pub enum SequenceState {
 
 /// The next step of an IDA sequence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Next {
+pub(crate) enum Next {
     /// Run this intensity (milli-g).
     Run(u32),
     /// The sequence is finished.
@@ -108,7 +108,7 @@ pub enum Next {
 
 /// The IDA rule (module docs) applied to a sequence's history of (milli-g, outcome), in
 /// run order.
-pub fn next_intensity(rule: &IdaRule, history: &[(u32, Outcome)]) -> Next {
+pub(crate) fn next_intensity(rule: &IdaRule, history: &[(u32, Outcome)]) -> Next {
     if history.is_empty() {
         return Next::Run(rule.start);
     }
@@ -286,7 +286,7 @@ pub struct Store {
 }
 
 /// File in a run folder that says how the run ended (written last, with the folder).
-pub const STATUS_FILE: &str = "status.json";
+pub(crate) const STATUS_FILE: &str = "status.json";
 
 impl Store {
     /// The store of a folder.
@@ -331,13 +331,13 @@ impl Store {
 }
 
 /// Reads a run's `summary.json` ([`RunSummary`]).
-pub fn read_summary(path: &Path) -> Result<RunSummary> {
+pub(crate) fn read_summary(path: &Path) -> Result<RunSummary> {
     let v = read_json(path)?;
     serde_json::from_value(v).with_context(|| format!("{}: not a run summary", path.display()))
 }
 
 /// Reads a JSON file; errors name it.
-pub fn read_json(path: &Path) -> Result<Value> {
+pub(crate) fn read_json(path: &Path) -> Result<Value> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     serde_json::from_str(&text).with_context(|| format!("{}: not valid JSON", path.display()))

@@ -36,7 +36,7 @@ pub struct SlurmOptions {
 
 /// `--time` of a task running `shard` entries: shard × estimate × safety + 60 s, rounded
 /// up to whole minutes, as `D-HH:MM:SS`.
-pub fn time_request(spec: &SlurmSpec) -> String {
+pub(crate) fn time_request(spec: &SlurmSpec) -> String {
     let s = spec.shard as f64 * spec.estimate_s * spec.safety + 60.0;
     let min = (s / 60.0).ceil() as u64;
     let (d, h, m) = (min / 1440, (min / 60) % 24, min % 60);

@@ -53,11 +53,11 @@
 //! diagonal-tension failure, so handing it to Bullet would add a failure mode the FE
 //! building does not have (measured in docs/handoff.md).
 //!
-//! # Members ([`member_capacities`])
+//! # Members ([`member_capacities_against`])
 //!
 //! Per beam-column element with an `rc_rect` section: the end integration points' section
 //! capacities (the points nearest node i and node j) at the element's gravity axial load
-//! (from [`gravity_axial_loads`]), the sliding shear and ACI V_c at that load, and
+//! (from [`axial_loads`] after gravity), the sliding shear and ACI V_c at that load, and
 //! whether the end has lost its load path ([`EndCapacity::lost`], see there).
 
 use crate::fe::build::{BuildOptions, BuiltDomain};
@@ -272,7 +272,7 @@ fn bending_push(
 
 /// The capacities of `section` (from its last committed state) at the axial load
 /// `axial_load_n` (N, tension positive) — module docs.
-pub fn section_capacity(
+pub(crate) fn section_capacity(
     section: &dyn Section,
     axial_load_n: f64,
     st: &PushSettings,
@@ -321,7 +321,7 @@ pub fn section_capacity(
 /// ACI 318-14 §22.5.6.1 / §22.5.7.1 concrete shear strength V_c, N (module docs).
 /// `fc_mpa` f′c (MPa), `bw_mm`, `d_mm` (mm), `ag_mm2` (mm²), `nu_n` axial force, N,
 /// **compression positive** (ACI's sign).
-pub fn aci_shear(fc_mpa: f64, bw_mm: f64, d_mm: f64, ag_mm2: f64, nu_n: f64) -> f64 {
+pub(crate) fn aci_shear(fc_mpa: f64, bw_mm: f64, d_mm: f64, ag_mm2: f64, nu_n: f64) -> f64 {
     let factor = if nu_n >= 0.0 {
         1.0 + nu_n / (14.0 * ag_mm2)
     } else {
@@ -337,7 +337,7 @@ pub fn aci_shear(fc_mpa: f64, bw_mm: f64, d_mm: f64, ag_mm2: f64, nu_n: f64) -> 
 /// V_n ≤ r_c·min(0.2·f′c·A_c, (3.3 + 0.08·f′c)·A_c, 11·A_c) (MPa, mm² → N). r_t, r_c ≤ 1
 /// are the residual fractions of the section's tension (bars) and compression (concrete)
 /// capacities (1 undamaged).
-pub fn shear_friction(
+pub(crate) fn shear_friction(
     fc_mpa: f64,
     fy_mpa: f64,
     avf_mm2: f64,
@@ -379,7 +379,7 @@ pub struct EndCapacity {
 
 /// The residual moment fraction (of the undamaged capacity) below which an end counts as
 /// lost (both axes).
-pub const LOST_MOMENT_RATIO: f64 = 0.1;
+pub(crate) const LOST_MOMENT_RATIO: f64 = 0.1;
 
 /// Capacities of one beam-column element.
 #[derive(Debug, Clone, PartialEq)]
@@ -396,19 +396,12 @@ pub struct MemberCapacity {
     pub undamaged: [EndCapacity; 2],
 }
 
-/// The axial force N (N, tension positive) of every section of every beam-column after
-/// the model's gravity analysis, by element tag, in integration-point order.
-pub fn gravity_axial_loads(model: &Model, build: &BuildOptions) -> Result<BTreeMap<u32, Vec<f64>>> {
-    let prepared = crate::fe::run::prepare(model, build, 1).context("gravity analysis")?;
-    Ok(axial_loads(&prepared.built))
-}
-
 /// Axial force N (N, tension positive) of every section, by element tag, in
 /// integration-point order.
 pub type AxialLoads = BTreeMap<u32, Vec<f64>>;
 
-/// The gravity axial loads ([`gravity_axial_loads`]) and the member capacities of the
-/// model in its gravity state ([`member_capacities`]): the undamaged building.
+/// The gravity axial loads ([`axial_loads`] after gravity) and the member capacities of
+/// the model in its gravity state ([`member_capacities_against`]): the undamaged building.
 pub fn gravity_capacities(
     model: &Model,
     build: &BuildOptions,
@@ -432,7 +425,7 @@ pub fn gravity_capacities_of(
 }
 
 /// The axial force of every section of every element of a built domain, by tag.
-pub fn axial_loads(built: &BuiltDomain) -> BTreeMap<u32, Vec<f64>> {
+pub(crate) fn axial_loads(built: &BuiltDomain) -> BTreeMap<u32, Vec<f64>> {
     let mut out = BTreeMap::new();
     for (&tag, &i) in &built.element_index {
         let secs = built.domain.elements()[i].sections();
@@ -448,18 +441,10 @@ pub fn axial_loads(built: &BuiltDomain) -> BTreeMap<u32, Vec<f64>> {
 /// `built` (their current committed state: residual at Tc, or undamaged for a fresh
 /// domain) at the gravity axial loads `gravity` (module docs). Elements without sections
 /// (elastic) or with other section kinds are skipped.
-pub fn member_capacities(
-    model: &Model,
-    built: &BuiltDomain,
-    gravity: &BTreeMap<u32, Vec<f64>>,
-    st: &PushSettings,
-) -> Result<BTreeMap<u32, MemberCapacity>> {
-    member_capacities_against(model, built, gravity, st, None)
-}
-
-/// As [`member_capacities`]; `reference` (the capacities of the same model in its
-/// gravity state, [`gravity_capacities`]) supplies the undamaged values instead of
-/// pushing virgin copies again.
+///
+/// `reference` (the capacities of the same model in its gravity state,
+/// [`gravity_capacities`]) supplies the undamaged values; `None` pushes virgin copies
+/// of the sections.
 pub fn member_capacities_against(
     model: &Model,
     built: &BuiltDomain,

@@ -19,7 +19,7 @@ use crate::fe::element::Element;
 use crate::fe::element::{ElementError, EndDisplacements, Vec12};
 
 /// Degrees of freedom per node.
-pub const NDF: usize = 6;
+pub(crate) const NDF: usize = 6;
 
 /// Equation number of a constrained (fixed) DOF.
 const FIXED: usize = usize::MAX;

@@ -124,7 +124,7 @@ pub fn prepare(model: &Model, build: &BuildOptions, modes: usize) -> Result<Prep
 }
 
 /// Rayleigh damping of the model: its `[damping]` if given, else 5 % at T1 and T1/3.
-pub fn damping_for(model: &Model, t1: f64) -> Result<RayleighDamping> {
+pub(crate) fn damping_for(model: &Model, t1: f64) -> Result<RayleighDamping> {
     match model.rayleigh() {
         Some((a0, a1)) => Ok(RayleighDamping { a0, a1 }),
         None => RayleighDamping::default_for_period(t1).map_err(|e| anyhow!(e)),

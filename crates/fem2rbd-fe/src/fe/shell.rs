@@ -40,9 +40,9 @@ use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
 use crate::model::{Material, ShellLayer};
 
 /// 8 × 8 section tangent on `[ε11 ε22 γ12 κ11 κ22 κ12 γ23 γ31]`.
-pub type Mat8 = SMatrix<f64, 8, 8>;
+pub(crate) type Mat8 = SMatrix<f64, 8, 8>;
 /// 5 × 5 layer (plate-fibre) tangent on `[ε11 ε22 γ12 γ23 γ31]`.
-pub type Mat5 = SMatrix<f64, 5, 5>;
+pub(crate) type Mat5 = SMatrix<f64, 5, 5>;
 /// 24 × 24 element matrix, DOFs `[ux uy uz rx ry rz]` per node, nodes 1..4.
 pub type Mat24 = SMatrix<f64, 24, 24>;
 type Mat8x24 = SMatrix<f64, 8, 24>;
@@ -60,7 +60,7 @@ pub enum ShellError {
 /// Initial (elastic) tangent of a plate fibre: plane stress with E, ν and transverse
 /// shear G = E/(2(1+ν)) (OpenSees `PlateFiber` of `ElasticIsotropic`, and
 /// `PlateFromPlaneStress` with G given so).
-pub fn isotropic_plate_fiber(e: f64, nu: f64) -> Mat5 {
+pub(crate) fn isotropic_plate_fiber(e: f64, nu: f64) -> Mat5 {
     let c = e / (1.0 - nu * nu);
     let g = e / (2.0 * (1.0 + nu));
     let mut d = Mat5::zeros();
@@ -77,7 +77,7 @@ pub fn isotropic_plate_fiber(e: f64, nu: f64) -> Mat5 {
 /// Tangent of a smeared bar layer along `angle` degrees from local x with uniaxial
 /// tangent `et` (OpenSees `PlateRebarMaterial::getTangent`, including its exact 0° and
 /// 90° cases): ε = c² ε11 + s² ε22 + c s γ12.
-pub fn rebar_plate_fiber(et: f64, angle: f64) -> Mat5 {
+pub(crate) fn rebar_plate_fiber(et: f64, angle: f64) -> Mat5 {
     let mut d = Mat5::zeros();
     if angle == 0.0 {
         d[(0, 0)] = et;
@@ -415,7 +415,7 @@ fn stress_rotation(radians: f64) -> Mat8 {
 }
 
 /// Drilling stabilisation s of OpenSees' default `ASDShellQ4` (`-drillingStab 0.01`).
-pub const DRILLING_STAB: f64 = 0.01;
+pub(crate) const DRILLING_STAB: f64 = 0.01;
 
 /// Linear stiffness (24 × 24, global axes) of an `ASDShellQ4` element (EAS on, elastic
 /// drilling, small displacements) with nodes `coords` (m, counter-clockwise), the user's

@@ -30,6 +30,9 @@
 //! **Names.** Wall elements are `type_name = "Wall"`, group `W<story>` (their own BCB
 //! element group, as BCB's "RC Walls" preset), so rigid bodies are `Wall:W3:1234`.
 //! Element tags follow the frame's; node tags of new nodes follow the frame's largest.
+
+// `!(x > 0.0)` is used on purpose: it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 use super::generate::{frame, FrameParams};
 use super::*;
 use anyhow::{anyhow, bail, Context};
@@ -154,7 +157,7 @@ impl Default for BuildingParams {
 /// The layered section of a wall of thickness `t` (module docs): the layers bottom to
 /// top and the section density.
 #[allow(clippy::too_many_arguments)]
-pub fn wall_layers(
+pub(crate) fn wall_layers(
     t: f64,
     cover: f64,
     core_layers: u32,

@@ -250,7 +250,7 @@ fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()>
 /// bounds of [`super::limits`]; physical values so that they describe reinforced
 /// concrete (E of concrete 1 to 100 GPa, f′c 1 to 200 MPa, steel E 100 to 400 GPa,
 /// f_y 100 MPa to 3 GPa, damping ratio 0 to 1).
-pub const PARAM_RANGES: &[(&str, f64, bool, f64, &str)] = &[
+pub(crate) const PARAM_RANGES: &[(&str, f64, bool, f64, &str)] = &[
     // (name, low, low excluded, high, unit)
     ("spans_x", 0.1, false, 100.0, "m"),
     ("spans_y", 0.1, false, 100.0, "m"),
@@ -282,20 +282,20 @@ pub const PARAM_RANGES: &[(&str, f64, bool, f64, &str)] = &[
 
 /// Largest counts of the generator: bays per direction (the node-tag scheme holds 49),
 /// stories, elements per member, bars per face, core fibres per direction.
-pub const MAX_BAYS: usize = 49;
+pub(crate) const MAX_BAYS: usize = 49;
 /// Largest number of stories.
-pub const MAX_STORIES: usize = 200;
+pub(crate) const MAX_STORIES: usize = 200;
 /// Largest number of elements per column per story and per half beam span.
-pub const MAX_ELEMENTS_PER_MEMBER: u32 = 50;
+pub(crate) const MAX_ELEMENTS_PER_MEMBER: u32 = 50;
 /// Largest number of bars per column face or beam layer.
-pub const MAX_BARS: u32 = 50;
+pub(crate) const MAX_BARS: u32 = 50;
 /// Largest number of core fibres per direction.
-pub const MAX_CORE_FIBERS: u32 = 100;
+pub(crate) const MAX_CORE_FIBERS: u32 = 100;
 
 /// Checks every parameter against its range ([`PARAM_RANGES`], the `MAX_*` counts) and
 /// the element count of the frame against [`super::limits::MAX_ELEMENTS`], naming the
 /// parameter. Nothing is built before this passes.
-pub fn check_params(p: &FrameParams) -> anyhow::Result<()> {
+pub(crate) fn check_params(p: &FrameParams) -> anyhow::Result<()> {
     use super::limits::{check, check_range};
     use anyhow::bail;
     let range = |name: &str| {

@@ -16,17 +16,17 @@
 //! time step of 1e-300 s or a time scale of 1e300 gives an error, not an overflow.
 
 /// Largest number of nodes of a model.
-pub const MAX_NODES: usize = 200_000;
+pub(crate) const MAX_NODES: usize = 200_000;
 /// Largest number of elements of a model.
-pub const MAX_ELEMENTS: usize = 200_000;
+pub(crate) const MAX_ELEMENTS: usize = 200_000;
 /// Largest number of fibres of one section (an RC section's core, cover and bars).
-pub const MAX_FIBERS_PER_SECTION: u64 = 10_000;
+pub(crate) const MAX_FIBERS_PER_SECTION: u64 = 10_000;
 /// Largest number of fibre states of a model: Σ over beam-column elements of
 /// integration points × fibres of the section (≈ 200 bytes of material state each,
 /// so at most ≈ 1 GB).
-pub const MAX_FIBER_STATES: u64 = 5_000_000;
+pub(crate) const MAX_FIBER_STATES: u64 = 5_000_000;
 /// Largest number of load-control steps of gravity (`[gravity] load_steps`).
-pub const MAX_LOAD_STEPS: u32 = 100_000;
+pub(crate) const MAX_LOAD_STEPS: u32 = 100_000;
 /// Largest number of samples of one ground-motion record (AT2 `NPTS`, rows of a text
 /// record) and of the integrated ground history (72 bytes per sample: at most 360 MB).
 pub const MAX_SAMPLES: u64 = 5_000_000;
@@ -34,7 +34,7 @@ pub const MAX_SAMPLES: u64 = 5_000_000;
 pub const MAX_FE_STEPS: u64 = 5_000_000;
 /// Largest number of numbers an FE analysis may record (recorded steps × recorded
 /// nodes × 6 DOFs; 8 bytes each: at most 2 GB).
-pub const MAX_RECORDED_VALUES: u64 = 250_000_000;
+pub(crate) const MAX_RECORDED_VALUES: u64 = 250_000_000;
 /// Largest number of physics substeps of a ruin stage (time span × steps per second).
 pub const MAX_PHYSICS_SUBSTEPS: u64 = 20_000_000;
 
@@ -81,7 +81,7 @@ impl LimitError {
 
 /// Largest input file read (model, scenario, scene, ground-motion record), bytes:
 /// 256 MiB, room for [`MAX_SAMPLES`] record samples of ≈ 50 characters.
-pub const MAX_INPUT_BYTES: u64 = 256 << 20;
+pub(crate) const MAX_INPUT_BYTES: u64 = 256 << 20;
 
 /// An input file must exist, be a regular file (not a folder, device or pipe, which could
 /// be endless: `/dev/zero`) and be at most [`MAX_INPUT_BYTES`] long. `what` names it
@@ -112,7 +112,7 @@ pub fn check_input_file(path: &std::path::Path, what: &str) -> anyhow::Result<()
 
 /// A count for a message: integers in full up to 10¹², else in scientific notation
 /// (a count from a 300-digit input is not printed in full).
-pub fn show_count(c: f64) -> String {
+pub(crate) fn show_count(c: f64) -> String {
     if c.is_finite() && c.abs() < 1e12 && c.fract() == 0.0 {
         format!("{c:.0}")
     } else {

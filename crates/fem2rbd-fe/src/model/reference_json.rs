@@ -34,7 +34,7 @@ fn arr<'a>(v: &'a Value, key: &str) -> Result<&'a Vec<Value>> {
 }
 
 /// Whether JSON text is in the reference layout (a root object with `uniaxial_materials`).
-pub fn is_reference_layout(text: &str) -> bool {
+pub(crate) fn is_reference_layout(text: &str) -> bool {
     serde_json::from_str::<Value>(text)
         .ok()
         .is_some_and(|v| v.get("uniaxial_materials").is_some())

@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 /// Line numbers of the items of the top-level arrays and of the top-level keys.
 #[derive(Debug, Default, Clone)]
-pub struct SourceMap {
+pub(crate) struct SourceMap {
     items: BTreeMap<(String, usize), usize>,
     keys: BTreeMap<String, usize>,
 }

@@ -78,7 +78,7 @@ pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
 
 /// Largest time step of a record (s). Strong-motion records are sampled at 0.001 to
 /// 0.04 s; one sample per second would already be no earthquake record.
-pub const MAX_RECORD_DT: f64 = 1.0;
+pub(crate) const MAX_RECORD_DT: f64 = 1.0;
 
 fn detect(path: &Path, text: &str) -> Format {
     let ext = path

@@ -29,7 +29,7 @@ use nalgebra::{DMatrix, SymmetricEigen};
 
 /// Settings of [`block_lanczos`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LanczosOptions {
+pub(crate) struct LanczosOptions {
     /// Block size b (≥ the largest multiplicity expected among the wanted eigenvalues).
     pub block: usize,
     /// Number of expanded basis vectors before a restart (rounded up to a multiple of b).
@@ -42,7 +42,7 @@ pub struct LanczosOptions {
 
 /// Failure of [`block_lanczos`].
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
-pub enum LanczosError {
+pub(crate) enum LanczosError {
     /// Bad sizes (more wanted pairs than the basis can hold, etc.).
     #[error("block Lanczos: {0}")]
     Input(String),
@@ -151,7 +151,7 @@ fn orthonormalise_block(
 /// The `nev` eigenpairs of largest |θ| of the symmetric operator `op` (y = C x, both of
 /// length `n`): eigenvalues ordered by decreasing |θ|, orthonormal eigenvectors as the
 /// columns of the returned matrix (n × nev).
-pub fn block_lanczos<E: std::fmt::Display>(
+pub(crate) fn block_lanczos<E: std::fmt::Display>(
     n: usize,
     nev: usize,
     mut op: impl FnMut(&[f64], &mut [f64]) -> Result<(), E>,

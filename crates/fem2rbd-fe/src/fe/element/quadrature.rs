@@ -26,7 +26,7 @@ fn legendre(n: usize, x: f64) -> (f64, f64) {
 }
 
 /// Gauss-Legendre rule with `n ≥ 1` points on [0, 1]: `(points, weights)`.
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     assert!(n >= 1, "Gauss-Legendre needs at least one point");
     let mut xs = Vec::with_capacity(n);
     let mut ws = Vec::with_capacity(n);
@@ -48,7 +48,7 @@ pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Gauss-Lobatto rule with `n ≥ 2` points on [0, 1] (ends included): `(points, weights)`.
-pub fn gauss_lobatto(n: usize) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn gauss_lobatto(n: usize) -> (Vec<f64>, Vec<f64>) {
     assert!(n >= 2, "Gauss-Lobatto needs at least two points");
     let m = n - 1;
     let nf = n as f64;

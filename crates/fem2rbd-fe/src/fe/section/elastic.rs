@@ -5,7 +5,7 @@ use nalgebra::{Matrix4, Vector4};
 
 /// Linear elastic section.
 #[derive(Debug, Clone)]
-pub struct ElasticSection {
+pub(crate) struct ElasticSection {
     k: Matrix4<f64>,
     e: Vector4<f64>,
     e_c: Vector4<f64>,

@@ -56,7 +56,7 @@ struct Kinematics {
 
 /// 3D corotational transformation (OpenSees `geomTransf Corotational`).
 #[derive(Debug, Clone)]
-pub struct CorotTransf {
+pub(crate) struct CorotTransf {
     xi: Vector3<f64>,
     xj: Vector3<f64>,
     r0: Matrix3<f64>,
@@ -439,17 +439,6 @@ impl CorotTransf {
             kg.set_column(j, &((cols[0] - cols[1]) / (2.0 * h)));
         }
         kg
-    }
-
-    /// Current natural deformations `ul` (7): end rotations about e1, e3, −e2 at I and J,
-    /// then the elongation.
-    pub fn natural_deformations(&self) -> [f64; 7] {
-        self.kin.ul.into()
-    }
-
-    /// Current deformed length (m).
-    pub fn deformed_length(&self) -> f64 {
-        self.kin.ln
     }
 }
 

@@ -91,7 +91,7 @@ impl SmallDisp {
 
 /// Linear transformation (small displacements and rotations).
 #[derive(Debug, Clone)]
-pub struct LinearTransf {
+pub(crate) struct LinearTransf {
     core: SmallDisp,
 }
 

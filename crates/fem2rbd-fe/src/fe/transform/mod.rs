@@ -24,9 +24,9 @@ use crate::fe::element::{Mat12, Vec12};
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
 
 /// 6 × 6 matrix in the basic system (basic stiffness or flexibility).
-pub type Mat6 = SMatrix<f64, 6, 6>;
+pub(crate) type Mat6 = SMatrix<f64, 6, 6>;
 /// 6 × 12 matrix: basic deformations from global end displacements.
-pub type Mat6x12 = SMatrix<f64, 6, 12>;
+pub(crate) type Mat6x12 = SMatrix<f64, 6, 12>;
 
 /// Which geometric transformation an element uses (OpenSees `geomTransf` type).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,7 +165,7 @@ pub fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
 }
 
 /// Rotation matrix of a rotation vector θ (Rodrigues / exponential map).
-pub fn rotation_from_vector(theta: &Vector3<f64>) -> Matrix3<f64> {
+pub(crate) fn rotation_from_vector(theta: &Vector3<f64>) -> Matrix3<f64> {
     let t = theta.norm();
     let s = skew(theta);
     if t < 1e-8 {

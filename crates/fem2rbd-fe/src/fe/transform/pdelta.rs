@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// P-Δ transformation.
 #[derive(Debug, Clone)]
-pub struct PDeltaTransf {
+pub(crate) struct PDeltaTransf {
     core: SmallDisp,
 }
 
