@@ -47,6 +47,7 @@ mod fe {
     mod shell {
         mod frame_modal;
         mod model;
+        mod nonlinear;
         mod stiffness;
         mod support;
         mod wall;
