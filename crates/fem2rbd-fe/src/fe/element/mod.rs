@@ -70,7 +70,9 @@ pub struct ElementError {
 
 /// A structural element with `n` nodes of 6 DOFs (`n` = 2 for beam-columns, 4 for
 /// shells); vectors and matrices have `6 n` rows in the order of [`EndDisplacements`].
-pub trait Element: std::fmt::Debug + Send {
+/// `Sync` so that the analysis can read the elements' forces and stiffnesses on several
+/// threads at once ([`crate::fe::domain::Domain::map_elements`]).
+pub trait Element: std::fmt::Debug + Send + Sync {
     /// The element's tag (id in the model).
     fn tag(&self) -> i64;
     /// Indices of the nodes in the domain's node arrays (end nodes i, j of a beam-column;

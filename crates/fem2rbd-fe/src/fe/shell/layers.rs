@@ -22,7 +22,7 @@ pub type Vec8 = SVector<f64, 8>;
 
 /// A plate-fibre law (one layer at one Gauss point), with the commit/revert protocol of
 /// [`UniaxialMaterial`].
-pub trait PlateFiber: std::fmt::Debug + Send {
+pub trait PlateFiber: std::fmt::Debug + Send + Sync {
     /// Sets the trial strain `[ε11 ε22 γ12 γ23 γ31]` from the last committed state.
     fn set_trial_strain(&mut self, strain: &Vec5);
     /// Trial stress (Pa).
