@@ -45,6 +45,7 @@ mod fe {
         mod protocol;
     }
     mod shell {
+        mod building;
         mod frame_modal;
         mod model;
         mod nonlinear;
