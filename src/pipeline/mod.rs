@@ -262,6 +262,15 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.margin = p.margin_m;
     s.body.margin_max_share = p.margin_max_share;
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
+    s.hinge_keeps_rotation = p.hinge_keeps_rotation;
+    s.spring_cap_per_body = p.spring_cap_per_body;
+    s.joint_rows = match p.joint_rows {
+        scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
+        scenario::JointRowsSpec::Member => crate::ruin::stage::JointRows::Member {
+            modulus_pa: p.joint_modulus_pa,
+            damping_ratio: p.joint_damping_ratio,
+        },
+    };
     s
 }
 

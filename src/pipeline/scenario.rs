@@ -148,6 +148,16 @@ pub enum ConnectionModel {
     Fe,
 }
 
+/// How the connections' locked rows correct their error (`crate::ruin::stage::JointRows`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointRowsSpec {
+    /// BCB: the world's joint ERP, CFM 0.
+    Locked,
+    /// ERP/CFM from the members' stiffness.
+    Member,
+}
+
 /// Physics (Bullet) settings; defaults are BCB's.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -196,6 +206,23 @@ pub struct PhysicsSpec {
     /// the stage's start as in BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
     pub spring_rest_at_plastic_onset: bool,
+    /// A yielded ductile hinge (FE-derived connections) keeps its plastic rotation (true,
+    /// default) or drives back to its start pose (false, the first FE-derived version):
+    /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
+    pub hinge_keeps_rotation: bool,
+    /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
+    /// `"member"` (each row an implicit spring–damper of the members' stiffness through
+    /// its ERP/CFM): `crate::ruin::stage::JointRows`.
+    pub joint_rows: JointRowsSpec,
+    /// Young's modulus of the `"member"` rows, Pa (25 GPa: frame3's Concrete02,
+    /// 2·f′c/ε_c0 = 2·22.5 MPa/0.0018).
+    pub joint_modulus_pa: f64,
+    /// Damping ratio of the `"member"` rows (1).
+    pub joint_damping_ratio: f64,
+    /// Cap the plastic springs for the explicit stability of each body they act on, all
+    /// its springs together (true), or only per spring as Bullet/BCB (false):
+    /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
+    pub spring_cap_per_body: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -240,6 +267,11 @@ impl Default for PhysicsSpec {
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
+            hinge_keeps_rotation: true,
+            joint_rows: JointRowsSpec::Locked,
+            joint_modulus_pa: 2.5e10,
+            joint_damping_ratio: 1.0,
+            spring_cap_per_body: true,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,
@@ -415,6 +447,22 @@ impl PhysicsSpec {
         // −0.04 m) and the collision margin.
         r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
         r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
+        r(
+            "physics.joint_modulus_pa",
+            self.joint_modulus_pa,
+            0.0,
+            true,
+            1e13,
+            "Pa",
+        )?;
+        r(
+            "physics.joint_damping_ratio",
+            self.joint_damping_ratio,
+            0.0,
+            true,
+            1e3,
+            "",
+        )?;
         r(
             "physics.split_impulse_threshold_m",
             self.split_impulse_threshold_m,

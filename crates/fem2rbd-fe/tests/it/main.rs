@@ -27,6 +27,7 @@ mod fe {
         mod modal;
         mod static_analysis;
         mod support;
+        mod solver;
         mod threads;
         mod transient;
     }

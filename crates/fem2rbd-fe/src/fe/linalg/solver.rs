@@ -371,9 +371,10 @@ impl SparseSolver {
             } else {
                 f64::INFINITY
             };
-            if !(e <= omega) {
-                omega = e; // NaN propagates as a failure
+            if e.is_nan() {
+                return f64::INFINITY;
             }
+            omega = omega.max(e);
         }
         omega
     }
@@ -401,7 +402,7 @@ impl SparseSolver {
                 self.d = d;
                 steps += 1;
                 let w = self.residual(pattern, &b, &next);
-                if !(w < omega) {
+                if w.is_nan() || w >= omega {
                     break;
                 }
                 rhs.copy_from_slice(&next);
