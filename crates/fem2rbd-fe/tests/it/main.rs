@@ -25,9 +25,9 @@ mod fe {
         mod frame3;
         mod lanczos;
         mod modal;
+        mod solver;
         mod static_analysis;
         mod support;
-        mod solver;
         mod threads;
         mod transient;
     }

@@ -18,10 +18,7 @@ fn frame() -> (SparsePattern, Vec<f64>) {
 
 /// Solves with `SparseSolver` and with a dense LU; returns the relative difference
 /// ‖x − x_dense‖∞ / ‖x_dense‖∞ and the solver's stats.
-fn compare(
-    pattern: &SparsePattern,
-    a: &[f64],
-) -> (f64, fem2rbd_fe::fe::linalg::SolverStats) {
+fn compare(pattern: &SparsePattern, a: &[f64]) -> (f64, fem2rbd_fe::fe::linalg::SolverStats) {
     let n = pattern.dim();
     let b: Vec<f64> = (0..n).map(|i| ((i * 7 + 3) % 11) as f64 - 5.0).collect();
     let mut s = SparseSolver::new(pattern).unwrap();
