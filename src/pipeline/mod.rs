@@ -49,7 +49,7 @@ use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
 use crate::ruin::ground::GroundSpec;
-use crate::ruin::groups::{group_strengths, FOUNDATION_GROUP};
+use crate::ruin::groups::{group_strengths_for, FOUNDATION_GROUP};
 use crate::ruin::monitor::FeDamage;
 use crate::ruin::stage::{
     to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopReason, StopRule,
@@ -208,6 +208,12 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .fold(f64::INFINITY, f64::min);
     let mut feet = Vec::new();
     for b in &mapping.bodies {
+        if b.kind == BodyKind::Wall {
+            if let Some(f) = wall_foot(b, zmin) {
+                feet.push(f);
+            }
+            continue;
+        }
         if b.kind != BodyKind::Column {
             continue;
         }
@@ -235,6 +241,48 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
     }
     out.extend(feet);
     out
+}
+
+/// The passive foundation strip under a wall body whose element stands on the base
+/// (two nodes at the lowest level): as long as the wall body (its trimmed length), as
+/// wide as 2·a and a deep, a = the wall body's thickness, top at the base level, turned
+/// with the wall in plan. Named `Foundation:wall:<element>`.
+fn wall_foot(b: &mapping::RigidBox, zmin: f64) -> Option<Body> {
+    let base: Vec<&[f64; 3]> = b
+        .nodes
+        .iter()
+        .filter(|n| (n[2] - zmin).abs() < 1e-9)
+        .collect();
+    if base.len() < 2 {
+        return None;
+    }
+    // The wall's horizontal in-plane axis (local x of the generator's walls; else the
+    // local axis with the smallest vertical component among x and y).
+    let m = b.rotation.to_rotation_matrix().into_inner();
+    let (ax, half_len) = if m[(2, 0)].abs() <= m[(2, 1)].abs() {
+        (0, b.half_extents[0])
+    } else {
+        (1, b.half_extents[1])
+    };
+    let dir = [m[(0, ax)], m[(1, ax)]];
+    let yaw = dir[1].atan2(dir[0]);
+    let a = 2.0 * b.half_extents[2];
+    let q = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
+    Some(Body {
+        name: format!("Foundation:wall:{}", b.element),
+        group: FOUNDATION_GROUP.into(),
+        type_name: "Foundation".into(),
+        material: "-".into(),
+        element: "-".into(),
+        kind: None,
+        half_extents: [half_len, a, a / 2.0],
+        pose0: Pose {
+            position: [b.centre[0], b.centre[1], zmin - a / 2.0],
+            orientation: [q.w, q.i, q.j, q.k],
+        },
+        mass_kg: 0.0,
+        passive: true,
+    })
 }
 
 fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
@@ -431,7 +479,10 @@ pub fn run_perturbed(
     let bodies = bodies_of(&model, &map);
     let geoms = geoms(&bodies);
     let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();
-    let groups = group_strengths(&model).with_context(|| format!("{}", sc.model.display()))?;
+    let fe_strengths =
+        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let groups = group_strengths_for(&model, fe_strengths)
+        .with_context(|| format!("{}", sc.model.display()))?;
     let settings = stage_settings(sc);
     let limit = time_limit(sc, &gm);
     let stop = StopRule {
@@ -456,8 +507,6 @@ pub fn run_perturbed(
     let mut start_input = StageInput::physics_only(&geoms, &masses, &groups);
     // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
     // the physics mode the undamaged capacities at them.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
     let push = crate::fe::capacity::PushSettings::default();
     let mut gravity_n = BTreeMap::new();
     let mut gravity_caps = BTreeMap::new();

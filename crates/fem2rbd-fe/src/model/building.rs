@@ -166,7 +166,7 @@ pub fn wall_layers(
     let (e, nu, fc, ft) = concrete;
     let (tv, th) = (rho_v * t / 2.0, rho_h * t / 2.0);
     let core = t - 2.0 * (cover + tv + th);
-    if !(core > 0.0) || core_layers == 0 {
+    if core.is_nan() || core <= 0.0 || core_layers == 0 {
         bail!(
             "wall of {t} m: cover {cover} m and rebar layers {tv:.5} + {th:.5} m per face \
              leave no core ({core:.4} m), or no core layers"
@@ -237,8 +237,8 @@ pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
     }
     let base = [2 * f.beam_elements, f.column_elements];
     let mesh = p.wall_mesh.unwrap_or(base);
-    for k in 0..2 {
-        if mesh[k] == 0 || mesh[k] % base[k] != 0 || mesh[k] > 200 {
+    for (n, b) in mesh.iter().zip(base) {
+        if *n == 0 || n % b != 0 || *n > 200 {
             bail!(
                 "wall_mesh {}x{}: cells along must be a multiple of 2·beam_elements = {} and \
                  cells up a multiple of column_elements = {} (at most 200), so that the \
