@@ -3,7 +3,8 @@
 //!
 //! A body of an FE element is named `Type:material:element` (paper §3.1, BCB's naming),
 //! e.g. `Beam:1:234`; a foundation block under a base column is named
-//! `Foundation:base:<node>` and belongs to the group `foundation`. [`BodyId`] holds these
+//! `Foundation:base:<node>` (under a wall element standing on the base:
+//! `Foundation:wall:<element>`) and belongs to the group `foundation`. [`BodyId`] holds these
 //! parts as data; its [`Display`](std::fmt::Display) writes the name and its
 //! [`FromStr`](std::str::FromStr) reads it back, and the columns of `bodies.csv` /
 //! `ruins.csv` (`name,group,type,material,element`) are [`BodyId::name`],
@@ -87,6 +88,12 @@ pub enum BodyId {
         /// Base node tag.
         node: u32,
     },
+    /// The passive foundation strip under the base wall element `element`, named
+    /// `Foundation:wall:<element>`.
+    WallFoundation {
+        /// FE element tag of the wall element standing on the strip.
+        element: u32,
+    },
 }
 
 impl BodyId {
@@ -108,7 +115,7 @@ impl BodyId {
     pub fn group(&self) -> &str {
         match self {
             BodyId::Element { material, .. } => material,
-            BodyId::Foundation { .. } => FOUNDATION_GROUP,
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. } => FOUNDATION_GROUP,
         }
     }
 
@@ -116,7 +123,7 @@ impl BodyId {
     pub fn body_type(&self) -> &BodyType {
         match self {
             BodyId::Element { body_type, .. } => body_type,
-            BodyId::Foundation { .. } => &BodyType::Foundation,
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. } => &BodyType::Foundation,
         }
     }
 
@@ -129,7 +136,7 @@ impl BodyId {
     pub fn material(&self) -> &str {
         match self {
             BodyId::Element { material, .. } => material,
-            BodyId::Foundation { .. } => NO_FIELD,
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. } => NO_FIELD,
         }
     }
 
@@ -137,7 +144,7 @@ impl BodyId {
     pub fn element_tag(&self) -> Option<u32> {
         match self {
             BodyId::Element { element, .. } => Some(*element),
-            BodyId::Foundation { .. } => None,
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. } => None,
         }
     }
 
@@ -145,13 +152,16 @@ impl BodyId {
     pub fn element_field(&self) -> String {
         match self {
             BodyId::Element { element, .. } => element.to_string(),
-            BodyId::Foundation { .. } => NO_FIELD.to_string(),
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. } => NO_FIELD.to_string(),
         }
     }
 
     /// Whether this is a foundation block.
     pub fn is_foundation(&self) -> bool {
-        matches!(self, BodyId::Foundation { .. })
+        matches!(
+            self,
+            BodyId::Foundation { .. } | BodyId::WallFoundation { .. }
+        )
     }
 
     /// The identity from the five identity columns of `bodies.csv` / `ruins.csv`
@@ -164,16 +174,23 @@ impl BodyId {
         element: &str,
     ) -> Result<BodyId, BodyIdError> {
         let id = if element == NO_FIELD {
-            let node = name
-                .strip_prefix("Foundation:base:")
-                .and_then(|n| n.parse::<u32>().ok())
-                .ok_or_else(|| BodyIdError {
+            let tag = |prefix: &str| {
+                name.strip_prefix(prefix)
+                    .and_then(|n| n.parse::<u32>().ok())
+            };
+            if let Some(node) = tag("Foundation:base:") {
+                BodyId::Foundation { node }
+            } else if let Some(element) = tag("Foundation:wall:") {
+                BodyId::WallFoundation { element }
+            } else {
+                return Err(BodyIdError {
                     column: "name",
                     message: format!(
-                        "{name:?} is not Foundation:base:<node> although element is -"
+                        "{name:?} is not Foundation:base:<node> or Foundation:wall:<element> \
+                         although element is -"
                     ),
-                })?;
-            BodyId::Foundation { node }
+                });
+            }
         } else {
             let element: u32 = element.parse().map_err(|_| BodyIdError {
                 column: "element",
@@ -213,6 +230,7 @@ impl fmt::Display for BodyId {
                 element,
             } => write!(f, "{body_type}:{material}:{element}"),
             BodyId::Foundation { node } => write!(f, "Foundation:base:{node}"),
+            BodyId::WallFoundation { element } => write!(f, "Foundation:wall:{element}"),
         }
     }
 }
@@ -250,6 +268,9 @@ impl FromStr for BodyId {
         }
         if t == "Foundation" && m == "base" {
             return Ok(BodyId::Foundation { node: tag });
+        }
+        if t == "Foundation" && m == "wall" {
+            return Ok(BodyId::WallFoundation { element: tag });
         }
         Ok(BodyId::element(t.into(), m, tag))
     }

@@ -1,6 +1,8 @@
-//! `fem2rbd generate frame`: write a regular RC frame model (defaults = frame3).
+//! `fem2rbd generate frame`: write a regular RC frame model (defaults = frame3);
+//! `fem2rbd generate building`: the frame plus shear walls of layered shells.
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use fem2rbd::model::building::{building, BuildingParams, WallSpec};
 use fem2rbd::model::generate::{frame, FrameParams};
 use fem2rbd::model::{Formulation, TransfKind};
 use std::path::PathBuf;
@@ -11,6 +13,70 @@ pub enum GenerateCommand {
     /// A regular RC frame: bays in X and Y, stories, fiber columns and beams, slab as mass
     /// plus diagonal elastic strips. The defaults reproduce the reference frame3.
     Frame(Box<FrameArgs>),
+    /// A frame–shear-wall building: the frame's options plus walls placed by column line,
+    /// bay and story, meshed into layered shells (docs/model-format.md, docs/case2.md).
+    Building(Box<BuildingArgs>),
+}
+
+/// Options of `generate building`: every `generate frame` option plus the walls.
+#[derive(Debug, Args)]
+pub struct BuildingArgs {
+    /// The frame.
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// A wall segment LINE:BAY:STORIES[:open=A0-A1/U0-U1], repeatable: x0:2:1-7 = along
+    /// X on column line 0 (y index), bay 2 (1-based), stories 1 to 7; y3:1:2 = along Y on
+    /// column line 3, bay 1, story 2; open= leaves mesh cells A0..A1 along, U0..U1 up out.
+    #[arg(long = "wall")]
+    pub walls: Vec<String>,
+    /// Wall thickness (m), one value or one per story.
+    #[arg(long, default_value = "0.2")]
+    pub wall_thickness: String,
+    /// Vertical reinforcement ratio of the walls (both faces).
+    #[arg(long, default_value_t = 0.0025)]
+    pub wall_rho_vertical: f64,
+    /// Horizontal reinforcement ratio of the walls (both faces).
+    #[arg(long, default_value_t = 0.0025)]
+    pub wall_rho_horizontal: f64,
+    /// Cover concrete layer per wall face (m).
+    #[arg(long, default_value_t = 0.02)]
+    pub wall_cover: f64,
+    /// Core concrete layers of the wall section.
+    #[arg(long, default_value_t = 4)]
+    pub wall_core_layers: u32,
+    /// Wall mesh per bay and story, ALONGxUP (multiples of 2·beam_elements and
+    /// column_elements); default the frame's nodes.
+    #[arg(long)]
+    pub wall_mesh: Option<String>,
+    /// Leave the beams over and under walls out (the wall carries the floor).
+    #[arg(long)]
+    pub no_beams_over_walls: bool,
+}
+
+impl BuildingArgs {
+    /// Converts the options to generator parameters.
+    pub fn params(&self) -> Result<BuildingParams> {
+        Ok(BuildingParams {
+            frame: self.frame.params()?,
+            walls: self
+                .walls
+                .iter()
+                .map(|w| WallSpec::parse(w).context("--wall"))
+                .collect::<Result<_>>()?,
+            wall_thickness: list(&self.wall_thickness).context("--wall-thickness")?,
+            wall_rho_vertical: self.wall_rho_vertical,
+            wall_rho_horizontal: self.wall_rho_horizontal,
+            wall_cover: self.wall_cover,
+            wall_core_layers: self.wall_core_layers,
+            wall_mesh: self
+                .wall_mesh
+                .as_deref()
+                .map(pair)
+                .transpose()
+                .context("--wall-mesh")?,
+            beams_over_walls: !self.no_beams_over_walls,
+        })
+    }
 }
 
 fn list(s: &str) -> Result<Vec<f64>> {
@@ -227,21 +293,24 @@ impl FrameArgs {
 
 /// Runs `generate`.
 pub fn run(cmd: &GenerateCommand) -> Result<()> {
-    match cmd {
+    let (output, model) = match cmd {
         GenerateCommand::Frame(args) => {
             fem2rbd::output::location::check_output_file(&args.output, "--output")?;
-            let model = frame(&args.params()?)?;
-            let is_json = args
-                .output
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-            let text = if is_json {
-                serde_json::to_string_pretty(&model)? + "\n"
-            } else {
-                model.to_toml()?
-            };
-            fem2rbd::output::write_atomic(&args.output, text.as_bytes())
-                .with_context(|| format!("cannot write {}", args.output.display()))
+            (&args.output, frame(&args.params()?)?)
         }
-    }
+        GenerateCommand::Building(args) => {
+            fem2rbd::output::location::check_output_file(&args.frame.output, "--output")?;
+            (&args.frame.output, building(&args.params()?)?)
+        }
+    };
+    let is_json = output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let text = if is_json {
+        serde_json::to_string_pretty(&model)? + "\n"
+    } else {
+        model.to_toml()?
+    };
+    fem2rbd::output::write_atomic(output, text.as_bytes())
+        .with_context(|| format!("cannot write {}", output.display()))
 }

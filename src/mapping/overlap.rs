@@ -6,10 +6,13 @@
 //!
 //! **Who is cut.** Boxes are put in a precedence order; a box is trimmed against every box
 //! before it, which is already final. The order is, first to last:
-//! 1. by kind: columns, walls, beams, slabs ([`Role`]) — columns are continuous
-//!    through joints, beams stop at column (and wall) faces, slabs are reduced to the clear
-//!    area between beams (and lose the small corner left at a column that is wider than
-//!    the beams);
+//! 1. by kind: columns, beams, walls, slabs ([`Role`]) — columns are continuous
+//!    through joints, beams stop at column faces, walls are the infill of their boundary
+//!    frame (cut at the column faces and at the beam soffit and top; BCB's own order puts
+//!    walls before beams, docs/bcb.md §7.2, which would cut a beam between two stacked
+//!    wall stories from both sides until nothing is left), slabs are reduced to the clear
+//!    area between beams and walls (and lose the small corner left at a column that is
+//!    wider than the beams);
 //! 2. within a kind, the higher centre first (BCB: the body with the lower centroid is cut);
 //! 3. then the smaller volume first (BCB: on a tie, the larger one is cut); then input order.
 //!
@@ -103,8 +106,8 @@ fn aabb_overlap(a: &Aabb, b: &Aabb) -> bool {
 fn kind_rank(k: Role) -> u8 {
     match k {
         Role::Column => 0,
-        Role::Wall => 1,
-        Role::Beam => 2,
+        Role::Beam => 1,
+        Role::Wall => 2,
         Role::Slab => 3,
     }
 }

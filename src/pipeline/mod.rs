@@ -55,7 +55,7 @@ use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
 use crate::ruin::connection::GroupStrength;
 use crate::ruin::ground::GroundSpec;
-use crate::ruin::groups::group_strengths;
+use crate::ruin::groups::group_strengths_for;
 use crate::ruin::monitor::FeDamage;
 use crate::ruin::stage::{
     to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopRule,
@@ -187,6 +187,12 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .fold(f64::INFINITY, f64::min);
     let mut feet = Vec::new();
     for b in &mapping.bodies {
+        if b.kind == Role::Wall {
+            if let Some(f) = wall_foot(b, zmin) {
+                feet.push(f);
+            }
+            continue;
+        }
         if b.kind != Role::Column {
             continue;
         }
@@ -210,6 +216,44 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
     }
     out.extend(feet);
     out
+}
+
+/// The passive foundation strip under a wall body whose element stands on the base
+/// (two nodes at the lowest level): as long as the wall body (its trimmed length), as
+/// wide as 2·a and a deep, a = the wall body's thickness, top at the base level, turned
+/// with the wall in plan. Named `Foundation:wall:<element>`.
+fn wall_foot(b: &mapping::RigidBox, zmin: f64) -> Option<Body> {
+    let base = b
+        .nodes
+        .iter()
+        .filter(|n| (n[2] - zmin).abs() < 1e-9)
+        .count();
+    if base < 2 {
+        return None;
+    }
+    let element = b.id.element_tag()?;
+    // The wall's horizontal in-plane axis (local x of the generator's walls; else the
+    // local axis with the smallest vertical component among x and y).
+    let m = b.rotation.to_rotation_matrix().into_inner();
+    let (ax, half_len) = if m[(2, 0)].abs() <= m[(2, 1)].abs() {
+        (0, b.half_extents[0])
+    } else {
+        (1, b.half_extents[1])
+    };
+    let yaw = m[(1, ax)].atan2(m[(0, ax)]);
+    let a = 2.0 * b.half_extents[2];
+    let q = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
+    Some(Body {
+        id: BodyId::WallFoundation { element },
+        kind: None,
+        half_extents: [half_len, a, a / 2.0],
+        pose0: Pose {
+            position: [b.centre[0], b.centre[1], zmin - a / 2.0],
+            orientation: [q.w, q.i, q.j, q.k],
+        },
+        mass_kg: 0.0,
+        passive: true,
+    })
 }
 
 fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
@@ -432,7 +476,12 @@ pub(crate) fn load_inputs(
     let mapping = mapping::map_to_boxes(&mapping::from_model(&model)?, &MapOptions::default())
         .with_context(|| format!("mapping {}", sc.model.display()))?;
     let bodies = bodies_of(&model, &mapping);
-    let groups = group_strengths(&model).with_context(|| format!("{}", sc.model.display()))?;
+    // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
+    // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
+    let fe_strengths =
+        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let groups = group_strengths_for(&model, fe_strengths)
+        .with_context(|| format!("{}", sc.model.display()))?;
     Ok(Inputs {
         model,
         motion,

@@ -39,6 +39,7 @@ mod pipeline {
     mod groups_measures;
     mod handoff_continuity;
     mod run_frame3;
+    mod wall_building;
 }
 mod plot {
     mod fonts;

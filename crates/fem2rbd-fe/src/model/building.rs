@@ -240,8 +240,8 @@ pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
     }
     let base = [2 * f.beam_elements, f.column_elements];
     let mesh = p.wall_mesh.unwrap_or(base);
-    for k in 0..2 {
-        if mesh[k] == 0 || mesh[k] % base[k] != 0 || mesh[k] > 200 {
+    for (n, b) in mesh.iter().zip(base) {
+        if *n == 0 || n % b != 0 || *n > 200 {
             bail!(
                 "wall_mesh {}x{}: cells along must be a multiple of 2·beam_elements = {} and \
                  cells up a multiple of column_elements = {} (at most 200), so that the \
