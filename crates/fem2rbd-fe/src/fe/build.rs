@@ -19,8 +19,8 @@ use crate::fe::section::elastic::ElasticSection;
 use crate::fe::section::fiber::FiberSection;
 use crate::fe::section::Section;
 use crate::fe::transform::TransformKind;
+use crate::fe::FeError;
 use crate::model::{self, ElementKind, Model, SectionKind, TransfKind};
-use anyhow::{anyhow, bail, Context, Result};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
 
@@ -38,17 +38,20 @@ pub enum Variant {
     Elastic,
 }
 
+/// A name that is not an element [`Variant`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown element variant `{0}` (expected model, force, disp or elastic)")]
+pub struct UnknownVariant(pub String);
+
 impl std::str::FromStr for Variant {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownVariant;
+    fn from_str(s: &str) -> std::result::Result<Self, UnknownVariant> {
         match s {
             "model" | "as-model" => Ok(Variant::AsModel),
             "force" => Ok(Variant::Force),
             "disp" => Ok(Variant::Disp),
             "elastic" => Ok(Variant::Elastic),
-            other => Err(format!(
-                "unknown element variant `{other}` (expected model, force, disp or elastic)"
-            )),
+            other => Err(UnknownVariant(other.to_string())),
         }
     }
 }
@@ -87,6 +90,9 @@ pub struct BuiltDomain {
     pub element_index: BTreeMap<u32, usize>,
 }
 
+/// What building a domain returns.
+type Result<T> = std::result::Result<T, FeError>;
+
 fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
     let params: BTreeMap<String, f64> = m
         .parameters()
@@ -94,8 +100,11 @@ fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
         .filter(|(k, _)| *k != "density")
         .map(|(k, v)| (k.to_string(), v))
         .collect();
-    material::build(m.type_name(), &params)
-        .map_err(|e| anyhow!("material {} ({}): {e}", m.tag, m.name))
+    material::build(m.type_name(), &params).map_err(|error| FeError::Material {
+        tag: m.tag,
+        name: m.name.clone(),
+        error,
+    })
 }
 
 fn section_prototype(
@@ -106,22 +115,29 @@ fn section_prototype(
         SectionKind::Elastic {
             e, g, a, iy, iz, j, ..
         } => Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j))),
-        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => bail!(
-            "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
-            s.tag
-        ),
+        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => {
+            Err(FeError::Unsupported(format!(
+                "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
+                s.tag
+            )))
+        }
         _ => {
             let fibers = s.fibers().expect("fiber or rc_rect section has fibers");
             let gj = s.gj().expect("beam section has GJ");
             let mut list = Vec::with_capacity(fibers.len());
             for f in &fibers {
                 let m = mats.get(&f.material()).ok_or_else(|| {
-                    anyhow!("section {}: unknown material {}", s.tag, f.material())
+                    FeError::Unsupported(format!(
+                        "section {}: unknown material {}",
+                        s.tag,
+                        f.material()
+                    ))
                 })?;
                 list.push((f.y(), f.z(), f.area(), uniaxial(m)?));
             }
             Ok(Box::new(
-                FiberSection::new(list, gj).map_err(|e| anyhow!("section {}: {e}", s.tag))?,
+                FiberSection::new(list, gj)
+                    .map_err(|error| FeError::Section { tag: s.tag, error })?,
             ))
         }
     }
@@ -149,12 +165,16 @@ fn elastic_equivalent(
     }
     let fibers = s
         .fibers()
-        .ok_or_else(|| anyhow!("section {} has no fibers", s.tag))?;
+        .ok_or_else(|| FeError::Unsupported(format!("section {} has no fibers", s.tag)))?;
     let (mut ea, mut eiz, mut eiy) = (0.0, 0.0, 0.0);
     for f in &fibers {
-        let m = mats
-            .get(&f.material())
-            .ok_or_else(|| anyhow!("section {}: unknown material {}", s.tag, f.material()))?;
+        let m = mats.get(&f.material()).ok_or_else(|| {
+            FeError::Unsupported(format!(
+                "section {}: unknown material {}",
+                s.tag,
+                f.material()
+            ))
+        })?;
         let e = m.initial_tangent();
         ea += e * f.area();
         eiz += e * f.area() * f.y() * f.y();
@@ -187,36 +207,49 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
         .iter()
         .any(|e| !matches!(e.kind, crate::model::ElementKind::Panel { .. }))
     {
-        anyhow::bail!(
+        return Err(FeError::Unsupported(format!(
             "model {:?} has no structural elements ({} nodes, {} elements, panels are \
              rigid-body only): nothing to analyse",
             model.name,
             model.nodes.len(),
             model.elements.len()
-        );
+        )));
     }
     let mut domain = Domain::new();
     let mut node_index = BTreeMap::new();
     for n in &model.nodes {
         let i = domain
             .add_node(i64::from(n.tag), n.xyz())
-            .with_context(|| format!("node {}", n.tag))?;
+            .map_err(|error| FeError::Domain {
+                item: format!("node {}", n.tag),
+                error,
+            })?;
         node_index.insert(n.tag, i);
     }
     let idx = |tag: u32| -> Result<usize> {
         node_index
             .get(&tag)
             .copied()
-            .ok_or_else(|| anyhow!("unknown node {tag}"))
+            .ok_or_else(|| FeError::Unsupported(format!("unknown node {tag}")))
+    };
+    let at_node = |tag: u32| {
+        move |error| FeError::Domain {
+            item: format!("node {tag}"),
+            error,
+        }
     };
     for (tag, dofs) in model.fixity() {
-        domain.fix(idx(tag)?, dofs.map(|d| d != 0))?;
+        domain
+            .fix(idx(tag)?, dofs.map(|d| d != 0))
+            .map_err(at_node(tag))?;
     }
     for (tag, m) in model.lumped_masses() {
-        domain.set_mass(idx(tag)?, m)?;
+        domain.set_mass(idx(tag)?, m).map_err(at_node(tag))?;
     }
     for (tag, fz) in model.gravity_loads() {
-        domain.add_nodal_load(idx(tag)?, [0.0, 0.0, fz, 0.0, 0.0, 0.0])?;
+        domain
+            .add_nodal_load(idx(tag)?, [0.0, 0.0, fz, 0.0, 0.0, 0.0])
+            .map_err(at_node(tag))?;
     }
 
     let mats = model.material_map();
@@ -230,15 +263,20 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             | ElementKind::ElasticBeamColumn { nodes, transf, .. }
             | ElementKind::ElasticStrip { nodes, transf, .. } => (*nodes, *transf),
             ElementKind::Panel { .. } => continue, // rigid-body model only
-            ElementKind::Shell { .. } => bail!(
-                "element {}: shell elements are not supported by the FE solver yet \
-                 (model slabs as elastic strips, as data/frame3 does)",
-                e.tag
-            ),
+            ElementKind::Shell { .. } => {
+                return Err(FeError::Unsupported(format!(
+                    "element {}: shell elements are not supported by the FE solver yet \
+                     (model slabs as elastic strips, as data/frame3 does)",
+                    e.tag
+                )))
+            }
         };
-        let t = transfs
-            .get(&transf)
-            .ok_or_else(|| anyhow!("element {}: unknown transformation {transf}", e.tag))?;
+        let t = transfs.get(&transf).ok_or_else(|| {
+            FeError::Unsupported(format!(
+                "element {}: unknown transformation {transf}",
+                e.tag
+            ))
+        })?;
         let [ni, nj] = nodes;
         let xi = Vector3::from(model.node_map()[&ni].xyz());
         let xj = Vector3::from(model.node_map()[&nj].xyz());
@@ -249,9 +287,9 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 points,
                 ..
             } => {
-                let s = secs
-                    .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let s = secs.get(section).ok_or_else(|| {
+                    FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
+                })?;
                 let n_ip = *points as usize;
                 let chosen = match options.variant {
                     Variant::AsModel => match formulation {
@@ -276,9 +314,9 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 }
             }
             ElementKind::ElasticBeamColumn { section, .. } => {
-                let s = secs
-                    .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let s = secs.get(section).ok_or_else(|| {
+                    FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
+                })?;
                 (Formulation::Elastic(elastic_equivalent(s, &mats)?), None)
             }
             ElementKind::ElasticStrip {
@@ -313,10 +351,15 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             formulation,
             section,
         };
-        let element: Box<dyn Element> = spec.build()?;
+        let element: Box<dyn Element> = spec
+            .build()
+            .map_err(|error| FeError::Element { tag: e.tag, error })?;
         let i = domain
             .add_element(element)
-            .with_context(|| format!("element {}", e.tag))?;
+            .map_err(|error| FeError::Domain {
+                item: format!("element {}", e.tag),
+                error,
+            })?;
         element_index.insert(e.tag, i);
     }
     domain.number_dofs();
