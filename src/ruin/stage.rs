@@ -45,7 +45,7 @@
 
 use super::connection::{
     build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
-    ConstraintKind as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
+    ConstraintClass as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
 };
 use super::energy::{mechanical, substep_balance, EnergyFrame, MassProps};
 use super::ground::GroundSpec;
@@ -229,13 +229,24 @@ pub struct Frame {
     pub energy: EnergyFrame,
 }
 
-/// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StopReason {
+/// Why a ruin stage ended (`summary.json`: `at_rest`, `time_limit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RuinStop {
     /// The rest test held for its hold time.
     AtRest,
     /// The time limit.
     TimeLimit,
+}
+
+impl RuinStop {
+    /// The name written in `summary.json` (`at_rest`, `time_limit`).
+    pub fn name(self) -> &'static str {
+        match self {
+            RuinStop::AtRest => "at_rest",
+            RuinStop::TimeLimit => "time_limit",
+        }
+    }
 }
 
 /// Final state of one connection.
@@ -297,7 +308,7 @@ pub struct RuinResult {
     /// Deepest penetration at the end of any frame, m.
     pub max_penetration_m: f64,
     /// Why it ended.
-    pub stop: StopReason,
+    pub stop: RuinStop,
     /// End time, s.
     pub end_time_s: f64,
     /// Wall time.
@@ -1043,7 +1054,7 @@ impl RuinStage {
             energy: self.energy()?,
         }];
         let mut quiet = 0u64;
-        let mut reason = StopReason::TimeLimit;
+        let mut reason = RuinStop::TimeLimit;
         let mut first_pen: Option<f64> = None;
         let mut max_pen = 0.0_f64;
         while self.time_s() < stop.max_time_s - 1e-9 * frame_dt {
@@ -1076,7 +1087,7 @@ impl RuinStage {
                     quiet = 0;
                 }
                 if quiet >= hf {
-                    reason = StopReason::AtRest;
+                    reason = RuinStop::AtRest;
                     break;
                 }
             }

@@ -61,6 +61,7 @@ mod fe {
     }
 }
 mod model {
+    mod building;
     mod errors;
     mod frame3;
     mod generate;
