@@ -75,7 +75,7 @@ struct Case {
 }
 
 fn frame7() -> Result<Model> {
-    frame(&FrameParams {
+    Ok(frame(&FrameParams {
         name: "frame7-6x4-full-scale".into(),
         spans_x: vec![7.5; 6],
         spans_y: vec![7.5; 4],
@@ -89,7 +89,7 @@ fn frame7() -> Result<Model> {
         added_mass: vec![200000.0],
         formulation: Formulation::Disp,
         ..Default::default()
-    })
+    })?)
 }
 
 /// One fem2rbd run; returns the result, ms per step (steps 2..N) and the phase totals

@@ -62,7 +62,11 @@ pub fn parse_gm(s: &str) -> Result<GmSpec> {
 
 /// Reads, scales and time-scales the ground motion of the `--gm` components.
 pub fn ground_motion(specs: &[GmSpec], time_scale: f64) -> Result<GroundMotion> {
-    fem2rbd::motion::spec::read_components(specs, time_scale, Format::Auto)
+    Ok(fem2rbd::motion::spec::read_components(
+        specs,
+        time_scale,
+        Format::Auto,
+    )?)
 }
 
 /// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times

@@ -40,5 +40,5 @@ pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
         },
     );
     bar.finish_and_clear();
-    r
+    Ok(r?)
 }

@@ -1,5 +1,5 @@
 //! Atomic file output: write to `.<name>.tmp-<pid>` beside the target, then rename.
-use anyhow::{Context, Result};
+use super::error::{OutputError, Result};
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -18,16 +18,21 @@ impl AtomicFile {
         let target = target.as_ref().to_path_buf();
         let name = target
             .file_name()
-            .with_context(|| format!("output path {} has no file name", target.display()))?
+            .ok_or_else(|| {
+                OutputError::Location(format!("output path {} has no file name", target.display()))
+            })?
             .to_string_lossy()
             .into_owned();
         if target.is_dir() {
-            anyhow::bail!("output {} is a folder, not a file", target.display());
+            return Err(OutputError::Location(format!(
+                "output {} is a folder, not a file",
+                target.display()
+            )));
         }
         super::location::sweep_stale(&target);
         let tmp = target.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-        let file = File::create(&tmp)
-            .with_context(|| format!("cannot create temporary file {}", tmp.display()))?;
+        let file =
+            File::create(&tmp).map_err(OutputError::io("cannot create temporary file", &tmp))?;
         Ok(Self {
             target,
             tmp,
@@ -43,16 +48,17 @@ impl AtomicFile {
             let file = writer
                 .into_inner()
                 .map_err(|e| e.into_error())
-                .with_context(|| format!("cannot write {}", self.tmp.display()))?;
+                .map_err(OutputError::io("cannot write", &self.tmp))?;
             file.sync_all()
-                .with_context(|| format!("cannot sync {}", self.tmp.display()))?;
+                .map_err(OutputError::io("cannot sync", &self.tmp))?;
             drop(file);
-            fs::rename(&self.tmp, &self.target).with_context(|| {
-                format!(
-                    "cannot rename {} to {}",
-                    self.tmp.display(),
-                    self.target.display()
-                )
+            fs::rename(&self.tmp, &self.target).map_err(|error| OutputError::Io {
+                action: "cannot rename",
+                path: self.tmp.clone(),
+                error: std::io::Error::new(
+                    error.kind(),
+                    format!("to {}: {error}", self.target.display()),
+                ),
             })
         })();
         if result.is_err() {
@@ -87,8 +93,10 @@ impl Drop for AtomicFile {
 
 /// Writes `bytes` to `target` atomically.
 pub fn write_atomic(target: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
+    let target = target.as_ref();
     let mut f = AtomicFile::create(target)?;
-    f.write_all(bytes).context("write failed")?;
+    f.write_all(bytes)
+        .map_err(OutputError::io("cannot write", target))?;
     f.commit()
 }
 

@@ -100,7 +100,7 @@ pub fn write_glb(scene: &AnimatedScene, path: impl AsRef<Path>) -> Result<()> {
     let mut file = AtomicFile::create(path)?;
     file.write_all(&bytes)
         .with_context(|| format!("cannot write {}", path.display()))?;
-    file.commit()
+    Ok(file.commit()?)
 }
 
 /// The bytes of the `.glb` file [`write_glb`] writes.

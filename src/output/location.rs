@@ -18,7 +18,13 @@
 //! * Temporary names carry the process id. A process killed mid-write (SIGKILL, power
 //!   loss) leaves its `.NAME.tmp-PID` behind; the next write of the same target removes
 //!   the temporaries of processes that no longer run ([`sweep_stale`], Linux `/proc`).
-use anyhow::{bail, Context, Result};
+use super::error::{OutputError, Result};
+
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(OutputError::Location(format!($($t)*)))
+    };
+}
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -38,11 +44,11 @@ fn probe(dir: &Path, what: &str, target: &Path) -> Result<()> {
             let _ = fs::remove_file(&p);
             Ok(())
         }
-        Err(e) => bail!(
+        Err(e) => Err(OutputError::Location(format!(
             "{what} {}: cannot write in {} ({e})",
             target.display(),
             dir.display()
-        ),
+        ))),
     }
 }
 
@@ -110,8 +116,12 @@ pub fn check_output_file(path: &Path, what: &str) -> Result<()> {
 /// (file names; a trailing `*` matches a prefix).
 fn replaceable(dir: &Path, owned: &[&str]) -> Result<bool> {
     let mut empty = true;
-    for e in fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))? {
-        let name = e?.file_name().to_string_lossy().into_owned();
+    for e in fs::read_dir(dir).map_err(OutputError::io("cannot list", dir))? {
+        let name = e
+            .map_err(OutputError::io("cannot list", dir))?
+            .file_name()
+            .to_string_lossy()
+            .into_owned();
         empty = false;
         let hit = owned.iter().any(|o| match o.strip_suffix('*') {
             Some(prefix) => name.starts_with(prefix),
@@ -142,7 +152,9 @@ pub fn check_replaceable(dir: &Path, owned: &[&str], what: &str) -> Result<()> {
 fn sibling(target: &Path, kind: &str) -> Result<PathBuf> {
     let name = target
         .file_name()
-        .with_context(|| format!("output path {} has no name", target.display()))?
+        .ok_or_else(|| {
+            OutputError::Location(format!("output path {} has no name", target.display()))
+        })?
         .to_string_lossy()
         .into_owned();
     Ok(parent_of(target).join(format!(".{name}.{kind}-{}", std::process::id())))
@@ -198,14 +210,12 @@ impl StagedDir {
         check_replaceable(target, owned, "output folder")?;
         sweep_stale(target);
         let parent = parent_of(target);
-        fs::create_dir_all(&parent)
-            .with_context(|| format!("cannot create {}", parent.display()))?;
+        fs::create_dir_all(&parent).map_err(OutputError::io("cannot create", &parent))?;
         let stage = sibling(target, "tmp")?;
         if stage.exists() {
-            fs::remove_dir_all(&stage)
-                .with_context(|| format!("cannot remove {}", stage.display()))?;
+            fs::remove_dir_all(&stage).map_err(OutputError::io("cannot remove", &stage))?;
         }
-        fs::create_dir(&stage).with_context(|| format!("cannot create {}", stage.display()))?;
+        fs::create_dir(&stage).map_err(OutputError::io("cannot create", &stage))?;
         Ok(StagedDir {
             target: target.to_path_buf(),
             stage,
@@ -217,11 +227,10 @@ impl StagedDir {
     pub fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
         use std::io::Write;
         let p = self.stage.join(name);
-        let mut f =
-            fs::File::create(&p).with_context(|| format!("cannot create {}", p.display()))?;
+        let mut f = fs::File::create(&p).map_err(OutputError::io("cannot create", &p))?;
         f.write_all(bytes)
             .and_then(|_| f.sync_all())
-            .with_context(|| format!("cannot write {}", p.display()))
+            .map_err(OutputError::io("cannot write", &p))
     }
 
     /// Swaps the staged folder in for the target (module docs).
@@ -232,12 +241,10 @@ impl StagedDir {
             if old.exists() {
                 let _ = fs::remove_dir_all(&old);
             }
-            fs::rename(&self.target, &old).with_context(|| {
-                format!(
-                    "cannot move the old {} aside to {}",
-                    self.target.display(),
-                    old.display()
-                )
+            fs::rename(&self.target, &old).map_err(|error| OutputError::Io {
+                action: "cannot move aside the old",
+                path: self.target.clone(),
+                error: std::io::Error::new(error.kind(), format!("to {}: {error}", old.display())),
             })?;
         }
         if let Err(e) = fs::rename(&self.stage, &self.target) {
@@ -245,18 +252,16 @@ impl StagedDir {
                 // Put the old folder back: the target is as it was.
                 let _ = fs::rename(&old, &self.target);
             }
-            return Err(e).with_context(|| {
-                format!(
-                    "cannot rename {} to {}",
-                    self.stage.display(),
-                    self.target.display()
-                )
+            return Err(OutputError::Io {
+                action: "cannot rename",
+                path: self.stage.clone(),
+                error: std::io::Error::new(e.kind(), format!("to {}: {e}", self.target.display())),
             });
         }
         self.done = true;
         if had_old {
             fs::remove_dir_all(&old)
-                .with_context(|| format!("cannot remove the old folder {}", old.display()))?;
+                .map_err(OutputError::io("cannot remove the old folder", &old))?;
         }
         Ok(())
     }

@@ -2,6 +2,7 @@
 //! the same folder, flushed, then renamed, so a failed run never leaves a half file.
 pub mod atomic;
 pub mod csv_text;
+pub mod error;
 pub mod gltf;
 pub mod history;
 pub mod keyframes;
@@ -13,3 +14,4 @@ pub mod summary;
 pub mod vtk;
 
 pub use atomic::{write_atomic, AtomicFile};
+pub use error::OutputError;

@@ -3,8 +3,8 @@
 //! [`super::history`]. A run without a ruin stage gets the figure with a note instead.
 use super::history::{legend_entries, panel, time_range, Curve, LEGEND_W};
 use super::style;
+use super::Result;
 use super::{font::FAMILY, run_label, tc_s, Figure, RunFolder};
-use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

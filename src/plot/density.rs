@@ -6,8 +6,8 @@
 //! footprint; the original footprint is dashed; equal aspect.
 use super::style::{self, Swatch};
 use super::{font::FAMILY, Figure, RunFolder};
+use super::{PlotError, Result};
 use crate::output::summary::{corners, projection};
-use anyhow::{bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -40,7 +40,7 @@ impl DensityFigure {
     /// Reads `dir/member-*/` (sorted) and computes the map.
     pub fn load(dir: &Path) -> Result<Self> {
         let mut members: Vec<_> = std::fs::read_dir(dir)
-            .with_context(|| format!("cannot read {}", dir.display()))?
+            .map_err(|e| PlotError::Input(format!("cannot read {}: {e}", dir.display())))?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
                 p.is_dir()
@@ -50,14 +50,14 @@ impl DensityFigure {
             .collect();
         members.sort();
         if members.is_empty() {
-            bail!(
+            return Err(PlotError::Input(format!(
                 "{}: no member-NNN folders (not an ensemble folder)",
                 dir.display()
-            );
+            )));
         }
         let runs: Vec<RunFolder> = members
             .iter()
-            .map(|p| RunFolder::load(p))
+            .map(|p| RunFolder::load(p).map_err(|e| PlotError::Input(format!("{e:#}"))))
             .collect::<Result<_>>()?;
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for b in runs[0].bodies.iter().filter(|b| !b.passive) {

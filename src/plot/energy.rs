@@ -7,8 +7,8 @@
 //! the record's end (the start of the settle phase) is not marked, Tc is.
 use super::history::{legend_entries, panel, time_range, Curve, LEGEND_W};
 use super::style;
+use super::Result;
 use super::{font::FAMILY, run_label, tc_s, Figure, RunFolder};
-use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

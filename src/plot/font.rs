@@ -3,7 +3,7 @@
 //! plotters' `ab_glyph` renderer under the family name [`FAMILY`]. PNG text therefore
 //! needs no system font, fontconfig or FreeType; SVG text names the same family and is
 //! laid out with the same metrics.
-use anyhow::{bail, Result};
+use super::{PlotError, Result};
 use plotters::style::FontStyle;
 use std::sync::OnceLock;
 
@@ -20,7 +20,7 @@ pub fn ensure_registered() -> Result<()> {
         plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
     });
     if !ok {
-        bail!("the bundled font data/fonts/DejaVuSans.ttf could not be parsed");
+        return Err(PlotError::Font);
     }
     Ok(())
 }

@@ -4,8 +4,8 @@
 //! ([`style::PHYSICS_STAGE`]) are separate curves; a curve breaks where a value is
 //! missing; Tc (`summary.json` `tc_s`) is a dashed vertical line with its value.
 use super::style::{self, Swatch};
+use super::Result;
 use super::{font::FAMILY, run_label, tc_s, Figure, HistoryRow, RunFolder};
-use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

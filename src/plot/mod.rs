@@ -31,7 +31,59 @@ pub mod style;
 pub use crate::output::run_folder::{BodyInfo, HistoryRow, RunFolder};
 
 use crate::output::write_atomic;
-use anyhow::{Context, Result};
+use crate::output::OutputError;
+
+/// A figure that cannot be made: the run folder cannot be read, drawing or encoding
+/// failed, or the file cannot be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PlotError {
+    /// The run or ensemble folder cannot be read (the message names the file and line).
+    #[error("{0}")]
+    Input(String),
+    /// The bundled font could not be registered.
+    #[error("the bundled font data/fonts/DejaVuSans.ttf could not be parsed")]
+    Font,
+    /// plotters failed while drawing a figure.
+    #[error("drawing {figure}: {message}")]
+    Draw {
+        /// The figure (file stem), empty inside a figure's own code.
+        figure: &'static str,
+        /// plotters' message.
+        message: String,
+    },
+    /// PNG encoding failed.
+    #[error("PNG encoding: {0}")]
+    Png(#[from] png::EncodingError),
+    /// A figure file or the plot folder cannot be written.
+    #[error("writing {}: {error}", path.display())]
+    Write {
+        /// The file or folder.
+        path: PathBuf,
+        /// What failed.
+        error: OutputError,
+    },
+}
+
+impl<E: std::error::Error + Send + Sync + 'static> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError::Draw {
+            figure: "",
+            message: e.to_string(),
+        }
+    }
+}
+
+/// What drawing returns.
+pub type Result<T> = std::result::Result<T, PlotError>;
+
+/// The figure's name on a drawing error raised inside its code.
+fn named(figure: &'static str) -> impl FnOnce(PlotError) -> PlotError {
+    move |e| match e {
+        PlotError::Draw { message, .. } => PlotError::Draw { figure, message },
+        e => e,
+    }
+}
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -75,8 +127,7 @@ pub fn png_bytes<F: Figure>(fig: &F) -> Result<Vec<u8>> {
     let mut rgb = vec![0u8; w as usize * h as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-        fig.draw(&root)
-            .with_context(|| format!("drawing {}", fig.name()))?;
+        fig.draw(&root).map_err(named(fig.name()))?;
         root.present()?;
     }
     let mut out = Vec::new();
@@ -97,8 +148,7 @@ pub fn svg_string<F: Figure>(fig: &F) -> Result<String> {
     let mut s = String::new();
     {
         let root = SVGBackend::with_string(&mut s, fig.size()).into_drawing_area();
-        fig.draw(&root)
-            .with_context(|| format!("drawing {}", fig.name()))?;
+        fig.draw(&root).map_err(named(fig.name()))?;
         root.present()?;
     }
     Ok(s)
@@ -108,13 +158,18 @@ fn write_figure<F: Figure>(fig: &F, out: &Path, format: ImageFormat) -> Result<V
     let mut files = Vec::new();
     if format.png() {
         let p = out.join(format!("{}.png", fig.name()));
-        write_atomic(&p, &png_bytes(fig)?).with_context(|| format!("writing {}", p.display()))?;
+        write_atomic(&p, &png_bytes(fig)?).map_err(|error| PlotError::Write {
+            path: p.clone(),
+            error,
+        })?;
         files.push(p);
     }
     if format.svg() {
         let p = out.join(format!("{}.svg", fig.name()));
-        write_atomic(&p, svg_string(fig)?.as_bytes())
-            .with_context(|| format!("writing {}", p.display()))?;
+        write_atomic(&p, svg_string(fig)?.as_bytes()).map_err(|error| PlotError::Write {
+            path: p.clone(),
+            error,
+        })?;
         files.push(p);
     }
     Ok(files)
@@ -123,15 +178,19 @@ fn write_figure<F: Figure>(fig: &F, out: &Path, format: ImageFormat) -> Result<V
 /// Writes the debris-density map of the ensemble folder `dir` into `out` (created).
 pub fn write_ensemble(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let fig = density::DensityFigure::load(dir)?;
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
+        path: out.to_path_buf(),
+        error: OutputError::io("cannot create the plot folder", out)(e),
+    })?;
     write_figure(&fig, out, format)
 }
 
 /// Writes every figure of `run` into `out` (created) and returns the files written.
 pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
+        path: out.to_path_buf(),
+        error: OutputError::io("cannot create the plot folder", out)(e),
+    })?;
     let mut files = Vec::new();
     for view in [
         geometry::View::Plan,

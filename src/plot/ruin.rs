@@ -19,8 +19,8 @@
 //! the bottom.
 use super::geometry::{self, Bounds, Stories, View};
 use super::style::{self, Swatch};
+use super::Result;
 use super::{font::FAMILY, run_label, Figure, RunFolder};
-use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -5,7 +5,7 @@
 //! type colour, the lowest is scaled by [`LOWEST_STORY_SHADE`]), so lower stories read
 //! darker in the ruin figures.
 use super::font::FAMILY;
-use anyhow::Result;
+use super::Result;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -2,11 +2,20 @@
 //! every default filled in), then into a [`World`].
 use super::format::*;
 use super::locate::{array_element_lines, ArrayLines};
+use super::SceneError;
 use crate::physics::{
     BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, Pose,
     SolverSettings, Spring, Velocity, World, WorldSettings,
 };
-use anyhow::{anyhow, bail, Context, Result};
+
+/// What reading and building a scene returns.
+type Result<T> = std::result::Result<T, SceneError>;
+
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(SceneError::Invalid(format!($($t)*)))
+    };
+}
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -141,10 +150,11 @@ impl Locator {
 impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        crate::model::limits::check_input_file(path, "scene file")?;
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read scene file {}", path.display()))?;
-        Scene::from_json(&text).with_context(|| format!("scene file {}", path.display()))
+        let text = crate::model::limits::read_input_file(path, "scene file")?;
+        Scene::from_json(&text).map_err(|e| SceneError::InFile {
+            path: path.to_path_buf(),
+            error: Box::new(e),
+        })
     }
 
     /// Parses and validates scene JSON. Errors name the line (syntax, unknown fields) or
@@ -157,21 +167,23 @@ impl Scene {
         let file: SceneFile = serde_json::from_str(text).map_err(|e| {
             let hint = non_finite_hint(text, &e);
             let within = loc.enclosing(e.line());
-            anyhow!("{e}{within}{hint}")
+            SceneError::Syntax(format!("{e}{within}{hint}"))
         })?;
         validate(&file, &loc)
     }
 
     /// Creates the world, the bodies and the constraints.
     pub fn build(&self) -> Result<BuiltScene> {
-        let mut world = World::new(&self.world).context("cannot create the Bullet world")?;
+        let mut world = World::new(&self.world).map_err(|error| SceneError::Physics {
+            item: "cannot create the Bullet world".into(),
+            error,
+        })?;
         let mut bodies = Vec::with_capacity(self.bodies.len());
         for (name, d) in &self.bodies {
-            bodies.push(
-                world
-                    .add_box(d)
-                    .with_context(|| format!("body \"{name}\""))?,
-            );
+            bodies.push(world.add_box(d).map_err(|error| SceneError::Physics {
+                item: format!("body \"{name}\""),
+                error,
+            })?);
         }
         let mut constraints = Vec::with_capacity(self.constraints.len());
         for (i, c) in self.constraints.iter().enumerate() {
@@ -190,7 +202,10 @@ impl Scene {
             constraints.push(
                 world
                     .add_constraint(&desc)
-                    .with_context(|| format!("constraint {i}"))?,
+                    .map_err(|error| SceneError::Physics {
+                        item: format!("constraint {i}"),
+                        error,
+                    })?,
             );
         }
         Ok(BuiltScene {
@@ -336,7 +351,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         bail!("substep {substep} s must be finite and > 0");
     }
     let num_substeps = crate::physics::whole_substeps(f.duration, substep)
-        .map_err(|e| anyhow!("duration: {e}"))?;
+        .map_err(|e| SceneError::Invalid(format!("duration: {e}")))?;
     // Resource bound (docs/reliability.md): a scene of 1e9 s would run for days.
     crate::model::limits::check(
         "duration / substep",
@@ -460,10 +475,10 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         let item = || loc.constraint(i);
         let body = |name: &str, which: &str| -> Result<usize> {
             names.get(name).copied().ok_or_else(|| {
-                anyhow!(
+                SceneError::Invalid(format!(
                     "{}: {which} \"{name}\" does not exist (no body has that name)",
                     item()
-                )
+                ))
             })
         };
         let body_a = body(&c.body_a, "body_a")?;

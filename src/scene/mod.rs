@@ -85,3 +85,60 @@ pub mod run;
 
 pub use assemble::{BuiltScene, KinematicMotion, Scene, SceneConstraint};
 pub use run::{run_scene, run_scene_file, CSV_HEADER};
+
+use std::path::PathBuf;
+
+/// A scene that cannot be read, validated, built or run. Messages name the file, the
+/// line and the item (body name, constraint index).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The scene file cannot be read (missing, not a file, too large, unreadable).
+    #[error(transparent)]
+    File(#[from] crate::model::limits::InputFileError),
+    /// An error inside a scene file, under the file's name.
+    #[error("scene file {}: {error}", path.display())]
+    InFile {
+        /// The scene file.
+        path: PathBuf,
+        /// The error.
+        error: Box<SceneError>,
+    },
+    /// JSON that does not parse or does not follow the format (with its line).
+    #[error("{0}")]
+    Syntax(String),
+    /// A value or reference that breaks a rule of the format; names the item and line.
+    #[error("{0}")]
+    Invalid(String),
+    /// A count over its resource bound (`docs/reliability.md`).
+    #[error(transparent)]
+    Limit(#[from] crate::model::limits::LimitError),
+    /// Bullet refused a body or constraint of the scene.
+    #[error("{item}: {error}")]
+    Physics {
+        /// "the Bullet world", a body or a constraint.
+        item: String,
+        /// Bullet's error.
+        error: crate::physics::PhysicsError,
+    },
+    /// Stepping the world or reading its state failed.
+    #[error(transparent)]
+    Step(#[from] crate::physics::PhysicsError),
+    /// Options of the run (`--frames`).
+    #[error("{0}")]
+    Options(String),
+    /// The output cannot be written.
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+    /// Writing the poses CSV failed.
+    #[error("cannot write the poses: {0}")]
+    Write(#[from] std::io::Error),
+    /// An error while running a scene file, under the file's name.
+    #[error("running scene {}: {error}", path.display())]
+    Run {
+        /// The scene file.
+        path: PathBuf,
+        /// The error.
+        error: Box<SceneError>,
+    },
+}

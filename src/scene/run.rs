@@ -1,7 +1,10 @@
 //! Steps a built scene and writes body poses as CSV.
 use super::assemble::Scene;
+use super::SceneError;
 use crate::output::AtomicFile;
-use anyhow::{bail, Context, Result};
+
+/// What running a scene returns.
+type Result<T> = std::result::Result<T, SceneError>;
 use std::io::Write;
 use std::path::Path;
 
@@ -29,7 +32,7 @@ pub(crate) fn run_scene_with(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<()> {
     if every == Some(0) {
-        bail!("--frames must be >= 1 substep");
+        return Err(SceneError::Options("--frames must be >= 1 substep".into()));
     }
     let mut built = scene.build()?;
     writeln!(out, "{CSV_HEADER}")?;
@@ -106,9 +109,11 @@ pub fn run_scene_file_with(
     crate::output::location::check_output_file(out_path, "--out")?;
     let scene = Scene::load(scene_path)?;
     let mut file = AtomicFile::create(out_path)?;
-    run_scene_with(&scene, every, &mut file, progress)
-        .with_context(|| format!("running scene {}", scene_path.display()))?;
-    file.commit()
+    run_scene_with(&scene, every, &mut file, progress).map_err(|e| SceneError::Run {
+        path: scene_path.to_path_buf(),
+        error: Box::new(e),
+    })?;
+    Ok(file.commit()?)
 }
 
 /// RFC 4180 quoting, as every table fem2rbd writes ([`crate::output::csv_text`]).

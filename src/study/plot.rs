@@ -61,7 +61,7 @@ fn mesh<DB: DrawingBackend, X, Y>(
     chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
     x: &str,
     y: &str,
-) -> Result<()>
+) -> crate::plot::Result<()>
 where
     DB::ErrorType: 'static,
     X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
@@ -86,7 +86,7 @@ impl Figure for IdaFigure {
     fn size(&self) -> (u32, u32) {
         (900, 640)
     }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> crate::plot::Result<()>
     where
         DB::ErrorType: 'static,
     {
@@ -157,7 +157,7 @@ impl Figure for FragilityFigure {
     fn size(&self) -> (u32, u32) {
         (900, 640)
     }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> crate::plot::Result<()>
     where
         DB::ErrorType: 'static,
     {

@@ -28,7 +28,30 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::model::{ElementKind, Model};
-use anyhow::{bail, Result};
+
+/// A collapse monitor that cannot be set up.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CollapseError {
+    /// A main member whose node is not in the model.
+    #[error("element {element}: unknown node")]
+    UnknownNode {
+        /// Element tag.
+        element: u32,
+    },
+    /// A vertical-drop threshold that is not positive (m).
+    #[error("vertical-drop threshold must be > 0 m, got {0}")]
+    Threshold(f64),
+    /// A drift limit that is not positive and finite.
+    #[error("drift limit must be > 0, got {0}")]
+    DriftLimit(f64),
+    /// The drift criterion on a model without a story of columns.
+    #[error("the model has no story with a column line; use the vertical-drop criterion")]
+    NoStories,
+}
+
+/// What setting up a monitor returns.
+type Result<T> = std::result::Result<T, CollapseError>;
 use std::collections::BTreeMap;
 
 /// GB 50011-2010 elasto-plastic drift limit of RC frames, 1/50.
@@ -111,7 +134,7 @@ impl Structure {
         for e in model.elements.iter().filter(|e| is_main(&e.kind)) {
             let [i, j] = e.nodes() else { continue };
             let (Some(a), Some(b)) = (nodes.get(i), nodes.get(j)) else {
-                bail!("element {}: unknown node", e.tag);
+                return Err(CollapseError::UnknownNode { element: e.tag });
             };
             main.insert(index[i]);
             main.insert(index[j]);
@@ -294,13 +317,13 @@ impl CollapseMonitor {
         let structure = Structure::of_model(model)?;
         match criterion {
             Criterion::VerticalDrop { threshold_m } if !(threshold_m > 0.0) => {
-                bail!("vertical-drop threshold must be > 0 m, got {threshold_m}")
+                return Err(CollapseError::Threshold(threshold_m));
             }
             Criterion::StoryDrift { ratio } if !(ratio > 0.0 && ratio.is_finite()) => {
-                bail!("drift limit must be > 0, got {ratio}")
+                return Err(CollapseError::DriftLimit(ratio));
             }
             Criterion::StoryDrift { .. } if structure.stories.iter().all(Vec::is_empty) => {
-                bail!("the model has no story with a column line; use the vertical-drop criterion")
+                return Err(CollapseError::NoStories);
             }
             _ => {}
         }

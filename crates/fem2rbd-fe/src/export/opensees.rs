@@ -11,8 +11,57 @@ use crate::model::limits::{check_range, show_number, FE_DT, MAX_PGA_G, MAX_TIME_
 use crate::model::{
     strip_properties, ElementKind, Formulation, Integration, Model, SectionKind, ShellLayer,
 };
+use crate::motion::MotionError;
 use crate::motion::{read_record, Format, GroundMotion};
-use anyhow::{bail, Context, Result};
+
+/// A script that cannot be written: options out of range, a record that cannot be read or
+/// scaled, an element the exporter cannot express.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExportError {
+    /// An option outside its physical range (`--dt`, `--time-scale`, …).
+    #[error(transparent)]
+    Range(#[from] crate::model::limits::RangeError),
+    /// A count over its resource bound (`docs/reliability.md`).
+    #[error(transparent)]
+    Limit(#[from] crate::model::limits::LimitError),
+    /// A ground-motion record that cannot be read.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// A record that cannot be scaled as asked.
+    #[error("ground-motion file {}: {error}", path.display())]
+    Record {
+        /// The record file.
+        path: std::path::PathBuf,
+        /// What is wrong.
+        error: MotionError,
+    },
+    /// Ground-motion options that do not fit together.
+    #[error("{0}")]
+    Options(String),
+    /// An element the script cannot express.
+    #[error("element {element}: {message}")]
+    Element {
+        /// Element tag.
+        element: u32,
+        /// What is wrong.
+        message: String,
+    },
+    /// A record file whose path cannot be resolved.
+    #[error("ground-motion file {}: {error}", path.display())]
+    Io {
+        /// The record file.
+        path: std::path::PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// Formatting the script failed.
+    #[error(transparent)]
+    Write(#[from] std::fmt::Error),
+}
+
+/// What writing the script returns.
+type Result<T> = std::result::Result<T, ExportError>;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -122,20 +171,28 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     let mut gm_check = GroundMotion::default();
     for gm in &opts.ground_motions {
         if !(1..=3).contains(&gm.direction) {
-            bail!("ground-motion direction {} must be 1, 2 or 3", gm.direction);
+            return Err(ExportError::Options(format!(
+                "ground-motion direction {} must be 1, 2 or 3",
+                gm.direction
+            )));
         }
         let axis = usize::from(gm.direction - 1);
         if gm_check.components[axis].is_some() {
-            bail!("--gm: direction {} given twice", ["X", "Y", "Z"][axis]);
+            return Err(ExportError::Options(format!(
+                "--gm: direction {} given twice",
+                ["X", "Y", "Z"][axis]
+            )));
         }
-        let mut rec = read_record(&gm.path, Format::At2)?
-            .pop()
-            .context("no record read")?;
+        let mut rec = read_record(&gm.path, Format::At2)?.pop().ok_or_else(|| {
+            ExportError::Options(format!("{}: no record read", gm.path.display()))
+        })?;
         if let Some(g) = gm.pga_g {
-            check_range("pga", g, 0.0, true, MAX_PGA_G, "g")
-                .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
-            rec.scale_to_pga(g)
-                .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
+            let in_file = |error: MotionError| ExportError::Record {
+                path: gm.path.clone(),
+                error,
+            };
+            check_range("pga", g, 0.0, true, MAX_PGA_G, "g").map_err(|e| in_file(e.into()))?;
+            rec.scale_to_pga(g).map_err(in_file)?;
         }
         rec.time_scale(opts.time_scale)?;
         gm_check.components[axis] = Some(rec);
@@ -143,7 +200,9 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     if !opts.ground_motions.is_empty() {
         let t_end = opts.duration.unwrap_or_else(|| gm_check.duration_s());
         if t_end.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            bail!("--gm: the ground motion lasts 0 s (a record needs at least two samples)");
+            return Err(ExportError::Options(
+                "--gm: the ground motion lasts 0 s (a record needs at least two samples)".into(),
+            ));
         }
         crate::model::limits::grid_count(
             format!(
@@ -208,10 +267,15 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     )?;
     for gm in &opts.ground_motions {
         if !(1..=3).contains(&gm.direction) {
-            bail!("ground-motion direction {} must be 1, 2 or 3", gm.direction);
+            return Err(ExportError::Options(format!(
+                "ground-motion direction {} must be 1, 2 or 3",
+                gm.direction
+            )));
         }
-        let p = std::fs::canonicalize(&gm.path)
-            .with_context(|| format!("ground-motion file {}", gm.path.display()))?;
+        let p = std::fs::canonicalize(&gm.path).map_err(|error| ExportError::Io {
+            path: gm.path.clone(),
+            error,
+        })?;
         writeln!(
             w,
             "    ({}, {}, {}),",
@@ -517,7 +581,10 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
                     ..
                 } = &secs[section].kind
                 else {
-                    bail!("element {}: section {section} is not elastic", e.tag);
+                    return Err(ExportError::Element {
+                        element: e.tag,
+                        message: format!("section {section} is not elastic"),
+                    });
                 };
                 writeln!(
                     w,
@@ -573,7 +640,10 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
                         None => {
                             let (Some(a), Some(b)) = (xyz.get(&nodes[0]), xyz.get(&nodes[1]))
                             else {
-                                bail!("element {}: unknown node", e.tag);
+                                return Err(ExportError::Element {
+                                    element: e.tag,
+                                    message: "unknown node".into(),
+                                });
                             };
                             [b[0] - a[0], b[1] - a[1], b[2] - a[2]]
                         }

@@ -23,8 +23,8 @@ use crate::fe::shell::layers::{
     DamageConcreteFiber, ElasticFiber, LayeredSection, PlateFiber, RebarFiber,
 };
 use crate::fe::transform::TransformKind;
+use crate::fe::FeError;
 use crate::model::{self, ElementKind, Model, SectionKind, ShellLayer, TransfKind};
-use anyhow::{anyhow, bail, Context, Result};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
 
@@ -42,17 +42,20 @@ pub enum Variant {
     Elastic,
 }
 
+/// A name that is not an element [`Variant`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown element variant `{0}` (expected model, force, disp or elastic)")]
+pub struct UnknownVariant(pub String);
+
 impl std::str::FromStr for Variant {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownVariant;
+    fn from_str(s: &str) -> std::result::Result<Self, UnknownVariant> {
         match s {
             "model" | "as-model" => Ok(Variant::AsModel),
             "force" => Ok(Variant::Force),
             "disp" => Ok(Variant::Disp),
             "elastic" => Ok(Variant::Elastic),
-            other => Err(format!(
-                "unknown element variant `{other}` (expected model, force, disp or elastic)"
-            )),
+            other => Err(UnknownVariant(other.to_string())),
         }
     }
 }
@@ -60,7 +63,7 @@ impl std::str::FromStr for Variant {
 impl<'de> serde::Deserialize<'de> for Variant {
     /// The names of [`FromStr`](std::str::FromStr) (`model`, `force`, `disp`, `elastic`);
     /// an unknown name is an error naming it and the choices.
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         let s = String::deserialize(d)?;
         s.parse().map_err(serde::de::Error::custom)
     }
@@ -100,6 +103,9 @@ pub struct BuiltDomain {
     pub element_index: BTreeMap<u32, usize>,
 }
 
+/// What building a domain returns.
+type Result<T> = std::result::Result<T, FeError>;
+
 fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
     let params: BTreeMap<String, f64> = m
         .parameters()
@@ -107,8 +113,11 @@ fn uniaxial(m: &model::Material) -> Result<Box<dyn UniaxialMaterial>> {
         .filter(|(k, _)| *k != "density")
         .map(|(k, v)| (k.to_string(), v))
         .collect();
-    material::build(m.type_name(), &params)
-        .map_err(|e| anyhow!("material {} ({}): {e}", m.tag, m.name))
+    material::build(m.type_name(), &params).map_err(|error| FeError::Material {
+        tag: m.tag,
+        name: m.name.clone(),
+        error,
+    })
 }
 
 fn section_prototype(
@@ -119,22 +128,29 @@ fn section_prototype(
         SectionKind::Elastic {
             e, g, a, iy, iz, j, ..
         } => Ok(Box::new(ElasticSection::new(e * a, e * iz, e * iy, g * j))),
-        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => bail!(
-            "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
-            s.tag
-        ),
+        SectionKind::Plate { .. } | SectionKind::LayeredShell { .. } => {
+            Err(FeError::Unsupported(format!(
+                "section {} is a shell section; beam-columns need a fiber, rc_rect or elastic section",
+                s.tag
+            )))
+        }
         _ => {
             let fibers = s.fibers().expect("fiber or rc_rect section has fibers");
             let gj = s.gj().expect("beam section has GJ");
             let mut list = Vec::with_capacity(fibers.len());
             for f in &fibers {
                 let m = mats.get(&f.material()).ok_or_else(|| {
-                    anyhow!("section {}: unknown material {}", s.tag, f.material())
+                    FeError::Unsupported(format!(
+                        "section {}: unknown material {}",
+                        s.tag,
+                        f.material()
+                    ))
                 })?;
                 list.push((f.y(), f.z(), f.area(), uniaxial(m)?));
             }
             Ok(Box::new(
-                FiberSection::new(list, gj).map_err(|e| anyhow!("section {}: {e}", s.tag))?,
+                FiberSection::new(list, gj)
+                    .map_err(|error| FeError::Section { tag: s.tag, error })?,
             ))
         }
     }
@@ -162,12 +178,16 @@ fn elastic_equivalent(
     }
     let fibers = s
         .fibers()
-        .ok_or_else(|| anyhow!("section {} has no fibers", s.tag))?;
+        .ok_or_else(|| FeError::Unsupported(format!("section {} has no fibers", s.tag)))?;
     let (mut ea, mut eiz, mut eiy) = (0.0, 0.0, 0.0);
     for f in &fibers {
-        let m = mats
-            .get(&f.material())
-            .ok_or_else(|| anyhow!("section {}: unknown material {}", s.tag, f.material()))?;
+        let m = mats.get(&f.material()).ok_or_else(|| {
+            FeError::Unsupported(format!(
+                "section {}: unknown material {}",
+                s.tag,
+                f.material()
+            ))
+        })?;
         let e = m.initial_tangent();
         ea += e * f.area();
         eiz += e * f.area() * f.y() * f.y();
@@ -199,11 +219,11 @@ fn shell_section(
     mats: &BTreeMap<u32, &model::Material>,
 ) -> Result<(LayeredSection, bool)> {
     let SectionKind::LayeredShell { layers, .. } = &s.kind else {
-        bail!(
+        return Err(FeError::Unsupported(format!(
             "element {tag}: section {} is a `plate` section; the FE solver's shell \
              (ASDShellQ4) takes a `layered_shell` section (write the plate as elastic layers)",
             s.tag
-        );
+        )));
     };
     let mut linear = true;
     let mut list: Vec<(f64, Box<dyn PlateFiber>)> = Vec::with_capacity(layers.len());
@@ -218,10 +238,10 @@ fn shell_section(
                 material, angle, ..
             } => {
                 let m = mats.get(material).ok_or_else(|| {
-                    anyhow!(
+                    FeError::Unsupported(format!(
                         "element {tag}: section {}: unknown material {material}",
                         s.tag
-                    )
+                    ))
                 })?;
                 if m.type_name() != "Elastic" {
                     linear = false;
@@ -244,36 +264,49 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
         .iter()
         .any(|e| !matches!(e.kind, crate::model::ElementKind::Panel { .. }))
     {
-        anyhow::bail!(
+        return Err(FeError::Unsupported(format!(
             "model {:?} has no structural elements ({} nodes, {} elements, panels are \
              rigid-body only): nothing to analyse",
             model.name,
             model.nodes.len(),
             model.elements.len()
-        );
+        )));
     }
     let mut domain = Domain::new();
     let mut node_index = BTreeMap::new();
     for n in &model.nodes {
         let i = domain
             .add_node(i64::from(n.tag), n.xyz())
-            .with_context(|| format!("node {}", n.tag))?;
+            .map_err(|error| FeError::Domain {
+                item: format!("node {}", n.tag),
+                error,
+            })?;
         node_index.insert(n.tag, i);
     }
     let idx = |tag: u32| -> Result<usize> {
         node_index
             .get(&tag)
             .copied()
-            .ok_or_else(|| anyhow!("unknown node {tag}"))
+            .ok_or_else(|| FeError::Unsupported(format!("unknown node {tag}")))
+    };
+    let at_node = |tag: u32| {
+        move |error| FeError::Domain {
+            item: format!("node {tag}"),
+            error,
+        }
     };
     for (tag, dofs) in model.fixity() {
-        domain.fix(idx(tag)?, dofs.map(|d| d != 0))?;
+        domain
+            .fix(idx(tag)?, dofs.map(|d| d != 0))
+            .map_err(at_node(tag))?;
     }
     for (tag, m) in model.lumped_masses() {
-        domain.set_mass(idx(tag)?, m)?;
+        domain.set_mass(idx(tag)?, m).map_err(at_node(tag))?;
     }
     for (tag, fz) in model.gravity_loads() {
-        domain.add_nodal_load(idx(tag)?, [0.0, 0.0, fz, 0.0, 0.0, 0.0])?;
+        domain
+            .add_nodal_load(idx(tag)?, [0.0, 0.0, fz, 0.0, 0.0, 0.0])
+            .map_err(at_node(tag))?;
     }
 
     let mats = model.material_map();
@@ -295,22 +328,26 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 corotational,
             } => {
                 if *corotational {
-                    bail!(
+                    return Err(FeError::Unsupported(format!(
                         "element {}: corotational shells are not supported by the FE solver \
                          (small-displacement ASDShellQ4 only); set corotational = false",
                         e.tag
-                    );
+                    )));
                 }
                 let s = secs
                     .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                    .ok_or_else(|| {
+                    FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
+                })?;
                 let (sec, linear) = shell_section(e.tag, s, &mats)?;
                 let mut coords = [[0.0; 3]; 4];
                 let mut idxs = [0; 4];
                 for ((c, i), n) in coords.iter_mut().zip(&mut idxs).zip(nodes) {
                     *c = node_map
                         .get(n)
-                        .ok_or_else(|| anyhow!("element {}: unknown node {n}", e.tag))?
+                        .ok_or_else(|| {
+                            FeError::Unsupported(format!("element {}: unknown node {n}", e.tag))
+                        })?
                         .xyz();
                     *i = idx(*n)?;
                 }
@@ -320,17 +357,23 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                     coords[1][2] - coords[0][2],
                 ]);
                 let el = ShellElement::new(tag, idxs, &coords, lx, &sec, linear)
-                    .map_err(|err| anyhow!("element {}: {err}", e.tag))?;
+                    .map_err(|err| FeError::Unsupported(format!("element {}: {err}", e.tag)))?;
                 let i = domain
                     .add_element(Box::new(el))
-                    .with_context(|| format!("element {}", e.tag))?;
+                    .map_err(|error| FeError::Domain {
+                        item: format!("element {}", e.tag),
+                        error,
+                    })?;
                 element_index.insert(e.tag, i);
                 continue;
             }
         };
-        let t = transfs
-            .get(&transf)
-            .ok_or_else(|| anyhow!("element {}: unknown transformation {transf}", e.tag))?;
+        let t = transfs.get(&transf).ok_or_else(|| {
+            FeError::Unsupported(format!(
+                "element {}: unknown transformation {transf}",
+                e.tag
+            ))
+        })?;
         let [ni, nj] = nodes;
         let xi = Vector3::from(model.node_map()[&ni].xyz());
         let xj = Vector3::from(model.node_map()[&nj].xyz());
@@ -341,9 +384,9 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 points,
                 ..
             } => {
-                let s = secs
-                    .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let s = secs.get(section).ok_or_else(|| {
+                    FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
+                })?;
                 let n_ip = *points as usize;
                 let chosen = match options.variant {
                     Variant::AsModel => match formulation {
@@ -368,9 +411,9 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 }
             }
             ElementKind::ElasticBeamColumn { section, .. } => {
-                let s = secs
-                    .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let s = secs.get(section).ok_or_else(|| {
+                    FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
+                })?;
                 (Formulation::Elastic(elastic_equivalent(s, &mats)?), None)
             }
             ElementKind::ElasticStrip {
@@ -405,10 +448,15 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             formulation,
             section,
         };
-        let element: Box<dyn Element> = spec.build()?;
+        let element: Box<dyn Element> = spec
+            .build()
+            .map_err(|error| FeError::Element { tag: e.tag, error })?;
         let i = domain
             .add_element(element)
-            .with_context(|| format!("element {}", e.tag))?;
+            .map_err(|error| FeError::Domain {
+                item: format!("element {}", e.tag),
+                error,
+            })?;
         element_index.insert(e.tag, i);
     }
     domain.number_dofs();

@@ -62,8 +62,16 @@
 
 use crate::fe::build::{BuildOptions, BuiltDomain};
 use crate::fe::section::Section;
+use crate::fe::FeError;
 use crate::model::{ElementKind, Model, SectionKind};
-use anyhow::{anyhow, Context, Result};
+
+/// What a capacity computation returns.
+type Result<T> = std::result::Result<T, FeError>;
+
+/// A member whose capacity cannot be computed.
+fn cap(item: String, message: String) -> FeError {
+    FeError::Capacity { item, message }
+}
 use nalgebra::Vector4;
 use std::collections::BTreeMap;
 
@@ -407,7 +415,8 @@ pub fn gravity_capacities(
     build: &BuildOptions,
     st: &PushSettings,
 ) -> Result<(AxialLoads, BTreeMap<u32, MemberCapacity>)> {
-    let prepared = crate::fe::run::prepare(model, build, 1).context("gravity analysis")?;
+    let prepared =
+        crate::fe::run::prepare(model, build, 1).map_err(|e| e.within("gravity analysis"))?;
     gravity_capacities_of(model, &prepared.built, st)
 }
 
@@ -505,18 +514,16 @@ fn capacities_impl(
         let item = || format!("element {}", e.tag);
         let n_g = gravity
             .get(&e.tag)
-            .ok_or_else(|| anyhow!("{}: no gravity axial load", item()))?;
+            .ok_or_else(|| cap(item(), "no gravity axial load".into()))?;
         if n_g.len() != secs.len() {
-            return Err(anyhow!(
-                "{}: {} gravity loads for {} sections",
+            return Err(cap(
                 item(),
-                n_g.len(),
-                secs.len()
+                format!("{} gravity loads for {} sections", n_g.len(), secs.len()),
             ));
         }
         let axes = model
             .local_axes(e)
-            .ok_or_else(|| anyhow!("{}: no local axes", item()))?;
+            .ok_or_else(|| cap(item(), "no local axes".into()))?;
         let fc = materials
             .get(&rc.cover_material)
             .and_then(|m| match &m.law {
@@ -527,10 +534,9 @@ fn capacities_impl(
                 _ => None,
             })
             .ok_or_else(|| {
-                anyhow!(
-                    "{}: cover material {} is not Concrete01/02",
+                cap(
                     item(),
-                    rc.cover_material
+                    format!("cover material {} is not Concrete01/02", rc.cover_material),
                 )
             })?;
         // Effective depths (mm): half the dimension + the farthest bar row.
@@ -549,10 +555,9 @@ fn capacities_impl(
                 _ => None,
             })
             .ok_or_else(|| {
-                anyhow!(
-                    "{}: bar material {} is not Steel01/02",
+                cap(
                     item(),
-                    rc.bar_material
+                    format!("bar material {} is not Steel01/02", rc.bar_material),
                 )
             })?;
         let ends_at = |which: usize| -> usize {
@@ -629,7 +634,7 @@ fn capacities_impl(
             nodes
                 .get(&t)
                 .map(|n| n.xyz())
-                .ok_or_else(|| anyhow!("{}: unknown node {t}", item()))
+                .ok_or_else(|| cap(item(), format!("unknown node {t}")))
         };
         out.insert(
             e.tag,

@@ -24,9 +24,12 @@ use crate::fe::analysis::transient::{
 };
 use crate::fe::build::{build_domain, BuildOptions, BuiltDomain};
 use crate::fe::domain::Domain;
+use crate::fe::FeError;
 use crate::model::{limits, Model};
 use crate::motion::GroundMotion;
-use anyhow::{anyhow, bail, Context, Result};
+
+/// What a run returns.
+type Result<T> = std::result::Result<T, FeError>;
 
 /// Options of a ground-motion run.
 #[derive(Debug, Clone, PartialEq)]
@@ -105,7 +108,10 @@ pub fn prepare(model: &Model, build: &BuildOptions, modes: usize) -> Result<Prep
             ..Default::default()
         },
     )
-    .context("initial modal analysis")?;
+    .map_err(|error| FeError::Analysis {
+        stage: "initial modal analysis",
+        error,
+    })?;
     let steps = model.gravity.load_steps as usize;
     load_control(
         &mut built.domain,
@@ -114,7 +120,10 @@ pub fn prepare(model: &Model, build: &BuildOptions, modes: usize) -> Result<Prep
             ..Default::default()
         },
     )
-    .context("gravity (load control)")?;
+    .map_err(|error| FeError::Analysis {
+        stage: "gravity (load control)",
+        error,
+    })?;
     built.domain.load_const();
     Ok(Prepared {
         built,
@@ -127,7 +136,10 @@ pub fn prepare(model: &Model, build: &BuildOptions, modes: usize) -> Result<Prep
 pub(crate) fn damping_for(model: &Model, t1: f64) -> Result<RayleighDamping> {
     match model.rayleigh() {
         Some((a0, a1)) => Ok(RayleighDamping { a0, a1 }),
-        None => RayleighDamping::default_for_period(t1).map_err(|e| anyhow!(e)),
+        None => RayleighDamping::default_for_period(t1).map_err(|error| FeError::Analysis {
+            stage: "default damping (5 % at T1 and T1/3)",
+            error,
+        }),
     }
 }
 
@@ -151,17 +163,22 @@ pub fn run_ground_motion(
 /// domain is built; returns the end time, s.
 fn check_run(model: &Model, motion: &GroundMotion, options: &RunOptions) -> Result<f64> {
     if !(options.dt > 0.0 && options.dt.is_finite()) {
-        bail!("time step must be positive, got {}", options.dt);
+        return Err(FeError::Options(format!(
+            "time step must be positive, got {}",
+            options.dt
+        )));
     }
     if options.every == 0 {
-        bail!("record every k-th step needs k ≥ 1");
+        return Err(FeError::Options(
+            "record every k-th step needs k ≥ 1".into(),
+        ));
     }
     let t_end = options.duration.unwrap_or_else(|| motion.duration_s());
     if !(t_end > 0.0 && t_end.is_finite()) {
-        bail!(
+        return Err(FeError::Options(format!(
             "duration must be positive, got {} s",
             limits::show_number(t_end)
-        );
+        )));
     }
     // Resource bounds (docs/reliability.md), before the domain is built.
     let steps = limits::grid_count(
@@ -208,12 +225,9 @@ pub fn run_prepared(
         Some(tags) => {
             let mut idx = Vec::with_capacity(tags.len());
             for t in tags {
-                idx.push(
-                    *built
-                        .node_index
-                        .get(t)
-                        .ok_or_else(|| anyhow!("recorded node {t} is not in the model"))?,
-                );
+                idx.push(*built.node_index.get(t).ok_or_else(|| {
+                    FeError::Options(format!("recorded node {t} is not in the model"))
+                })?);
             }
             (Some(idx), tags.clone())
         }
@@ -237,7 +251,10 @@ pub fn run_prepared(
         &settings,
         observer,
     )
-    .context("transient analysis")?;
+    .map_err(|error| FeError::Analysis {
+        stage: "transient analysis",
+        error,
+    })?;
     Ok(RunResult {
         built,
         modal,

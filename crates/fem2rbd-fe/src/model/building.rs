@@ -33,9 +33,15 @@
 
 // `!(x > 0.0)` is used on purpose: it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+use super::generate::FrameError;
 use super::generate::{frame, FrameParams};
 use super::*;
-use anyhow::{anyhow, bail, Context};
+
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(FrameError::Params(format!($($t)*)))
+    };
+}
 
 /// The column line a wall runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,19 +76,19 @@ pub struct WallSpec {
 
 impl WallSpec {
     /// Parses `x0:2:1-7`, `y3:1:2`, `x1:1:1-2:open=1-3/0-2` (module docs).
-    pub fn parse(s: &str) -> anyhow::Result<WallSpec> {
+    pub fn parse(s: &str) -> Result<WallSpec, FrameError> {
         let err = || {
-            anyhow!(
+            FrameError::Params(format!(
                 "wall {s:?}: expected LINE:BAY:STORIES[:open=A0-A1/U0-U1], e.g. x0:2:1-7 \
                  (along X on column line 0, bay 2, stories 1 to 7)"
-            )
+            ))
         };
         let parts: Vec<&str> = s.trim().split(':').collect();
         if !(3..=4).contains(&parts.len()) {
             return Err(err());
         }
         let num = |t: &str| t.trim().parse::<usize>().map_err(|_| err());
-        let range = |t: &str| -> anyhow::Result<[usize; 2]> {
+        let range = |t: &str| -> Result<[usize; 2], FrameError> {
             match t.split_once('-') {
                 Some((a, b)) => Ok([num(a)?, num(b)?]),
                 None => Ok([num(t)?, num(t)?]),
@@ -165,7 +171,7 @@ pub(crate) fn wall_layers(
     rho_h: f64,
     concrete: (f64, f64, f64, f64),
     steel_tag: u32,
-) -> anyhow::Result<Vec<ShellLayer>> {
+) -> Result<Vec<ShellLayer>, FrameError> {
     let (e, nu, fc, ft) = concrete;
     let (tv, th) = (rho_v * t / 2.0, rho_h * t / 2.0);
     let core = t - 2.0 * (cover + tv + th);
@@ -208,7 +214,7 @@ fn key(p: [f64; 3]) -> Key {
 }
 
 /// Builds the building (module docs). Errors name the wall or parameter at fault.
-pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
+pub fn building(p: &BuildingParams) -> Result<Model, FrameError> {
     let f = &p.frame;
     let ns = f.story_heights.len();
     let (nx, ny) = (f.spans_x.len(), f.spans_y.len());
@@ -332,7 +338,7 @@ pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
         .iter()
         .find(|x| x.name == "rebar")
         .map(|x| x.tag)
-        .ok_or_else(|| anyhow!("the frame has no rebar material"))?;
+        .ok_or_else(|| FrameError::Params("the frame has no rebar material".into()))?;
     let ec = if f.ec.len() == 1 {
         vec![f.ec[0]; ns]
     } else {
@@ -361,7 +367,7 @@ pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
             (ec[s - 1], f.nu, fc, ft),
             steel_tag,
         )
-        .with_context(|| format!("story {s}"))?;
+        .map_err(|e| FrameError::Params(format!("story {s}: {e}")))?;
         let t_rebar: f64 = layers
             .iter()
             .filter(|l| matches!(l, ShellLayer::Rebar { .. }))
@@ -499,9 +505,7 @@ pub fn building(p: &BuildingParams) -> anyhow::Result<Model> {
             "no beams over walls"
         }
     );
-    m.validate().map_err(|e| super::ModelError {
-        file: format!("generated building {:?}", f.name),
-        ..e
-    })?;
+    m.validate()
+        .map_err(|e| e.in_file(format!("generated building {:?}", f.name)))?;
     Ok(m)
 }

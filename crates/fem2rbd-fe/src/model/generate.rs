@@ -140,11 +140,37 @@ impl Default for FrameParams {
     }
 }
 
-fn per_floor(v: &[f64], n: usize, what: &str) -> anyhow::Result<Vec<f64>> {
+/// Generator parameters that cannot make a frame: out of range, inconsistent, or a frame
+/// that fails validation.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum FrameError {
+    /// Parameters that do not fit together (bars that do not fit, a per-story list of the
+    /// wrong length, …); the message names them.
+    #[error("{0}")]
+    Params(String),
+    /// A parameter outside its range ([`PARAM_RANGES`]).
+    #[error(transparent)]
+    Range(#[from] super::limits::RangeError),
+    /// A count over its bound.
+    #[error(transparent)]
+    Limit(#[from] super::limits::LimitError),
+    /// The generated model fails validation.
+    #[error(transparent)]
+    Model(#[from] super::ModelError),
+}
+
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(FrameError::Params(format!($($t)*)))
+    };
+}
+
+fn per_floor(v: &[f64], n: usize, what: &str) -> Result<Vec<f64>, FrameError> {
     match v.len() {
         1 => Ok(vec![v[0]; n]),
         k if k == n => Ok(v.to_vec()),
-        k => anyhow::bail!("{what}: give 1 value or one per story ({n}), not {k}"),
+        k => bail!("{what}: give 1 value or one per story ({n}), not {k}"),
     }
 }
 
@@ -169,8 +195,7 @@ fn perimeter_bars(a: f64, n: u32, area: f64) -> Vec<Bar> {
 /// offset (face → bar centre) at least half a diameter, and the clear spacing between
 /// neighbouring bar centres along a face (2a/(n − 1) − d, a = half the face minus the
 /// offset) positive.
-fn check_reinforcement(p: &FrameParams) -> anyhow::Result<()> {
-    use anyhow::bail;
+fn check_reinforcement(p: &FrameParams) -> Result<(), FrameError> {
     let faces = [
         (
             "column",
@@ -215,8 +240,7 @@ fn check_reinforcement(p: &FrameParams) -> anyhow::Result<()> {
 /// Concrete law parameters: 0 < K (confinement), 0 ≤ residual ≤ 1, and each crushing
 /// strain εcu negative and past the peak strain εc0 = −2f′c/Ec of every story (core:
 /// −2K·f′c/Ec).
-fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> anyhow::Result<()> {
-    use anyhow::bail;
+fn check_concrete(p: &FrameParams, ec: &[f64], fc: &[f64]) -> Result<(), FrameError> {
     if !(p.confinement > 0.0 && p.confinement.is_finite()) {
         bail!("confinement factor {} must be positive", p.confinement);
     }
@@ -295,9 +319,8 @@ pub(crate) const MAX_CORE_FIBERS: u32 = 100;
 /// Checks every parameter against its range ([`PARAM_RANGES`], the `MAX_*` counts) and
 /// the element count of the frame against [`super::limits::MAX_ELEMENTS`], naming the
 /// parameter. Nothing is built before this passes.
-pub(crate) fn check_params(p: &FrameParams) -> anyhow::Result<()> {
+pub(crate) fn check_params(p: &FrameParams) -> Result<(), FrameError> {
     use super::limits::{check, check_range};
-    use anyhow::bail;
     let range = |name: &str| {
         let r = PARAM_RANGES
             .iter()
@@ -305,11 +328,11 @@ pub(crate) fn check_params(p: &FrameParams) -> anyhow::Result<()> {
             .expect("every parameter has a range");
         (r.1, r.2, r.3, r.4)
     };
-    let one = |name: &str, v: f64| -> anyhow::Result<()> {
+    let one = |name: &str, v: f64| -> Result<(), FrameError> {
         let (lo, open, hi, unit) = range(name);
         Ok(check_range(name, v, lo, open, hi, unit)?)
     };
-    let list = |name: &str, v: &[f64]| -> anyhow::Result<()> {
+    let list = |name: &str, v: &[f64]| -> Result<(), FrameError> {
         let (lo, open, hi, unit) = range(name);
         for (k, x) in v.iter().enumerate() {
             check_range(format!("{name}[{}]", k + 1), *x, lo, open, hi, unit)?;
@@ -398,8 +421,7 @@ pub(crate) fn check_params(p: &FrameParams) -> anyhow::Result<()> {
 /// Builds the frame model. Errors on inconsistent parameters.
 // The story loops index several per-story arrays (concrete, heights, masses) and tags.
 #[allow(clippy::needless_range_loop)]
-pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
-    use anyhow::bail;
+pub fn frame(p: &FrameParams) -> Result<Model, FrameError> {
     let ns = p.story_heights.len();
     let (nx, ny) = (p.spans_x.len(), p.spans_y.len());
     if ns == 0 || nx == 0 || ny == 0 {
@@ -836,9 +858,8 @@ pub fn frame(p: &FrameParams) -> anyhow::Result<Model> {
         elements,
         masses,
     };
-    model.validate().map_err(|e| super::ModelError {
-        file: format!("generated frame {:?}", p.name),
-        ..e
-    })?;
+    model
+        .validate()
+        .map_err(|e| e.in_file(format!("generated frame {:?}", p.name)))?;
     Ok(model)
 }

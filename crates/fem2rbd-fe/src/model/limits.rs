@@ -83,31 +83,95 @@ impl LimitError {
 /// 256 MiB, room for [`MAX_SAMPLES`] record samples of ≈ 50 characters.
 pub(crate) const MAX_INPUT_BYTES: u64 = 256 << 20;
 
+/// An input file that cannot be used: missing, unreadable, not a regular file, too large.
+/// `what` names the kind of file ("model file"), `path` the file as given.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum InputFileError {
+    /// The file does not exist.
+    #[error("cannot read {what}: {} does not exist", path.display())]
+    Missing {
+        /// Kind of file, e.g. "model file".
+        what: &'static str,
+        /// The path as given.
+        path: std::path::PathBuf,
+    },
+    /// The file exists but cannot be inspected or read.
+    #[error("cannot read {what} {}: {error}", path.display())]
+    Io {
+        /// Kind of file.
+        what: &'static str,
+        /// The path as given.
+        path: std::path::PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// A folder, device or pipe (which could be endless: `/dev/zero`).
+    #[error("{what} {} is not a regular file (a folder, device or pipe)", path.display())]
+    NotAFile {
+        /// Kind of file.
+        what: &'static str,
+        /// The path as given.
+        path: std::path::PathBuf,
+    },
+    /// Longer than [`MAX_INPUT_BYTES`].
+    #[error(
+        "{what} {}: {bytes} bytes exceeds the limit of {MAX_INPUT_BYTES} bytes \
+         (docs/reliability.md, resource bounds)",
+        path.display()
+    )]
+    TooLarge {
+        /// Kind of file.
+        what: &'static str,
+        /// The path as given.
+        path: std::path::PathBuf,
+        /// Its length, bytes.
+        bytes: u64,
+    },
+}
+
 /// An input file must exist, be a regular file (not a folder, device or pipe, which could
 /// be endless: `/dev/zero`) and be at most [`MAX_INPUT_BYTES`] long. `what` names it
 /// ("model file").
-pub fn check_input_file(path: &std::path::Path, what: &str) -> anyhow::Result<()> {
+pub fn check_input_file(path: &std::path::Path, what: &'static str) -> Result<(), InputFileError> {
     let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => {
-            anyhow::anyhow!("cannot read {what}: {} does not exist", path.display())
-        }
-        _ => anyhow::anyhow!("cannot read {what} {}: {e}", path.display()),
+        std::io::ErrorKind::NotFound => InputFileError::Missing {
+            what,
+            path: path.to_path_buf(),
+        },
+        _ => InputFileError::Io {
+            what,
+            path: path.to_path_buf(),
+            error: e,
+        },
     })?;
     if !meta.is_file() {
-        anyhow::bail!(
-            "{what} {} is not a regular file (a folder, device or pipe)",
-            path.display()
-        );
+        return Err(InputFileError::NotAFile {
+            what,
+            path: path.to_path_buf(),
+        });
     }
     if meta.len() > MAX_INPUT_BYTES {
-        anyhow::bail!(
-            "{what} {}: {} bytes exceeds the limit of {MAX_INPUT_BYTES} bytes \
-             (docs/reliability.md, resource bounds)",
-            path.display(),
-            meta.len()
-        );
+        return Err(InputFileError::TooLarge {
+            what,
+            path: path.to_path_buf(),
+            bytes: meta.len(),
+        });
     }
     Ok(())
+}
+
+/// [`check_input_file`], then the file's text (UTF-8).
+pub fn read_input_file(
+    path: &std::path::Path,
+    what: &'static str,
+) -> Result<String, InputFileError> {
+    check_input_file(path, what)?;
+    std::fs::read_to_string(path).map_err(|e| InputFileError::Io {
+        what,
+        path: path.to_path_buf(),
+        error: e,
+    })
 }
 
 /// A count for a message: integers in full up to 10¹², else in scientific notation

@@ -2,6 +2,7 @@
 //! (OpenSees command manual, `uniaxialMaterial Elastic | Concrete01 | Concrete02 |
 //! Steel01 | Steel02`). Stresses in Pa, strains dimensionless, density in kg/m³.
 //! Compression is negative for the concrete laws, as in OpenSees.
+use super::InvalidValue;
 use serde::{Deserialize, Serialize};
 
 /// One uniaxial material: a tag, an optional name, a mass density and the law.
@@ -199,36 +200,41 @@ impl Material {
     }
 
     /// Checks signs and ranges; returns a message for the first violation.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidValue> {
         for (name, v) in self.parameters() {
             if !v.is_finite() {
-                return Err(format!("parameter {name} is not finite ({v})"));
+                return Err(InvalidValue(format!(
+                    "parameter {name} is not finite ({v})"
+                )));
             }
         }
         if self.density < 0.0 {
-            return Err(format!("density {} kg/m3 is negative", self.density));
+            return Err(InvalidValue(format!(
+                "density {} kg/m3 is negative",
+                self.density
+            )));
         }
-        let neg = |name: &str, v: f64| -> Result<(), String> {
+        let neg = |name: &str, v: f64| -> Result<(), InvalidValue> {
             if v < 0.0 {
                 Ok(())
             } else {
-                Err(format!(
+                Err(InvalidValue(format!(
                     "{name} = {v} must be negative (compression is negative)"
-                ))
+                )))
             }
         };
-        let pos = |name: &str, v: f64| -> Result<(), String> {
+        let pos = |name: &str, v: f64| -> Result<(), InvalidValue> {
             if v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} = {v} must be positive"))
+                Err(InvalidValue(format!("{name} = {v} must be positive")))
             }
         };
         match &self.law {
             MaterialLaw::Elastic { e, eta, e_neg } => {
                 pos("E", *e)?;
                 if *eta < 0.0 {
-                    return Err(format!("eta = {eta} must not be negative"));
+                    return Err(InvalidValue(format!("eta = {eta} must not be negative")));
                 }
                 if let Some(en) = e_neg {
                     pos("Eneg", *en)?;
@@ -243,7 +249,7 @@ impl Material {
                 neg("fpc", *fpc)?;
                 neg("epsc0", *epsc0)?;
                 if *fpcu > 0.0 {
-                    return Err(format!("fpcu = {fpcu} must not be positive"));
+                    return Err(InvalidValue(format!("fpcu = {fpcu} must not be positive")));
                 }
                 neg("epscU", *epscu)?;
             }
@@ -259,14 +265,14 @@ impl Material {
                 neg("fpc", *fpc)?;
                 neg("epsc0", *epsc0)?;
                 if *fpcu > 0.0 {
-                    return Err(format!("fpcu = {fpcu} must not be positive"));
+                    return Err(InvalidValue(format!("fpcu = {fpcu} must not be positive")));
                 }
                 neg("epscu", *epscu)?;
                 if !(0.0..=1.0).contains(lambda) {
-                    return Err(format!("lambda = {lambda} must be in [0, 1]"));
+                    return Err(InvalidValue(format!("lambda = {lambda} must be in [0, 1]")));
                 }
                 if *ft < 0.0 {
-                    return Err(format!("ft = {ft} must not be negative"));
+                    return Err(InvalidValue(format!("ft = {ft} must not be negative")));
                 }
                 pos("Ets", *ets)?;
             }
@@ -274,7 +280,7 @@ impl Material {
                 pos("Fy", *fy)?;
                 pos("E0", *e0)?;
                 if !(0.0..1.0).contains(b) {
-                    return Err(format!("b = {b} must be in [0, 1)"));
+                    return Err(InvalidValue(format!("b = {b} must be in [0, 1)")));
                 }
             }
         }

@@ -21,9 +21,14 @@ pub use element::{
 pub use material::{Material, MaterialLaw};
 pub use reference_json::import_reference_json;
 pub use section::{Bar, ElasticEquivalent, Fiber, RcRect, Section, SectionKind, ShellLayer};
-pub use validate::ModelError;
+pub use validate::{Location, ModelError};
 
-use anyhow::Context;
+/// A value that breaks its rule, e.g. "E = -1 must be positive": the message names the
+/// parameter; [`Model::validate`] adds the file, line and item ([`ModelError::Value`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidValue(pub String);
+
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -187,18 +192,16 @@ impl Model {
     /// Reads, parses and validates a model file (`.json` → JSON, anything else → TOML).
     /// A `.json` file in the reference layout of `frame3.json` (it has a top-level
     /// `uniaxial_materials` key) goes through [`import_reference_json`].
-    pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Model> {
+    pub fn load(path: impl AsRef<Path>) -> Result<Model, ModelError> {
         let path = path.as_ref();
-        limits::check_input_file(path, "model file")?;
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read model file {}", path.display()))?;
+        let text = limits::read_input_file(path, "model file")?;
         let is_json = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
         if is_json && reference_json::is_reference_layout(&text) {
             return import_reference_json(path);
         }
-        Ok(Self::parse(&text, &path.display().to_string(), is_json)?)
+        Self::parse(&text, &path.display().to_string(), is_json)
     }
 
     /// Parses and validates model text; `file` names the source in error messages.
@@ -212,8 +215,8 @@ impl Model {
     }
 
     /// Writes the model as TOML text (deterministic).
-    pub fn to_toml(&self) -> anyhow::Result<String> {
-        Ok(toml::to_string(self)?)
+    pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
+        toml::to_string(self)
     }
 
     /// Node tag → node.

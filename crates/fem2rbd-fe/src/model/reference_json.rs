@@ -11,26 +11,50 @@
 //! Column/Beam/Slab and the `story`/`floor` number the material group. `scale` is read
 //! from a top-level `scale` key if present, else 1.
 use super::*;
-use anyhow::{anyhow, bail, Context, Result};
 use serde_json::Value;
 
+/// What an import step says when it fails (the caller adds the file).
+type Result<T> = std::result::Result<T, InvalidValue>;
+
+/// Turns a missing value (`Option`) or a failed step into a message naming the item.
+trait Say<T> {
+    fn say(self, what: impl FnOnce() -> String) -> Result<T>;
+}
+
+impl<T> Say<T> for Option<T> {
+    fn say(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.ok_or_else(|| InvalidValue(what()))
+    }
+}
+
+impl<T> Say<T> for Result<T> {
+    fn say(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.map_err(|e| InvalidValue(format!("{}: {e}", what())))
+    }
+}
+
+macro_rules! bail {
+    ($($t:tt)*) => {
+        return Err(InvalidValue(format!($($t)*)))
+    };
+}
 fn num(v: &Value, key: &str, what: &str) -> Result<f64> {
     v.get(key)
         .and_then(Value::as_f64)
-        .with_context(|| format!("{what}: missing number `{key}`"))
+        .say(|| format!("{what}: missing number `{key}`"))
 }
 
 fn tag(v: &Value, key: &str, what: &str) -> Result<u32> {
     v.get(key)
         .and_then(Value::as_u64)
         .and_then(|t| u32::try_from(t).ok())
-        .with_context(|| format!("{what}: missing tag `{key}`"))
+        .say(|| format!("{what}: missing tag `{key}`"))
 }
 
 fn arr<'a>(v: &'a Value, key: &str) -> Result<&'a Vec<Value>> {
     v.get(key)
         .and_then(Value::as_array)
-        .with_context(|| format!("missing array `{key}`"))
+        .say(|| format!("missing array `{key}`"))
 }
 
 /// Whether JSON text is in the reference layout (a root object with `uniaxial_materials`).
@@ -41,18 +65,24 @@ pub(crate) fn is_reference_layout(text: &str) -> bool {
 }
 
 /// Reads a reference-layout JSON file into a validated [`Model`].
-pub fn import_reference_json(path: impl AsRef<Path>) -> Result<Model> {
+pub fn import_reference_json(path: impl AsRef<Path>) -> std::result::Result<Model, ModelError> {
     let path = path.as_ref();
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = limits::read_input_file(path, "model file")?;
     let file = path.display().to_string();
-    let v: Value = serde_json::from_str(&text)
-        .map_err(|e| anyhow!("{file}:{}: not valid JSON: {e}", e.line()))?;
-    let model = from_value(&v).with_context(|| format!("{file}: cannot import reference model"))?;
-    model.validate().map_err(|mut e| {
-        e.file = file.clone();
-        e
+    let at = |line: Option<usize>| Location {
+        file: file.clone(),
+        line,
+        item: None,
+    };
+    let v: Value = serde_json::from_str(&text).map_err(|e| ModelError::Syntax {
+        at: at(Some(e.line())),
+        message: format!("not valid JSON: {e}"),
     })?;
+    let model = from_value(&v).map_err(|e| ModelError::Import {
+        at: at(None),
+        message: format!("cannot import reference model: {e}"),
+    })?;
+    model.validate().map_err(|e| e.in_file(file.clone()))?;
     Ok(model)
 }
 
@@ -116,14 +146,14 @@ fn from_value(v: &Value) -> Result<Model> {
         let t = tag(s, "tag", "section")?;
         let what = format!("section {t}");
         let mut fibers = Vec::new();
-        for f in arr(s, "fibers").with_context(|| what.clone())? {
+        for f in arr(s, "fibers").say(|| what.clone())? {
             let f = f.as_array().filter(|f| f.len() == 4);
-            let f = f.with_context(|| format!("{what}: a fiber is not [y, z, area, mat]"))?;
-            let g = |k: usize| f[k].as_f64().with_context(|| format!("{what}: bad fiber"));
+            let f = f.say(|| format!("{what}: a fiber is not [y, z, area, mat]"))?;
+            let g = |k: usize| f[k].as_f64().say(|| format!("{what}: bad fiber"));
             let mat = f[3]
                 .as_u64()
                 .and_then(|t| u32::try_from(t).ok())
-                .with_context(|| format!("{what}: bad fiber material"))?;
+                .say(|| format!("{what}: bad fiber material"))?;
             fibers.push(Fiber(g(0)?, g(1)?, g(2)?, mat));
         }
         sections.push(Section {
@@ -181,7 +211,7 @@ fn from_value(v: &Value) -> Result<Model> {
         if vx.len() != 3 {
             bail!("transformation {t}: vecxz must have 3 entries");
         }
-        let c = |k: usize| vx[k].as_f64().context("vecxz entry is not a number");
+        let c = |k: usize| vx[k].as_f64().say(|| "vecxz entry is not a number".into());
         transformations.push(Transformation {
             tag: t,
             kind,
@@ -195,12 +225,12 @@ fn from_value(v: &Value) -> Result<Model> {
     for e in arr(v, "elements")? {
         let t = tag(e, "tag", "element")?;
         let what = format!("element {t}");
-        let en = arr(e, "nodes").with_context(|| what.clone())?;
+        let en = arr(e, "nodes").say(|| what.clone())?;
         let node = |k: usize| -> Result<u32> {
             en.get(k)
                 .and_then(Value::as_u64)
                 .and_then(|x| u32::try_from(x).ok())
-                .with_context(|| format!("{what}: bad node list"))
+                .say(|| format!("{what}: bad node list"))
         };
         let nodes2 = [node(0)?, node(1)?];
         let type_name = match e.get("group").and_then(Value::as_str).unwrap_or("") {

@@ -5,6 +5,7 @@
 //! Section axes follow OpenSees: fiber coordinates (y, z) are in the element's local
 //! y and z axes (m); areas in m².
 use super::material::Material;
+use super::InvalidValue;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -181,17 +182,17 @@ impl ShellLayer {
     }
 
     /// Checks ranges; returns a message for the first violation.
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), InvalidValue> {
         let t = self.thickness();
         if !(t.is_finite() && t > 0.0) {
-            return Err(format!("thickness = {t} must be positive"));
+            return Err(InvalidValue(format!("thickness = {t} must be positive")));
         }
-        let elastic = |e: f64, nu: f64| -> Result<(), String> {
+        let elastic = |e: f64, nu: f64| -> Result<(), InvalidValue> {
             if !(e.is_finite() && e > 0.0) {
-                return Err(format!("E = {e} must be positive"));
+                return Err(InvalidValue(format!("E = {e} must be positive")));
             }
             if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
-                return Err(format!("nu = {nu} must be in [0, 0.5)"));
+                return Err(InvalidValue(format!("nu = {nu} must be in [0, 0.5)")));
             }
             Ok(())
         };
@@ -200,12 +201,14 @@ impl ShellLayer {
             ShellLayer::Concrete { e, nu, fc, ft, .. } => {
                 elastic(*e, *nu)?;
                 if !(fc.is_finite() && *fc > 0.0) {
-                    return Err(format!(
+                    return Err(InvalidValue(format!(
                         "fc = {fc} must be positive (compression positive here)"
-                    ));
+                    )));
                 }
                 if !(ft.is_finite() && *ft > 0.0 && ft < fc) {
-                    return Err(format!("ft = {ft} must be positive and below fc = {fc}"));
+                    return Err(InvalidValue(format!(
+                        "ft = {ft} must be positive and below fc = {fc}"
+                    )));
                 }
                 Ok(())
             }
@@ -213,7 +216,7 @@ impl ShellLayer {
                 if angle.is_finite() {
                     Ok(())
                 } else {
-                    Err(format!("angle = {angle} is not finite"))
+                    Err(InvalidValue(format!("angle = {angle} is not finite")))
                 }
             }
         }
@@ -466,17 +469,17 @@ impl Section {
     }
 
     /// Checks sizes and finiteness; returns a message for the first violation.
-    pub fn check(&self) -> Result<(), String> {
-        let pos = |name: &str, v: f64| -> Result<(), String> {
+    pub fn check(&self) -> Result<(), InvalidValue> {
+        let pos = |name: &str, v: f64| -> Result<(), InvalidValue> {
             if !v.is_finite() {
-                Err(format!("{name} is not finite ({v})"))
+                Err(InvalidValue(format!("{name} is not finite ({v})")))
             } else if v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} = {v} must be positive"))
+                Err(InvalidValue(format!("{name} = {v} must be positive")))
             }
         };
-        let opt = |name: &str, v: &Option<f64>| -> Result<(), String> {
+        let opt = |name: &str, v: &Option<f64>| -> Result<(), InvalidValue> {
             match v {
                 Some(v) => pos(name, *v),
                 None => Ok(()),
@@ -493,11 +496,14 @@ impl Section {
                 opt("width", width)?;
                 opt("depth", depth)?;
                 if fibers.is_empty() {
-                    return Err("has no fibers".into());
+                    return Err(InvalidValue("has no fibers".into()));
                 }
                 for (k, f) in fibers.iter().enumerate() {
                     if !f.y().is_finite() || !f.z().is_finite() {
-                        return Err(format!("fiber {} has a non-finite coordinate", k + 1));
+                        return Err(InvalidValue(format!(
+                            "fiber {} has a non-finite coordinate",
+                            k + 1
+                        )));
                     }
                     pos(&format!("fiber {} area", k + 1), f.area())?;
                 }
@@ -508,28 +514,33 @@ impl Section {
                 pos("cover", rc.cover)?;
                 pos("GJ", rc.gj)?;
                 if 2.0 * rc.cover >= rc.b.min(rc.h) {
-                    return Err(format!(
+                    return Err(InvalidValue(format!(
                         "cover {} m leaves no core in a {} x {} m section",
                         rc.cover, rc.b, rc.h
-                    ));
+                    )));
                 }
                 if rc.core_fibers[0] == 0 || rc.core_fibers[1] == 0 || rc.cover_layers == 0 {
-                    return Err("fiber subdivision counts must be at least 1".into());
+                    return Err(InvalidValue(
+                        "fiber subdivision counts must be at least 1".into(),
+                    ));
                 }
                 for (k, bar) in rc.bars.iter().enumerate() {
                     if !bar.0.is_finite() || !bar.1.is_finite() {
-                        return Err(format!("bar {} has a non-finite coordinate", k + 1));
+                        return Err(InvalidValue(format!(
+                            "bar {} has a non-finite coordinate",
+                            k + 1
+                        )));
                     }
                     pos(&format!("bar {} area", k + 1), bar.2)?;
                     if bar.0.abs() > rc.b / 2.0 || bar.1.abs() > rc.h / 2.0 {
-                        return Err(format!(
+                        return Err(InvalidValue(format!(
                             "bar {} at ({}, {}) lies outside the {} x {} m section",
                             k + 1,
                             bar.0,
                             bar.1,
                             rc.b,
                             rc.h
-                        ));
+                        )));
                     }
                 }
             }
@@ -553,33 +564,38 @@ impl Section {
                 opt("width", width)?;
                 opt("depth", depth)?;
                 if !mass_per_length.is_finite() || *mass_per_length < 0.0 {
-                    return Err(format!(
+                    return Err(InvalidValue(format!(
                         "mass_per_length = {mass_per_length} must be finite and >= 0"
-                    ));
+                    )));
                 }
             }
             SectionKind::Plate { e, nu, h, density } => {
                 pos("E", *e)?;
                 pos("h", *h)?;
                 if !nu.is_finite() || !(-1.0..0.5).contains(nu) {
-                    return Err(format!("nu = {nu} must be in (-1, 0.5)"));
+                    return Err(InvalidValue(format!("nu = {nu} must be in (-1, 0.5)")));
                 }
                 if !density.is_finite() || *density < 0.0 {
-                    return Err(format!("density = {density} must be finite and >= 0"));
+                    return Err(InvalidValue(format!(
+                        "density = {density} must be finite and >= 0"
+                    )));
                 }
             }
             SectionKind::LayeredShell { layers, density } => {
                 if layers.len() < 3 {
-                    return Err(format!(
+                    return Err(InvalidValue(format!(
                         "has {} layers; a layered shell needs at least 3 (OpenSees LayeredShell)",
                         layers.len()
-                    ));
+                    )));
                 }
                 for (k, l) in layers.iter().enumerate() {
-                    l.check().map_err(|e| format!("layer {}: {e}", k + 1))?;
+                    l.check()
+                        .map_err(|e| InvalidValue(format!("layer {}: {e}", k + 1)))?;
                 }
                 if !density.is_finite() || *density < 0.0 {
-                    return Err(format!("density = {density} must be finite and >= 0"));
+                    return Err(InvalidValue(format!(
+                        "density = {density} must be finite and >= 0"
+                    )));
                 }
             }
         }

@@ -19,8 +19,11 @@
 //! three histories stay consistent with each other.
 
 use super::GroundMotion;
+use super::MotionError;
 use crate::model::limits::show_number as show;
-use anyhow::{bail, Result};
+
+/// What integrating a motion returns.
+type Result<T> = std::result::Result<T, MotionError>;
 
 /// Baseline correction applied before integration (per component).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -134,7 +137,10 @@ impl GroundMotion {
     /// correction. Absent components give zeros.
     pub fn integrate(&self, step_s: f64, baseline: Baseline) -> Result<GroundHistory> {
         if !(step_s.is_finite() && step_s > 0.0) {
-            bail!("integration step must be positive, got {} s", show(step_s));
+            return Err(MotionError::Options(format!(
+                "integration step must be positive, got {} s",
+                show(step_s)
+            )));
         }
         let dur = self.duration_s();
         // n = ⌊T/h⌋ + 1, bounded before the cast (a step of 1e-300 s or a record

@@ -22,7 +22,89 @@ pub mod spec;
 pub use integrate::{Baseline, GroundHistory};
 pub use read::{read_record, Format};
 
-use anyhow::{bail, Result};
+/// A ground motion that cannot be read, built or scaled. Messages name the file and line
+/// (record files), the record, or the component.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MotionError {
+    /// The record file cannot be read (missing, not a file, too large, unreadable).
+    #[error(transparent)]
+    File(#[from] crate::model::limits::InputFileError),
+    /// A line of a record file that is not what its format says.
+    #[error("{file}:{line}: {message}")]
+    Syntax {
+        /// File name as given.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A record file as a whole (too few samples, several components where one is wanted).
+    #[error("{file}: {message}")]
+    Content {
+        /// File name as given.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A record's values (time step, start time, samples, scaling).
+    #[error("record {name}: {message}")]
+    Record {
+        /// Record name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A target PGA for a component the motion does not have.
+    #[error("no {axis} component to scale")]
+    NoComponent {
+        /// "X", "Y" or "Z".
+        axis: &'static str,
+    },
+    /// A value outside its physical range.
+    #[error(transparent)]
+    Range(#[from] crate::model::limits::RangeError),
+    /// A count over its resource bound (`docs/reliability.md`).
+    #[error(transparent)]
+    Limit(#[from] crate::model::limits::LimitError),
+    /// A `--gm DIR=PATH[,pga=G]` argument that does not parse.
+    #[error(transparent)]
+    Arg(#[from] spec::GmArgError),
+    /// Command-line options of the ground motion: a direction given twice, a motion of
+    /// zero length, a bad integration step.
+    #[error("{0}")]
+    Options(String),
+    /// An error inside a file, under the file's name.
+    #[error("{file}: {error}")]
+    InFile {
+        /// File name as given.
+        file: String,
+        /// The error.
+        error: Box<MotionError>,
+    },
+}
+
+impl MotionError {
+    /// The same error under the name of the file it came from.
+    pub fn in_file(self, file: &str) -> Self {
+        MotionError::InFile {
+            file: file.to_string(),
+            error: Box::new(self),
+        }
+    }
+}
+
+/// What building or scaling a motion returns.
+type Result<T> = std::result::Result<T, MotionError>;
+
+/// A record error.
+fn record_error(name: &str, message: String) -> MotionError {
+    MotionError::Record {
+        name: name.to_string(),
+        message,
+    }
+}
 
 /// Standard gravity used to convert records in g to m/s² (m/s²). Equal to the `gravity`
 /// of the reference OpenSees model `frame3.json` (not 9.80665), so PGA targets agree.
@@ -53,16 +135,22 @@ impl Record {
     ) -> Result<Self> {
         let name = name.into();
         if !(dt_s.is_finite() && dt_s > 0.0) {
-            bail!("record {name}: time step must be positive, got {dt_s}");
+            return Err(record_error(
+                &name,
+                format!("time step must be positive, got {dt_s}"),
+            ));
         }
         if !(t0_s.is_finite() && t0_s >= 0.0) {
-            bail!("record {name}: start time must be finite and non-negative, got {t0_s}");
+            return Err(record_error(
+                &name,
+                format!("start time must be finite and non-negative, got {t0_s}"),
+            ));
         }
         if accel_mps2.is_empty() {
-            bail!("record {name}: no samples");
+            return Err(record_error(&name, "no samples".into()));
         }
         if let Some(i) = accel_mps2.iter().position(|a| !a.is_finite()) {
-            bail!("record {name}: sample {i} is not finite");
+            return Err(record_error(&name, format!("sample {i} is not finite")));
         }
         Ok(Self {
             name,
@@ -100,17 +188,17 @@ impl Record {
     /// record is all zeros or the target is negative / not finite.
     pub fn scale_to_pga(&mut self, target_g: f64) -> Result<()> {
         if !(target_g.is_finite() && target_g >= 0.0) {
-            bail!(
-                "record {}: target PGA must be ≥ 0 g, got {target_g}",
-                self.name
-            );
+            return Err(record_error(
+                &self.name,
+                format!("target PGA must be ≥ 0 g, got {target_g}"),
+            ));
         }
         let (pga, _) = self.pga();
         if pga == 0.0 {
-            bail!(
-                "record {}: all samples are zero, cannot scale to a PGA",
-                self.name
-            );
+            return Err(record_error(
+                &self.name,
+                "all samples are zero, cannot scale to a PGA".into(),
+            ));
         }
         let target = target_g * G;
         for a in &mut self.accel_mps2 {
@@ -124,10 +212,10 @@ impl Record {
     /// is scaled; scale accelerations separately (e.g. with [`Record::scale_to_pga`]).
     pub fn time_scale(&mut self, f: f64) -> Result<()> {
         if !(f.is_finite() && f > 0.0) {
-            bail!(
-                "record {}: time-scale factor must be positive, got {f}",
-                self.name
-            );
+            return Err(record_error(
+                &self.name,
+                format!("time-scale factor must be positive, got {f}"),
+            ));
         }
         self.dt_s *= f;
         self.t0_s *= f;
@@ -178,11 +266,13 @@ impl GroundMotion {
             if let Some(p) = p {
                 let mut v = read_record(p, format)?;
                 if v.len() != 1 {
-                    bail!(
-                        "{}: holds {} components; give it as a three-component CSV instead",
-                        p.display(),
-                        v.len()
-                    );
+                    return Err(MotionError::Content {
+                        file: p.display().to_string(),
+                        message: format!(
+                            "holds {} components; give it as a three-component CSV instead",
+                            v.len()
+                        ),
+                    });
                 }
                 gm.components[k] = v.pop();
             }
@@ -213,7 +303,7 @@ impl GroundMotion {
         for (axis, (c, t)) in self.components.iter_mut().zip(targets_g).enumerate() {
             match (c, t) {
                 (Some(r), Some(t)) => r.scale_to_pga(t)?,
-                (None, Some(_)) => bail!("no {} component to scale", AXES[axis]),
+                (None, Some(_)) => return Err(MotionError::NoComponent { axis: AXES[axis] }),
                 _ => {}
             }
         }
@@ -276,21 +366,26 @@ impl std::fmt::Display for Direction {
     }
 }
 
+/// A name that is not a [`Direction`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("direction {0:?} is not X, Y or Z")]
+pub struct UnknownDirection(pub String);
+
 impl std::str::FromStr for Direction {
-    type Err = String;
+    type Err = UnknownDirection;
     /// `X`, `Y` or `Z`, in either case, surrounding blanks ignored.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> std::result::Result<Self, UnknownDirection> {
         match s.trim().to_ascii_uppercase().as_str() {
             "X" => Ok(Direction::X),
             "Y" => Ok(Direction::Y),
             "Z" => Ok(Direction::Z),
-            _ => Err(format!("direction {:?} is not X, Y or Z", s.trim())),
+            _ => Err(UnknownDirection(s.trim().to_string())),
         }
     }
 }
 
 impl<'de> serde::Deserialize<'de> for Direction {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         let s = String::deserialize(d)?;
         s.parse().map_err(serde::de::Error::custom)
     }

@@ -13,9 +13,21 @@
 //! `t0 + i·dt`, with dt = (t_last − t0)/(n − 1). (BCB sorts rows by time and allows any
 //! spacing; here an unsorted or uneven file is an error naming the first bad line.)
 
+use super::MotionError;
 use super::{Record, G};
 use crate::model::limits::show_number;
-use anyhow::{anyhow, bail, Context, Result};
+
+/// What reading a record returns.
+type Result<T> = std::result::Result<T, MotionError>;
+
+/// An error at a line of a record file.
+fn at(file: &str, line: usize, message: String) -> MotionError {
+    MotionError::Syntax {
+        file: file.to_string(),
+        line,
+        message,
+    }
+}
 use std::path::Path;
 
 /// File format for [`read_record`].
@@ -41,9 +53,7 @@ pub enum Format {
 /// Returns one [`Record`] (named after the file stem) for AT2 and two-column files, and
 /// three records `stem:x`, `stem:y`, `stem:z` for a BCB CSV file.
 pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
-    crate::model::limits::check_input_file(path, "ground-motion file")?;
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read ground-motion file {}", path.display()))?;
+    let text = crate::model::limits::read_input_file(path, "ground-motion file")?;
     let file = path.display().to_string();
     let stem = path
         .file_stem()
@@ -60,7 +70,7 @@ pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
             let f = if in_g { G } else { 1.0 };
             let a = cols[0].iter().map(|v| v * f).collect();
             Ok(vec![
-                Record::new(stem, dt, t0, a).with_context(|| file.clone())?
+                Record::new(stem, dt, t0, a).map_err(|e| e.in_file(&file))?
             ])
         }
         Format::Csv => {
@@ -68,7 +78,7 @@ pub fn read_record(path: &Path, format: Format) -> Result<Vec<Record>> {
             cols.into_iter()
                 .zip(["x", "y", "z"])
                 .map(|(a, ax)| {
-                    Record::new(format!("{stem}:{ax}"), dt, t0, a).with_context(|| file.clone())
+                    Record::new(format!("{stem}:{ax}"), dt, t0, a).map_err(|e| e.in_file(&file))
                 })
                 .collect()
         }
@@ -145,41 +155,54 @@ fn parse_at2(text: &str, file: &str, stem: &str) -> Result<Record> {
         .take(10)
         .position(|l| l.to_ascii_uppercase().contains("NPTS"))
     else {
-        bail!(
-            "{file}:4: AT2 header line not found: expected `NPTS= <n>, DT= <dt> SEC` or \
+        return Err(at(
+            file,
+            4,
+            "AT2 header line not found: expected `NPTS= <n>, DT= <dt> SEC` or \
              `<n> <dt> NPTS, DT` within the first 10 lines"
-        );
+                .into(),
+        ));
     };
     for (i, l) in lines[..hdr].iter().enumerate() {
         let up = l.to_ascii_uppercase();
         if up.contains("VELOCITY") || up.contains("DISPLACEMENT") {
-            bail!("{file}:{}: not an acceleration record: {}", i + 1, l.trim());
+            return Err(at(
+                file,
+                i + 1,
+                format!("not an acceleration record: {}", l.trim()),
+            ));
         }
         if let Some(u) = up.find("UNITS OF") {
             let unit = up[u + 8..].split_whitespace().next().unwrap_or("");
             if unit != "G" {
-                bail!(
-                    "{file}:{}: AT2 values must be in g, the header says `{}`",
+                return Err(at(
+                    file,
                     i + 1,
-                    l.trim()
-                );
+                    format!("AT2 values must be in g, the header says `{}`", l.trim()),
+                ));
             }
         }
     }
     let (npts, dt) = parse_at2_header(lines[hdr]).ok_or_else(|| {
-        anyhow!(
-            "{file}:{}: bad AT2 header line `{}`: expected `NPTS= <n>, DT= <dt> SEC` or \
-             `<n> <dt> NPTS, DT`",
+        at(
+            file,
             hdr + 1,
-            lines[hdr].trim()
+            format!(
+                "bad AT2 header line `{}`: expected `NPTS= <n>, DT= <dt> SEC` or \
+                 `<n> <dt> NPTS, DT`",
+                lines[hdr].trim()
+            ),
         )
     })?;
     if npts == 0 || !(dt > 0.0) {
-        bail!(
-            "{file}:{}: AT2 header needs NPTS > 0 and DT > 0, got NPTS={npts}, DT={}",
+        return Err(at(
+            file,
             hdr + 1,
-            show_number(dt)
-        );
+            format!(
+                "AT2 header needs NPTS > 0 and DT > 0, got NPTS={npts}, DT={}",
+                show_number(dt)
+            ),
+        ));
     }
     crate::model::limits::check(
         format!("{file}:{}: AT2 header", hdr + 1),
@@ -200,13 +223,13 @@ fn parse_at2(text: &str, file: &str, stem: &str) -> Result<Record> {
     for (i, l) in lines.iter().enumerate().skip(hdr + 1) {
         for tok in l.split_whitespace() {
             let v = parse_real(tok)
-                .ok_or_else(|| anyhow!("{file}:{}: `{tok}` is not a number", i + 1))?;
+                .ok_or_else(|| at(file, i + 1, format!("`{tok}` is not a number")))?;
             if a.len() == npts {
-                bail!(
-                    "{file}:{}: more samples than NPTS = {npts} (line {})",
+                return Err(at(
+                    file,
                     i + 1,
-                    hdr + 1
-                );
+                    format!("more samples than NPTS = {npts} (line {})", hdr + 1),
+                ));
             }
             a.push(v * G);
         }
@@ -215,13 +238,17 @@ fn parse_at2(text: &str, file: &str, stem: &str) -> Result<Record> {
         }
     }
     if a.len() != npts {
-        bail!(
-            "{file}:{last_line}: {} samples read but NPTS = {npts} (line {})",
-            a.len(),
-            hdr + 1
-        );
+        return Err(at(
+            file,
+            last_line,
+            format!(
+                "{} samples read but NPTS = {npts} (line {})",
+                a.len(),
+                hdr + 1
+            ),
+        ));
     }
-    Record::new(stem, dt, 0.0, a).with_context(|| file.to_string())
+    Record::new(stem, dt, 0.0, a).map_err(|e| e.in_file(file))
 }
 
 fn split_fields(line: &str) -> Vec<&str> {
@@ -242,18 +269,21 @@ fn parse_columns(text: &str, file: &str, ncol: usize) -> Result<(f64, f64, Vec<V
         }
         let f = split_fields(l);
         if f.len() != ncol {
-            bail!(
-                "{file}:{}: expected {ncol} columns ({}), found {}",
+            return Err(at(
+                file,
                 i + 1,
-                if ncol == 2 { "t a" } else { "t, ax, ay, az" },
-                f.len()
-            );
+                format!(
+                    "expected {ncol} columns ({}), found {}",
+                    if ncol == 2 { "t a" } else { "t, ax, ay, az" },
+                    f.len()
+                ),
+            ));
         }
         let mut vals = Vec::with_capacity(ncol);
         for tok in f {
             vals.push(
                 parse_real(tok)
-                    .ok_or_else(|| anyhow!("{file}:{}: `{tok}` is not a number", i + 1))?,
+                    .ok_or_else(|| at(file, i + 1, format!("`{tok}` is not a number")))?,
             );
         }
         if t.len() as u64 >= crate::model::limits::MAX_SAMPLES {
@@ -271,17 +301,19 @@ fn parse_columns(text: &str, file: &str, ncol: usize) -> Result<(f64, f64, Vec<V
         }
     }
     if t.len() < 2 {
-        bail!("{file}: need at least two samples, found {}", t.len());
+        return Err(MotionError::Content {
+            file: file.to_string(),
+            message: format!("need at least two samples, found {}", t.len()),
+        });
     }
     let n = t.len();
     for k in 1..n {
         if !(t[k] > t[k - 1]) {
-            bail!(
-                "{file}:{}: time {} does not increase (previous {})",
+            return Err(at(
+                file,
                 line_no[k],
-                t[k],
-                t[k - 1]
-            );
+                format!("time {} does not increase (previous {})", t[k], t[k - 1]),
+            ));
         }
     }
     let t0 = t[0];
@@ -289,15 +321,18 @@ fn parse_columns(text: &str, file: &str, ncol: usize) -> Result<(f64, f64, Vec<V
     for k in 1..n {
         let expect = t0 + k as f64 * dt;
         if (t[k] - expect).abs() > 1e-3 * dt {
-            bail!(
-                "{file}:{}: time {} is off the uniform step {dt} s (expected {expect})",
+            return Err(at(
+                file,
                 line_no[k],
-                t[k]
-            );
+                format!(
+                    "time {} is off the uniform step {dt} s (expected {expect})",
+                    t[k]
+                ),
+            ));
         }
     }
     if t0 < 0.0 {
-        bail!("{file}:{}: negative start time {t0}", line_no[0]);
+        return Err(at(file, line_no[0], format!("negative start time {t0}")));
     }
     crate::model::limits::check_range(
         format!("{file}:{}: time step of the rows", line_no[1]),

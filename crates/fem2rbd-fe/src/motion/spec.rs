@@ -10,7 +10,7 @@
 //! (0, [`MAX_PGA_G`]] g; a direction may be given once. [`read_components`] reads,
 //! checks, scales and time-scales the records with the same code as a scenario's
 //! `[[ground_motion]]`, so a record one command rejects every command rejects.
-use super::{Format, GroundMotion, AXES};
+use super::{Format, GroundMotion, MotionError, AXES};
 use crate::model::limits::{check_range, show_number, MAX_PGA_G, TIME_SCALE};
 use std::path::{Path, PathBuf};
 
@@ -91,7 +91,7 @@ pub fn read_components(
     specs: &[ComponentArg],
     time_scale: f64,
     format: Format,
-) -> anyhow::Result<GroundMotion> {
+) -> Result<GroundMotion, MotionError> {
     check_range(
         "--time-scale",
         time_scale,
@@ -104,7 +104,10 @@ pub fn read_components(
     let mut pga = [None; 3];
     for s in specs {
         if paths[s.axis].is_some() {
-            anyhow::bail!("--gm: direction {} given twice", AXES[s.axis]);
+            return Err(MotionError::Options(format!(
+                "--gm: direction {} given twice",
+                AXES[s.axis]
+            )));
         }
         paths[s.axis] = Some(s.path.as_path());
         pga[s.axis] = s.pga_g;
@@ -115,10 +118,10 @@ pub fn read_components(
         gm.time_scale(time_scale)?;
     }
     if gm.duration_s() <= 0.0 {
-        anyhow::bail!(
+        return Err(MotionError::Options(format!(
             "--gm: the ground motion lasts {} s (a record needs at least two samples)",
             show_number(gm.duration_s())
-        );
+        )));
     }
     Ok(gm)
 }

@@ -291,7 +291,7 @@ mod tests {
         d[51] = 0.5;
         d[200] = 0.3;
         d[201] = 0.3 * (1.0 + 1e-7);
-        let op = |x: &[f64], y: &mut [f64]| -> Result<(), String> {
+        let op = |x: &[f64], y: &mut [f64]| -> Result<(), std::convert::Infallible> {
             for i in 0..n {
                 y[i] = d[i] * x[i];
             }

@@ -5,6 +5,7 @@
 //! Structures*, §11.4). Equal ratio ξ at ω_i and ω_j gives
 //! a0 = 2ξ ω_i ω_j/(ω_i + ω_j) (s⁻¹), a1 = 2ξ/(ω_i + ω_j) (s).
 
+use super::AnalysisError;
 use std::f64::consts::PI;
 
 /// Rayleigh coefficients.
@@ -18,7 +19,7 @@ pub struct RayleighDamping {
 
 impl RayleighDamping {
     /// Ratio `xi` (e.g. 0.05) at the two periods `t_i`, `t_j` (s, positive, distinct).
-    pub fn from_periods(xi: f64, t_i: f64, t_j: f64) -> Result<Self, String> {
+    pub fn from_periods(xi: f64, t_i: f64, t_j: f64) -> Result<Self, AnalysisError> {
         let valid = xi >= 0.0
             && xi.is_finite()
             && t_i > 0.0
@@ -26,9 +27,9 @@ impl RayleighDamping {
             && t_i.is_finite()
             && t_j.is_finite();
         if !valid || t_i == t_j {
-            return Err(format!(
+            return Err(AnalysisError::Input(format!(
                 "Rayleigh damping: need ξ ≥ 0 and two distinct positive periods (ξ = {xi}, T = {t_i}, {t_j})"
-            ));
+            )));
         }
         let (wi, wj) = (2.0 * PI / t_i, 2.0 * PI / t_j);
         Ok(Self {
@@ -38,7 +39,7 @@ impl RayleighDamping {
     }
 
     /// The project default: 5 % at T1 and T1/3 (as the frame3 reference runs).
-    pub fn default_for_period(t1: f64) -> Result<Self, String> {
+    pub fn default_for_period(t1: f64) -> Result<Self, AnalysisError> {
         Self::from_periods(0.05, t1, t1 / 3.0)
     }
 

@@ -19,6 +19,7 @@
 //!
 //! Units: f'c, f'cu and stresses in Pa; strains dimensionless. Compression negative.
 
+use super::MaterialError;
 use super::{MaterialDamage, UniaxialMaterial};
 
 /// Trial or committed state of `Concrete01`.
@@ -50,7 +51,7 @@ impl Concrete01 {
     /// Concrete with compressive strength `fpc` (Pa, < 0), strain at strength `epsc0`
     /// (< 0), residual (crushing) strength `fpcu` (Pa, ≤ 0) reached at strain `epscu`
     /// (≤ epsc0). OpenSees silently flips positive values; this constructor rejects them.
-    pub fn new(fpc: f64, epsc0: f64, fpcu: f64, epscu: f64) -> Result<Self, String> {
+    pub fn new(fpc: f64, epsc0: f64, fpcu: f64, epscu: f64) -> Result<Self, MaterialError> {
         check_compression_envelope("Concrete01", fpc, epsc0, fpcu, epscu)?;
         let mut m = Self {
             fpc,
@@ -151,26 +152,26 @@ pub(crate) fn check_compression_envelope(
     epsc0: f64,
     fpcu: f64,
     epscu: f64,
-) -> Result<(), String> {
+) -> Result<(), MaterialError> {
     if !(fpc.is_finite() && fpc < 0.0) {
-        return Err(format!(
+        return Err(MaterialError::Parameter(format!(
             "{kind}: fpc must be < 0 (compressive strength in Pa, compression negative), got {fpc}"
-        ));
+        )));
     }
     if !(epsc0.is_finite() && epsc0 < 0.0) {
-        return Err(format!(
+        return Err(MaterialError::Parameter(format!(
             "{kind}: epsc0 must be < 0 (strain at fpc), got {epsc0}"
-        ));
+        )));
     }
     if !(fpcu.is_finite() && fpcu <= 0.0) {
-        return Err(format!(
+        return Err(MaterialError::Parameter(format!(
             "{kind}: fpcu must be ≤ 0 (residual strength in Pa), got {fpcu}"
-        ));
+        )));
     }
     if !(epscu.is_finite() && epscu <= epsc0) {
-        return Err(format!(
+        return Err(MaterialError::Parameter(format!(
             "{kind}: epscu must be ≤ epsc0 = {epsc0} (crushing strain, compression negative), got {epscu}"
-        ));
+        )));
     }
     Ok(())
 }
@@ -316,12 +317,15 @@ mod tests {
     fn rejects_bad_parameters() {
         assert!(Concrete01::new(30e6, -0.002, -6e6, -0.006)
             .unwrap_err()
+            .to_string()
             .contains("fpc"));
         assert!(Concrete01::new(-30e6, 0.002, -6e6, -0.006)
             .unwrap_err()
+            .to_string()
             .contains("epsc0"));
         assert!(Concrete01::new(-30e6, -0.002, -6e6, -0.001)
             .unwrap_err()
+            .to_string()
             .contains("epscu"));
     }
 }

@@ -29,6 +29,7 @@
 //! Units: f'c, f'cu, f_t and stresses in Pa; E_ts in Pa; strains and λ dimensionless.
 
 use super::concrete01::check_compression_envelope;
+use super::MaterialError;
 use super::{MaterialDamage, UniaxialMaterial};
 
 /// Parameters of `Concrete02` (OpenSees parameter names in code font).
@@ -89,27 +90,33 @@ pub struct Concrete02 {
 impl Concrete02 {
     /// Validates the parameters and returns the material in its virgin state.
     /// OpenSees silently flips positive compression values; this constructor rejects them.
-    pub fn new(p: Concrete02Params) -> Result<Self, String> {
+    pub fn new(p: Concrete02Params) -> Result<Self, MaterialError> {
         check_compression_envelope("Concrete02", p.fpc, p.epsc0, p.fpcu, p.epscu)?;
         if !(p.lambda.is_finite() && (0.0..1.0).contains(&p.lambda)) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Concrete02: lambda must be in [0, 1), got {}",
                 p.lambda
-            ));
+            )));
         }
         if !(p.ft.is_finite() && p.ft >= 0.0) {
-            return Err(format!("Concrete02: ft must be ≥ 0 (Pa), got {}", p.ft));
+            return Err(MaterialError::Parameter(format!(
+                "Concrete02: ft must be ≥ 0 (Pa), got {}",
+                p.ft
+            )));
         }
         if !(p.ets.is_finite() && p.ets > 0.0) {
-            return Err(format!("Concrete02: Ets must be > 0 (Pa), got {}", p.ets));
+            return Err(MaterialError::Parameter(format!(
+                "Concrete02: Ets must be > 0 (Pa), got {}",
+                p.ets
+            )));
         }
         if p.fpcu == 0.0 && p.lambda == 0.0 {
-            return Err(
+            return Err(MaterialError::Parameter(
                 "Concrete02: fpcu = 0 together with lambda = 0 puts the common \
                         reloading point R at the origin (undefined reloading slope); \
                         give fpcu < 0 or lambda > 0"
                     .to_string(),
-            );
+            ));
         }
         let s = Self::virgin(&p);
         Ok(Self {
@@ -360,12 +367,15 @@ mod tests {
         let p = Concrete02Params::new(-30e6, -0.002, -6e6, -0.006);
         assert!(Concrete02::new(Concrete02Params { ets: 0.0, ..p })
             .unwrap_err()
+            .to_string()
             .contains("Ets"));
         assert!(Concrete02::new(Concrete02Params { lambda: 1.0, ..p })
             .unwrap_err()
+            .to_string()
             .contains("lambda"));
         assert!(Concrete02::new(Concrete02Params { fpc: 30e6, ..p })
             .unwrap_err()
+            .to_string()
             .contains("fpc"));
     }
 }

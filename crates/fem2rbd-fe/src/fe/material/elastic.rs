@@ -6,6 +6,7 @@
 //! term η·ε̇ is not modelled: this program's materials are rate independent and damping
 //! comes from the Rayleigh matrix, so `eta` is accepted by [`super::build`] and ignored.
 
+use super::MaterialError;
 use super::UniaxialMaterial;
 
 /// Linear elastic material with possibly different moduli in tension and compression.
@@ -23,16 +24,16 @@ impl Elastic {
     /// An elastic material with modulus `e` (Pa) in tension and `e_neg` (Pa) in
     /// compression (pass `e` twice for the symmetric law). Both must be finite; OpenSees
     /// allows any sign, this constructor requires `e > 0` and `e_neg > 0`.
-    pub fn new(e: f64, e_neg: f64) -> Result<Self, String> {
+    pub fn new(e: f64, e_neg: f64) -> Result<Self, MaterialError> {
         if !(e.is_finite() && e > 0.0) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Elastic: E must be a finite positive modulus in Pa, got {e}"
-            ));
+            )));
         }
         if !(e_neg.is_finite() && e_neg > 0.0) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Elastic: Eneg must be a finite positive modulus in Pa, got {e_neg}"
-            ));
+            )));
         }
         Ok(Self {
             e_pos: e,
@@ -123,7 +124,13 @@ mod tests {
 
     #[test]
     fn rejects_bad_moduli() {
-        assert!(Elastic::new(0.0, 1.0).unwrap_err().contains("E must"));
-        assert!(Elastic::new(1.0, f64::NAN).unwrap_err().contains("Eneg"));
+        assert!(Elastic::new(0.0, 1.0)
+            .unwrap_err()
+            .to_string()
+            .contains("E must"));
+        assert!(Elastic::new(1.0, f64::NAN)
+            .unwrap_err()
+            .to_string()
+            .contains("Eneg"));
     }
 }

@@ -82,6 +82,71 @@ pub trait UniaxialMaterial: std::fmt::Debug + Send + Sync {
     }
 }
 
+/// A uniaxial material that cannot be built: unknown type, a missing, repeated, unknown
+/// or non-finite parameter, or a value outside the law's range. Messages name the law and
+/// the parameter.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MaterialError {
+    /// A value outside its law's range, e.g. "Steel02: Fy must be > 0 (Pa), got -1".
+    #[error("{0}")]
+    Parameter(String),
+    /// Not one of the known laws.
+    #[error(
+        "unknown uniaxial material type '{0}' (known: Elastic, Steel01, Steel02, \
+         Concrete01, Concrete02)"
+    )]
+    UnknownType(String),
+    /// A parameter given under two of its names.
+    #[error("{law}: parameter '{name}' given twice (as '{first}' and '{second}')")]
+    Repeated {
+        /// The law.
+        law: String,
+        /// Canonical parameter name.
+        name: String,
+        /// First name used.
+        first: String,
+        /// Second name used.
+        second: String,
+    },
+    /// A parameter that is NaN or infinite.
+    #[error("{law}: parameter '{name}' is not finite ({value})")]
+    NotFinite {
+        /// The law.
+        law: String,
+        /// Parameter name as given.
+        name: String,
+        /// The value.
+        value: f64,
+    },
+    /// A required parameter absent.
+    #[error("{law}: missing parameter '{name}'")]
+    Missing {
+        /// The law.
+        law: String,
+        /// Canonical parameter name.
+        name: String,
+    },
+    /// Part of a group of parameters that go together.
+    #[error("{law}: parameters {} go together; missing {}", group.join(", "), missing.join(", "))]
+    PartialGroup {
+        /// The law.
+        law: String,
+        /// The group.
+        group: Vec<String>,
+        /// The ones not given.
+        missing: Vec<String>,
+    },
+    /// Parameter names the law does not know.
+    #[error("{law}: unknown parameter(s) {}", names.join(", "))]
+    UnknownParameters {
+        /// The law.
+        law: String,
+        /// The unknown names.
+        names: Vec<String>,
+    },
+}
+
 /// Builds a material from its OpenSees type name and a map of OpenSees parameter names
 /// to values (SI units: Pa for stresses and moduli).
 ///
@@ -99,7 +164,7 @@ pub trait UniaxialMaterial: std::fmt::Debug + Send + Sync {
 pub fn build(
     kind: &str,
     params: &BTreeMap<String, f64>,
-) -> Result<Box<dyn UniaxialMaterial>, String> {
+) -> Result<Box<dyn UniaxialMaterial>, MaterialError> {
     let mut r = ParamReader::new(kind, params);
     let m: Box<dyn UniaxialMaterial> = match kind {
         "Elastic" => {
@@ -154,12 +219,7 @@ pub fn build(
             r.finish()?;
             Box::new(Concrete02::new(p)?)
         }
-        other => {
-            return Err(format!(
-                "unknown uniaxial material type '{other}' (known: Elastic, Steel01, Steel02, \
-                 Concrete01, Concrete02)"
-            ))
-        }
+        other => return Err(MaterialError::UnknownType(other.to_string())),
     };
     Ok(m)
 }
@@ -181,15 +241,17 @@ impl<'a> ParamReader<'a> {
     }
 
     /// The value under the first of `names` (a canonical name and its aliases) present.
-    fn opt(&mut self, names: &[&str]) -> Result<Option<f64>, String> {
+    fn opt(&mut self, names: &[&str]) -> Result<Option<f64>, MaterialError> {
         let mut found: Option<(&'a str, f64)> = None;
         for (k, v) in self.map {
             if names.contains(&k.as_str()) {
                 if let Some((prev, _)) = found {
-                    return Err(format!(
-                        "{}: parameter '{}' given twice (as '{prev}' and '{k}')",
-                        self.kind, names[0]
-                    ));
+                    return Err(MaterialError::Repeated {
+                        law: self.kind.to_string(),
+                        name: names[0].to_string(),
+                        first: prev.to_string(),
+                        second: k.clone(),
+                    });
                 }
                 found = Some((k.as_str(), *v));
             }
@@ -199,23 +261,29 @@ impl<'a> ParamReader<'a> {
             Some((k, v)) => {
                 self.used.insert(k);
                 if !v.is_finite() {
-                    return Err(format!(
-                        "{}: parameter '{k}' is not finite ({v})",
-                        self.kind
-                    ));
+                    return Err(MaterialError::NotFinite {
+                        law: self.kind.to_string(),
+                        name: k.to_string(),
+                        value: v,
+                    });
                 }
                 Ok(Some(v))
             }
         }
     }
 
-    fn req(&mut self, names: &[&str]) -> Result<f64, String> {
-        self.opt(names)?
-            .ok_or_else(|| format!("{}: missing parameter '{}'", self.kind, names[0]))
+    fn req(&mut self, names: &[&str]) -> Result<f64, MaterialError> {
+        self.opt(names)?.ok_or_else(|| MaterialError::Missing {
+            law: self.kind.to_string(),
+            name: names[0].to_string(),
+        })
     }
 
     /// All parameters of a group, or none of them.
-    fn group<const N: usize>(&mut self, names: &[&[&str]; N]) -> Result<Option<[f64; N]>, String> {
+    fn group<const N: usize>(
+        &mut self,
+        names: &[&[&str]; N],
+    ) -> Result<Option<[f64; N]>, MaterialError> {
         let mut vals = [0.0; N];
         let mut missing = Vec::new();
         for (i, n) in names.iter().enumerate() {
@@ -229,18 +297,16 @@ impl<'a> ParamReader<'a> {
         } else if missing.len() == N {
             Ok(None)
         } else {
-            let all: Vec<&str> = names.iter().map(|n| n[0]).collect();
-            Err(format!(
-                "{}: parameters {} go together; missing {}",
-                self.kind,
-                all.join(", "),
-                missing.join(", ")
-            ))
+            Err(MaterialError::PartialGroup {
+                law: self.kind.to_string(),
+                group: names.iter().map(|n| n[0].to_string()).collect(),
+                missing: missing.iter().map(|n| n.to_string()).collect(),
+            })
         }
     }
 
     /// Errors on any parameter name that was not read.
-    fn finish(self) -> Result<(), String> {
+    fn finish(self) -> Result<(), MaterialError> {
         let unknown: Vec<&str> = self
             .map
             .keys()
@@ -250,11 +316,10 @@ impl<'a> ParamReader<'a> {
         if unknown.is_empty() {
             Ok(())
         } else {
-            Err(format!(
-                "{}: unknown parameter(s) {}",
-                self.kind,
-                unknown.join(", ")
-            ))
+            Err(MaterialError::UnknownParameters {
+                law: self.kind.to_string(),
+                names: unknown.iter().map(|n| n.to_string()).collect(),
+            })
         }
     }
 }
@@ -305,19 +370,33 @@ mod tests {
     fn clear_errors() {
         let e = build("Steel03", &map(&[])).unwrap_err();
         assert!(
-            e.contains("unknown uniaxial material type 'Steel03'"),
+            matches!(&e, MaterialError::UnknownType(t) if t == "Steel03"),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .contains("unknown uniaxial material type 'Steel03'"),
             "{e}"
         );
         let e = build("Steel02", &map(&[("Fy", 4e8), ("E0", 2e11)])).unwrap_err();
-        assert!(e.contains("missing parameter 'b'"), "{e}");
+        assert!(
+            matches!(&e, MaterialError::Missing { name, .. } if name == "b"),
+            "{e}"
+        );
         let e = build(
             "Steel02",
             &map(&[("Fy", 4e8), ("E0", 2e11), ("b", 0.01), ("R0", 18.0)]),
         )
         .unwrap_err();
-        assert!(e.contains("missing cR1, cR2"), "{e}");
+        assert!(
+            matches!(&e, MaterialError::PartialGroup { missing, .. } if missing == &["cR1", "cR2"]),
+            "{e}"
+        );
         let e = build("Elastic", &map(&[("E", 2e11), ("Fy", 1.0)])).unwrap_err();
-        assert!(e.contains("unknown parameter(s) Fy"), "{e}");
+        assert!(
+            matches!(&e, MaterialError::UnknownParameters { names, .. } if names == &["Fy"]),
+            "{e}"
+        );
         let e = build(
             "Concrete01",
             &map(&[
@@ -329,7 +408,10 @@ mod tests {
             ]),
         )
         .unwrap_err();
-        assert!(e.contains("given twice"), "{e}");
+        assert!(
+            matches!(&e, MaterialError::Repeated { name, .. } if name == "epscu"),
+            "{e}"
+        );
         let e = build(
             "Concrete01",
             &map(&[
@@ -340,6 +422,9 @@ mod tests {
             ]),
         )
         .unwrap_err();
-        assert!(e.contains("fpc must be < 0"), "{e}");
+        assert!(
+            matches!(&e, MaterialError::Parameter(m) if m.contains("fpc must be < 0")),
+            "{e}"
+        );
     }
 }

@@ -23,6 +23,7 @@
 //! tension). Once a trial strain reaches it the bar is ruptured: stress and tangent are 0
 //! for that trial and, after a commit, for ever. OpenSees' Steel01 has no rupture.
 
+use super::MaterialError;
 use super::{MaterialDamage, UniaxialMaterial};
 
 /// Parameters of `Steel01` (OpenSees parameter names in code font).
@@ -90,35 +91,44 @@ pub struct Steel01 {
 
 impl Steel01 {
     /// Validates the parameters and returns the material in its virgin state.
-    pub fn new(p: Steel01Params) -> Result<Self, String> {
+    pub fn new(p: Steel01Params) -> Result<Self, MaterialError> {
         let fin = |v: f64| v.is_finite();
         if !(fin(p.fy) && p.fy > 0.0) {
-            return Err(format!("Steel01: Fy must be > 0 (Pa), got {}", p.fy));
+            return Err(MaterialError::Parameter(format!(
+                "Steel01: Fy must be > 0 (Pa), got {}",
+                p.fy
+            )));
         }
         if !(fin(p.e0) && p.e0 > 0.0) {
-            return Err(format!("Steel01: E0 must be > 0 (Pa), got {}", p.e0));
+            return Err(MaterialError::Parameter(format!(
+                "Steel01: E0 must be > 0 (Pa), got {}",
+                p.e0
+            )));
         }
         if !(fin(p.b) && (0.0..1.0).contains(&p.b)) {
-            return Err(format!("Steel01: b must be in [0, 1), got {}", p.b));
+            return Err(MaterialError::Parameter(format!(
+                "Steel01: b must be in [0, 1), got {}",
+                p.b
+            )));
         }
         if !(fin(p.a1) && fin(p.a3)) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Steel01: a1 and a3 must be finite, got {} and {}",
                 p.a1, p.a3
-            ));
+            )));
         }
         if !(fin(p.a2) && p.a2 > 0.0 && fin(p.a4) && p.a4 > 0.0) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Steel01: a2 and a4 must be > 0, got {} and {}",
                 p.a2, p.a4
-            ));
+            )));
         }
         if let Some(er) = p.eps_rupture {
             if !(fin(er) && er > p.fy / p.e0) {
-                return Err(format!(
+                return Err(MaterialError::Parameter(format!(
                     "Steel01: eps_rupture must exceed the yield strain Fy/E0 = {}, got {er}",
                     p.fy / p.e0
-                ));
+                )));
             }
         }
         let s = Self::virgin(&p);
@@ -322,12 +332,15 @@ mod tests {
     fn rejects_bad_parameters() {
         assert!(Steel01::new(Steel01Params::new(-1.0, 200e9, 0.01))
             .unwrap_err()
+            .to_string()
             .contains("Fy"));
         assert!(Steel01::new(Steel01Params::new(400e6, 0.0, 0.01))
             .unwrap_err()
+            .to_string()
             .contains("E0"));
         assert!(Steel01::new(Steel01Params::new(400e6, 2e11, 1.0))
             .unwrap_err()
+            .to_string()
             .contains("b must"));
     }
 }

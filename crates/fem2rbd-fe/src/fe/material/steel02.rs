@@ -28,6 +28,7 @@
 //! `eps_rupture`. Once a trial strain reaches it the bar is ruptured: stress and tangent
 //! are 0 for that trial and, after a commit, for ever. OpenSees' Steel02 has no rupture.
 
+use super::MaterialError;
 use super::{MaterialDamage, UniaxialMaterial};
 
 /// Parameters of `Steel02` (OpenSees parameter names in code font).
@@ -125,50 +126,68 @@ pub struct Steel02 {
 
 impl Steel02 {
     /// Validates the parameters and returns the material in its virgin state.
-    pub fn new(p: Steel02Params) -> Result<Self, String> {
+    pub fn new(p: Steel02Params) -> Result<Self, MaterialError> {
         let fin = |v: f64| v.is_finite();
         if !(fin(p.fy) && p.fy > 0.0) {
-            return Err(format!("Steel02: Fy must be > 0 (Pa), got {}", p.fy));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: Fy must be > 0 (Pa), got {}",
+                p.fy
+            )));
         }
         if !(fin(p.e0) && p.e0 > 0.0) {
-            return Err(format!("Steel02: E0 must be > 0 (Pa), got {}", p.e0));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: E0 must be > 0 (Pa), got {}",
+                p.e0
+            )));
         }
         if !(fin(p.b) && (0.0..1.0).contains(&p.b)) {
-            return Err(format!("Steel02: b must be in [0, 1), got {}", p.b));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: b must be in [0, 1), got {}",
+                p.b
+            )));
         }
         if !(fin(p.r0) && p.r0 > 0.0) {
-            return Err(format!("Steel02: R0 must be > 0, got {}", p.r0));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: R0 must be > 0, got {}",
+                p.r0
+            )));
         }
         if !(fin(p.c_r1) && (0.0..1.0).contains(&p.c_r1)) {
-            return Err(format!("Steel02: cR1 must be in [0, 1), got {}", p.c_r1));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: cR1 must be in [0, 1), got {}",
+                p.c_r1
+            )));
         }
         if !(fin(p.c_r2) && p.c_r2 > 0.0) {
-            return Err(format!("Steel02: cR2 must be > 0, got {}", p.c_r2));
+            return Err(MaterialError::Parameter(format!(
+                "Steel02: cR2 must be > 0, got {}",
+                p.c_r2
+            )));
         }
         if !(fin(p.a1) && fin(p.a3)) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Steel02: a1 and a3 must be finite, got {} and {}",
                 p.a1, p.a3
-            ));
+            )));
         }
         if !(fin(p.a2) && p.a2 > 0.0 && fin(p.a4) && p.a4 > 0.0) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Steel02: a2 and a4 must be > 0, got {} and {}",
                 p.a2, p.a4
-            ));
+            )));
         }
         if !fin(p.sig_init) {
-            return Err(format!(
+            return Err(MaterialError::Parameter(format!(
                 "Steel02: sigInit must be finite, got {}",
                 p.sig_init
-            ));
+            )));
         }
         if let Some(er) = p.eps_rupture {
             if !(fin(er) && er > p.fy / p.e0) {
-                return Err(format!(
+                return Err(MaterialError::Parameter(format!(
                     "Steel02: eps_rupture must exceed the yield strain Fy/E0 = {}, got {er}",
                     p.fy / p.e0
-                ));
+                )));
             }
         }
         let s = Self::virgin(&p);
@@ -401,15 +420,18 @@ mod tests {
         let p = Steel02Params::new(400e6, 200e9, 0.01);
         assert!(Steel02::new(Steel02Params { fy: 0.0, ..p })
             .unwrap_err()
+            .to_string()
             .contains("Fy"));
         assert!(Steel02::new(Steel02Params { c_r2: 0.0, ..p })
             .unwrap_err()
+            .to_string()
             .contains("cR2"));
         assert!(Steel02::new(Steel02Params {
             eps_rupture: Some(1e-3),
             ..p
         })
         .unwrap_err()
+        .to_string()
         .contains("eps_rupture"));
     }
 }

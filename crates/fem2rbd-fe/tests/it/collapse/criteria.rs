@@ -1,6 +1,7 @@
 //! Collapse criteria on closed-form (synthetic) displacement fields over frame3.
 use fem2rbd_fe::collapse::{
-    CollapseMonitor, ColumnLine, Criterion, Structure, Trigger, FEMA356_DRIFT, GB50011_DRIFT,
+    CollapseError, CollapseMonitor, ColumnLine, Criterion, Structure, Trigger, FEMA356_DRIFT,
+    GB50011_DRIFT,
 };
 use fem2rbd_fe::model::Model;
 
@@ -142,7 +143,10 @@ fn uniformly_sheared_story_drifts_by_the_imposed_angle() {
 fn bad_criteria_are_errors() {
     let m = frame3();
     let e = CollapseMonitor::new(&m, Criterion::VerticalDrop { threshold_m: 0.0 }).unwrap_err();
-    assert!(e.to_string().contains("threshold"), "{e}");
+    assert_eq!(e, CollapseError::Threshold(0.0));
     let e = CollapseMonitor::new(&m, Criterion::StoryDrift { ratio: f64::NAN }).unwrap_err();
-    assert!(e.to_string().contains("drift limit"), "{e}");
+    assert!(
+        matches!(e, CollapseError::DriftLimit(r) if r.is_nan()),
+        "{e}"
+    );
 }

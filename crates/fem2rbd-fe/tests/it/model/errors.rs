@@ -1,5 +1,6 @@
 //! Bad model files give an error naming the file, the line and the item.
-use fem2rbd_fe::model::Model;
+use fem2rbd_fe::model::limits::InputFileError;
+use fem2rbd_fe::model::{Model, ModelError};
 
 const BASE: &str = r#"name = "portal"
 scale = 0.25
@@ -62,6 +63,11 @@ fn err(text: &str) -> String {
     }
 }
 
+/// Parses `text` as TOML named `bad.toml`; returns the error itself (its kind).
+fn failure(text: &str) -> ModelError {
+    Model::parse(text, "bad.toml", false).expect_err("expected an error")
+}
+
 /// 1-based line of the first occurrence of `needle` in `text`.
 fn line_of(text: &str, needle: &str) -> usize {
     text.lines().position(|l| l.contains(needle)).expect(needle) + 1
@@ -122,6 +128,7 @@ fn toml_syntax_error_names_file_and_line() {
     let e = err(&t);
     let line = line_of(&t, "x = 4.0 y");
     assert!(e.starts_with(&format!("bad.toml:{line}:")), "{e}");
+    assert!(matches!(failure(&t), ModelError::Syntax { at, .. } if at.line == Some(line)));
 }
 
 #[test]
@@ -137,6 +144,10 @@ fn missing_field_names_line_and_item() {
         "{e}"
     );
     assert!(e.contains("missing field `z`"), "{e}");
+    assert!(matches!(
+        failure(&t),
+        ModelError::Syntax { at, .. } if at.item.as_deref() == Some("node item 2")
+    ));
 }
 
 #[test]
@@ -146,24 +157,28 @@ fn unknown_node_in_element() {
         "nodes = [2, 33], section = 2",
     );
     expect(&t, "nodes = [2, 33]", "element 2", "unknown node 33");
+    assert!(matches!(failure(&t), ModelError::UnknownReference { .. }));
 }
 
 #[test]
 fn unknown_section_in_element() {
     let t = edit("nodes = [1, 2], section = 1", "nodes = [1, 2], section = 9");
     expect(&t, "section = 9", "element 1", "unknown section 9");
+    assert!(matches!(failure(&t), ModelError::UnknownReference { .. }));
 }
 
 #[test]
 fn unknown_transformation_in_element() {
     let t = edit("section = 3, transf = 1", "section = 3, transf = 7");
     expect(&t, "transf = 7", "element 3", "unknown transformation 7");
+    assert!(matches!(failure(&t), ModelError::UnknownReference { .. }));
 }
 
 #[test]
 fn unknown_material_in_fiber_section() {
     let t = edit("[0.0, 0.1, 0.01, 1]", "[0.0, 0.1, 0.01, 5]");
     expect(&t, "[0.0, 0.1, 0.01, 5]", "section 2", "unknown material 5");
+    assert!(matches!(failure(&t), ModelError::UnknownReference { .. }));
 }
 
 #[test]
@@ -172,6 +187,7 @@ fn unknown_node_in_mass_and_support() {
     expect(&t, "node = 12", "mass 1 (node 12)", "unknown node 12");
     let t = edit("{ node = 4, dofs", "{ node = 40, dofs");
     expect(&t, "node = 40", "support of node 40", "unknown node 40");
+    assert!(matches!(failure(&t), ModelError::UnknownReference { .. }));
 }
 
 #[test]
@@ -198,6 +214,7 @@ fn duplicate_tags() {
         "material 2",
         "duplicate material tag",
     );
+    assert!(matches!(failure(&t), ModelError::Duplicate { .. }));
 }
 
 #[test]
@@ -207,6 +224,7 @@ fn zero_length_element() {
         "  { tag = 7, x = 0.0, y = 0.0, z = 3.0 },\n  { tag = 6, x = 4.0,",
     );
     expect(&t, "nodes = [2, 7]", "element 4", "zero length");
+    assert!(matches!(failure(&t), ModelError::Geometry { .. }));
 }
 
 #[test]
@@ -221,6 +239,7 @@ fn vecxz_parallel_to_axis() {
         "element 1",
         "parallel to the element axis",
     );
+    assert!(matches!(failure(&t), ModelError::Geometry { .. }));
 }
 
 #[test]
@@ -333,10 +352,12 @@ fn load_reports_the_path() {
     .unwrap();
     let e = format!("{:#}", Model::load(&p).unwrap_err());
     assert!(e.starts_with(&p.display().to_string()), "{e}");
-    let e = format!(
-        "{:#}",
-        Model::load(dir.path().join("none.toml")).unwrap_err()
+    let e = Model::load(dir.path().join("none.toml")).unwrap_err();
+    assert!(
+        matches!(e, ModelError::File(InputFileError::Missing { .. })),
+        "{e}"
     );
+    let e = e.to_string();
     assert!(e.contains("cannot read model file"), "{e}");
 }
 

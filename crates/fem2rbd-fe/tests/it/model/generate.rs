@@ -1,6 +1,6 @@
 //! The frame generator beyond frame3: multi-bay plans, mesh refinement, mass totals.
-use fem2rbd_fe::model::generate::{frame, FrameParams};
-use fem2rbd_fe::model::ElementKind;
+use fem2rbd_fe::model::generate::{frame, FrameError, FrameParams};
+use fem2rbd_fe::model::{ElementKind, ModelError};
 
 /// Total mass in closed form: concrete of every column and beam (full b×h over the
 /// centre-line lengths, as the reference lumps it), slab ρ t A and the added mass.
@@ -102,6 +102,7 @@ fn bad_generator_parameters_are_errors() {
         ..FrameParams::default()
     })
     .unwrap_err();
+    assert!(matches!(e, FrameError::Params(_)), "{e}");
     assert!(
         e.to_string()
             .contains("fc: give 1 value or one per story (3), not 2"),
@@ -112,13 +113,19 @@ fn bad_generator_parameters_are_errors() {
         ..FrameParams::default()
     })
     .unwrap_err();
-    assert!(e.to_string().contains("at least one story"), "{e}");
+    assert!(
+        matches!(&e, FrameError::Params(m) if m.contains("at least one story")),
+        "{e}"
+    );
     let e = frame(&FrameParams {
         cover: 0.06,
         ..FrameParams::default()
     })
     .unwrap_err();
-    assert!(e.to_string().contains("leaves no core"), "{e}");
+    assert!(
+        matches!(&e, FrameError::Model(ModelError::Value { message, .. }) if message.contains("leaves no core")),
+        "{e}"
+    );
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Ground-motion readers: the shipped El Centro records, both AT2 header forms, two-column
 //! and BCB CSV files, and bad files whose errors must name file:line.
-use fem2rbd_fe::motion::{read_record, Format, GroundMotion, Record, G};
+use fem2rbd_fe::model::limits::InputFileError;
+use fem2rbd_fe::motion::{read_record, Format, GroundMotion, MotionError, Record, G};
 use std::path::{Path, PathBuf};
 
 fn gm_dir() -> PathBuf {
@@ -103,6 +104,7 @@ fn scaling_gives_the_requested_pga_exactly() {
     }
     let mut gm2 = GroundMotion::new(None, None, None);
     let e = gm2.scale_to_pga([Some(0.1), None, None]).unwrap_err();
+    assert!(matches!(e, MotionError::NoComponent { axis: "X" }), "{e}");
     assert_eq!(e.to_string(), "no X component to scale");
 }
 
@@ -119,7 +121,10 @@ fn time_scale_halves_the_duration() {
     assert_eq!(s.pga().0, r.pga().0);
     assert!((s.pga().1 - 11.51 / 2.0).abs() < 1e-9);
     assert_eq!(gm.accel_at(5.755)[0], r.accel_at(11.51));
-    assert!(gm.time_scale(0.0).is_err());
+    assert!(matches!(
+        gm.time_scale(0.0),
+        Err(MotionError::Record { .. })
+    ));
 }
 
 #[test]
@@ -204,7 +209,15 @@ fn bad_files_name_file_and_line() {
             f.display()
         )
     );
+    // The kind of failure: a line of the file, with its number.
+    let e = read_record(&fixture("non_number.at2"), Format::At2).unwrap_err();
+    assert!(matches!(e, MotionError::Syntax { line: 6, .. }), "{e}");
     let missing = fixture("does_not_exist.at2");
+    let e = read_record(&missing, Format::Auto).unwrap_err();
+    assert!(
+        matches!(&e, MotionError::File(InputFileError::Missing { path, .. }) if path == &missing),
+        "{e}"
+    );
     assert!(err(&missing, Format::Auto).contains("does_not_exist.at2"));
 }
 
@@ -232,6 +245,7 @@ fn ground_motion_from_files_and_csv() {
     );
     let e = GroundMotion::from_files([Some(&fixture("bcb_motion.csv")), None, None], Format::Auto)
         .unwrap_err();
+    assert!(matches!(e, MotionError::Content { .. }), "{e}");
     assert_eq!(
         e.to_string(),
         format!(
