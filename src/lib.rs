@@ -20,6 +20,7 @@
 pub use fem2rbd_bullet as physics;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
+pub mod estimate;
 pub mod mapping;
 pub mod output;
 pub mod pipeline;
