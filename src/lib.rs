@@ -20,8 +20,10 @@
 pub use fem2rbd_bullet as physics;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
+pub mod body;
 pub mod estimate;
 pub mod mapping;
+pub mod mode;
 pub mod output;
 pub mod pipeline;
 pub mod plot;

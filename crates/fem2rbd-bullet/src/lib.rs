@@ -22,8 +22,9 @@ pub use settings::{
     SOLVER_USE_WARMSTARTING,
 };
 pub use types::{
-    BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, ContactPair,
-    ContactSummary, JointFeedback, PhysicsError, Pose, Spring, Velocity,
+    BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind,
+    ConstraintParam, ContactPair, ContactSummary, JointFeedback, PhysicsError, Pose, Spring,
+    Velocity,
 };
 pub use world::{
     abi_self_check, bullet_default_solver_settings, bullet_version,

@@ -27,6 +27,7 @@ mod fe {
         mod modal;
         mod static_analysis;
         mod support;
+        mod solver;
         mod threads;
         mod transient;
     }
@@ -61,6 +62,7 @@ mod fe {
     }
 }
 mod model {
+    mod building;
     mod errors;
     mod frame3;
     mod generate;

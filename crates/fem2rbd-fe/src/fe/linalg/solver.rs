@@ -5,6 +5,9 @@
 //! refinement, falling back to [`SparseLu`]. Singular or non-finite systems are errors,
 //! not panics.
 
+// `!(x <= y)` is used on purpose: NaN counts as a failure.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -235,7 +238,11 @@ impl SparseSolver {
             }
         }
         let (symbolic, factor_mem, solve_mem) = if n == 0 {
-            (None, MemBuffer::new(StackReq::EMPTY), MemBuffer::new(StackReq::EMPTY))
+            (
+                None,
+                MemBuffer::new(StackReq::EMPTY),
+                MemBuffer::new(StackReq::EMPTY),
+            )
         } else {
             let symbolic = factorize_symbolic_cholesky(
                 sym_pat,
@@ -248,15 +255,12 @@ impl SparseSolver {
             )
             .map_err(|e| faer_err(&e))?;
             let factor_mem = MemBuffer::try_new(
-                symbolic.factorize_numeric_intranode_lblt_scratch::<f64>(
-                    Par::Seq,
-                    Default::default(),
-                ),
+                symbolic
+                    .factorize_numeric_intranode_lblt_scratch::<f64>(Par::Seq, Default::default()),
             )
             .map_err(|e| faer_err(&e))?;
-            let solve_mem =
-                MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-                    .map_err(|e| faer_err(&e))?;
+            let solve_mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
+                .map_err(|e| faer_err(&e))?;
             (Some(symbolic), factor_mem, solve_mem)
         };
         let len_l = symbolic.as_ref().map_or(0, |s| s.len_val());
@@ -367,9 +371,10 @@ impl SparseSolver {
             } else {
                 f64::INFINITY
             };
-            if !(e <= omega) {
-                omega = e; // NaN propagates as a failure
+            if e.is_nan() {
+                return f64::INFINITY;
             }
+            omega = omega.max(e);
         }
         omega
     }
@@ -397,7 +402,7 @@ impl SparseSolver {
                 self.d = d;
                 steps += 1;
                 let w = self.residual(pattern, &b, &next);
-                if !(w < omega) {
+                if w.is_nan() || w >= omega {
                     break;
                 }
                 rhs.copy_from_slice(&next);
