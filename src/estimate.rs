@@ -1,6 +1,8 @@
 //! A time and memory estimate of a run before it starts (issue 16 item 3; issue 15 item 3's
-//! Slurm requests), from the size of the work and per-unit costs measured on the project's
-//! machine (`docs/reliability.md`, "Time and memory estimate", says how).
+//! Slurm requests), from the size of the work and per-unit costs. **The per-unit costs
+//! below are provisional placeholders, not yet measured**; `scripts/measure-estimate.sh`
+//! measures estimate against actual time and peak RSS (`docs/reliability.md`, "Time and
+//! memory estimate").
 //!
 //! **Time** (s), release build:
 //!
@@ -34,8 +36,8 @@ use crate::model::{ElementKind, Model, SectionKind};
 use std::collections::BTreeMap;
 use std::fmt;
 
-/// Process start, model and record reading, s (measured: `fem2rbd fe` of frame3 for one
-/// step minus one step's cost).
+/// Process start, model and record reading, s (provisional; to be measured as `fem2rbd
+/// fe` of frame3 for one step minus one step's cost).
 pub const T0_S: f64 = 0.02;
 /// FE cost per fibre state per step, s.
 pub const K_FIB_S: f64 = 1.0e-7;
