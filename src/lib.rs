@@ -21,6 +21,7 @@ pub use fem2rbd_bullet as physics;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
 pub mod body;
+pub mod estimate;
 pub mod mapping;
 pub mod mode;
 pub mod output;

@@ -50,6 +50,9 @@ pub struct FeArgs {
     /// Output folder (created if missing).
     #[arg(long)]
     pub out: PathBuf,
+    /// Print the time and memory estimate (docs/reliability.md) and exit without running.
+    #[arg(long)]
+    pub estimate: bool,
 }
 
 /// One `--gm` component (the shared syntax of [`fem2rbd::motion::spec`]).
@@ -171,6 +174,21 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
         );
         b
     };
+    let size = fem2rbd::estimate::Size::of_model(&model);
+    let work = fem2rbd::estimate::Work {
+        fe_steps: total,
+        fe_recorded_steps: total / args.every as u64 + 1,
+        ground_samples: (gm.duration_s() / args.dt).ceil() as u64,
+        ..Default::default()
+    };
+    let e = fem2rbd::estimate::estimate(&size, &work);
+    if args.estimate {
+        println!("{}", fem2rbd::estimate::report(&size, &work, &e));
+        return Ok(());
+    }
+    if !quiet && std::io::stderr().is_terminal() {
+        eprintln!("estimate: {e} (docs/reliability.md)");
+    }
     let start = std::time::Instant::now();
     let result = run_ground_motion(&model, &gm, &options, &mut |info, _| {
         bar.set_position(info.step as u64);

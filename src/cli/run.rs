@@ -34,6 +34,10 @@ pub struct RunArgs {
     /// Worker threads of an ensemble (default: the machine's cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Print the time and memory estimate of one run (docs/reliability.md) and exit
+    /// without running.
+    #[arg(long)]
+    pub estimate: bool,
 }
 
 /// A progress bar on stderr per stage (hidden when quiet or not on a terminal).
@@ -121,10 +125,26 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         pipeline::write::RUN_OWNED,
         "output folder",
     )?;
+    if args.estimate {
+        let (size, work, e) = fem2rbd::estimate::for_scenario(&sc)?;
+        println!("{}", fem2rbd::estimate::report(&size, &work, &e));
+        return Ok(());
+    }
+    let visible = !quiet && std::io::stderr().is_terminal();
     if let Some(n) = args.ensemble {
         let threads = args.threads.unwrap_or_else(|| {
             std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
         });
+        if visible {
+            let (_, _, e) = fem2rbd::estimate::for_scenario(&sc)?;
+            let rounds = n.div_ceil(threads.clamp(1, n.max(1))) as f64;
+            eprintln!(
+                "estimate: {n} members, {} each; about {} on {threads} threads, {} peak memory (docs/reliability.md)",
+                fem2rbd::estimate::show_seconds(e.seconds),
+                fem2rbd::estimate::show_seconds(e.seconds * rounds),
+                fem2rbd::estimate::show_bytes(e.peak_bytes * threads.min(n) as f64)
+            );
+        }
         let recs = pipeline::ensemble::run_ensemble(&sc, n, args.seed, threads)?;
         let written = pipeline::ensemble::write_ensemble(&sc, &recs, args.seed, &sc.output)?;
         if !quiet {
@@ -137,8 +157,12 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         }
         return Ok(());
     }
+    if visible {
+        let (_, _, e) = fem2rbd::estimate::for_scenario(&sc)?;
+        eprintln!("estimate: {e} (docs/reliability.md)");
+    }
     let bars = Bars {
-        visible: !quiet && std::io::stderr().is_terminal(),
+        visible,
         bar: RefCell::new(None),
         span: Cell::new((0.0, 0.0)),
     };

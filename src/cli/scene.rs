@@ -13,6 +13,9 @@ pub struct SceneArgs {
     /// Also write poses every N substeps (and at substep 0), not only the final ones.
     #[arg(long, value_name = "N")]
     pub frames: Option<u64>,
+    /// Print the time and memory estimate (docs/reliability.md) and exit without running.
+    #[arg(long)]
+    pub estimate: bool,
 }
 
 /// Runs the subcommand; a progress bar over the substeps on a terminal (not with
@@ -30,6 +33,19 @@ pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
         );
         b
     };
+    if args.estimate {
+        let scene = fem2rbd::scene::Scene::load(&args.scene)?;
+        let (size, work, e) = fem2rbd::estimate::for_scene(&scene, args.frames);
+        println!("{}", fem2rbd::estimate::report(&size, &work, &e));
+        return Ok(());
+    }
+    if !quiet && std::io::stderr().is_terminal() {
+        // Read once more for the estimate (milliseconds); errors are reported by the run.
+        if let Ok(scene) = fem2rbd::scene::Scene::load(&args.scene) {
+            let (_, _, e) = fem2rbd::estimate::for_scene(&scene, args.frames);
+            eprintln!("estimate: {e} (docs/reliability.md)");
+        }
+    }
     let r = fem2rbd::scene::run::run_scene_file_with(
         &args.scene,
         &args.out,

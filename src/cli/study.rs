@@ -76,10 +76,12 @@ pub struct SlurmArgs {
     /// Most tasks at once (`--array=…%N`; 0 = no limit).
     #[arg(long)]
     pub throttle: Option<usize>,
-    /// Stated wall time of one run, s.
+    /// Stated wall time of one run, s (default: the study's `slurm.estimate_s`, else the
+    /// estimate of its largest run).
     #[arg(long)]
     pub estimate_s: Option<f64>,
-    /// Memory per task, MiB.
+    /// Memory per task, MiB (default: the study's `slurm.mem_mb`, else the largest run's
+    /// estimate × safety).
     #[arg(long)]
     pub mem_mb: Option<u64>,
     /// Partition.
@@ -121,6 +123,13 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
             print!("{}", plan.manifest(&study));
             if !quiet {
                 let pending = plan.pending().count();
+                match fem2rbd::study::slurm::largest_run(&study) {
+                    Ok((run, e)) => eprintln!(
+                        "estimate: the largest run ({run}) {e}; an IDA sequence takes at most {} runs (docs/reliability.md)",
+                        fem2rbd::study::slurm::max_runs_per_sequence(&study)
+                    ),
+                    Err(e) => eprintln!("estimate: not available ({e:#})"),
+                }
                 eprintln!(
                     "study {}: {} run(s) planned, {} complete, {pending} pending{}",
                     study.name,
@@ -219,6 +228,31 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                     b.set_position(done as u64);
                 }
             };
+            if let (Some(_), Ok((run, e))) = (&bar, fem2rbd::study::slurm::largest_run(&study)) {
+                let plan = store.plan(&study);
+                let pending = plan.pending().count() as u64;
+                let (runs, what) = if plan.sequences.is_empty() {
+                    (pending, format!("{pending} run(s) pending"))
+                } else {
+                    let per = fem2rbd::study::slurm::max_runs_per_sequence(&study);
+                    let open = plan
+                        .sequences
+                        .iter()
+                        .filter(|s| s.state == fem2rbd::study::plan::SequenceState::Running)
+                        .count() as u64;
+                    (
+                        open * per,
+                        format!("{open} IDA sequence(s) open, at most {per} runs each"),
+                    )
+                };
+                let jobs = a.jobs.max(1) as f64;
+                eprintln!(
+                    "estimate: {what}; the largest run ({run}) {e}; at most {} on {} job(s), {} peak memory (docs/reliability.md)",
+                    fem2rbd::estimate::show_seconds(runs as f64 * e.seconds / jobs),
+                    a.jobs.max(1),
+                    fem2rbd::estimate::show_bytes(e.peak_bytes * jobs)
+                );
+            }
             let t0 = std::time::Instant::now();
             let s = run_local(&study, &store, a.jobs, &runner, &progress)?;
             if let Some(b) = &bar {
@@ -262,11 +296,11 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                 extra += &format!(" --throttle {v}");
             }
             if let Some(v) = a.estimate_s {
-                spec.estimate_s = v;
+                spec.estimate_s = Some(v);
                 extra += &format!(" --estimate-s {v}");
             }
             if let Some(v) = a.mem_mb {
-                spec.mem_mb = v;
+                spec.mem_mb = Some(v);
                 extra += &format!(" --mem-mb {v}");
             }
             if let Some(v) = &a.partition {
@@ -274,9 +308,8 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                 spec.partition = v.clone();
             }
             if spec.shard == 0
-                || spec.estimate_s.is_nan()
-                || spec.estimate_s <= 0.0
-                || spec.mem_mb == 0
+                || spec.estimate_s.is_some_and(|e| !(e.is_finite() && e > 0.0))
+                || spec.mem_mb == Some(0)
             {
                 bail!("--shard, --estimate-s and --mem-mb must be positive");
             }

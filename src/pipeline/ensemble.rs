@@ -126,7 +126,8 @@ pub(crate) fn distance_percentiles(rec: &RunRecord) -> [f64; 3] {
     [rank(0.5), rank(0.9), rank(1.0)]
 }
 
-fn flatten(prefix: &str, v: &Value, out: &mut BTreeMap<String, f64>) {
+/// Every number of a JSON value by its path (`a.b[2].c`), into `out`.
+pub fn flatten(prefix: &str, v: &Value, out: &mut BTreeMap<String, f64>) {
     match v {
         Value::Number(x) => {
             if let Some(f) = x.as_f64() {
@@ -177,6 +178,24 @@ fn r6(x: f64) -> f64 {
     (x * 1e6).round() / 1e6 + 0.0
 }
 
+/// Mean, sample standard deviation (n − 1; 0 for one value), min and max of `v`, to 6
+/// decimals, and the count as `members`.
+pub fn stats_json(v: &[f64]) -> Value {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = if v.len() > 1 {
+        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    json!({
+        "mean": r6(mean), "std": r6(var.sqrt()),
+        "min": r6(v.iter().copied().fold(f64::INFINITY, f64::min)),
+        "max": r6(v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
+        "members": v.len(),
+    })
+}
+
 /// `ensemble.json`: per measure the mean, sample standard deviation, min and max over the
 /// members (measures missing in a member are left out of that member).
 pub fn ensemble_summary(sc: &Scenario, recs: &[RunRecord], seed: u64) -> Value {
@@ -188,22 +207,7 @@ pub fn ensemble_summary(sc: &Scenario, recs: &[RunRecord], seed: u64) -> Value {
     }
     let mut stats = Map::new();
     for (k, v) in all {
-        let n = v.len() as f64;
-        let mean = v.iter().sum::<f64>() / n;
-        let var = if v.len() > 1 {
-            v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-        } else {
-            0.0
-        };
-        stats.insert(
-            k,
-            json!({
-                "mean": r6(mean), "std": r6(var.sqrt()),
-                "min": r6(v.iter().copied().fold(f64::INFINITY, f64::min)),
-                "max": r6(v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
-                "members": v.len(),
-            }),
-        );
+        stats.insert(k, stats_json(&v));
     }
     let p = Perturbation::new(seed, 1);
     json!({

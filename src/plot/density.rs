@@ -36,7 +36,134 @@ fn inside(poly: &[[f64; 2]], x: f64, y: f64) -> bool {
         })
 }
 
+/// A plan-view debris grid accumulated over runs of one model (an ensemble, or all runs
+/// of one intensity of a study): square cells of side `cell_m`, cell (i, j) covering
+/// [i·c, (i+1)·c) × [j·c, (j+1)·c) in world x, y (m). Per cell:
+///
+/// * `covered` — the number of runs in which the cell's centre lies inside the plan
+///   projection (convex hull of the 8 corners, as in `summary.json`) of at least one
+///   active body at its final pose;
+/// * `centres` — the number of active bodies whose final centre lies in the cell, summed
+///   over the runs. Σ `centres` = active bodies × runs; `centres` / (runs · c²) is the mean
+///   number of bodies per m² (the density whose integral over the plan is the number of
+///   bodies of one run).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DensityGrid {
+    /// Runs added.
+    pub runs: usize,
+    /// Active bodies of one run (the first run's).
+    pub bodies: usize,
+    /// Cell side, m: 1/40 of the smaller side of the original footprint.
+    pub cell_m: f64,
+    /// (i, j) → runs with debris over the cell's centre.
+    pub covered: BTreeMap<(i64, i64), usize>,
+    /// (i, j) → body final centres in the cell, over all runs.
+    pub centres: BTreeMap<(i64, i64), usize>,
+    /// Original footprint of the active bodies (x range, y range), m.
+    pub footprint: ([f64; 2], [f64; 2]),
+}
+
+/// The cell holding `x` (m) for side `cell`.
+pub fn cell_index(x: f64, cell: f64) -> i64 {
+    (x / cell).floor() as i64
+}
+
+impl DensityGrid {
+    /// An empty grid sized on `run`'s original footprint (its active bodies' undeformed
+    /// boxes).
+    pub fn for_run(run: &RunFolder) -> Self {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for b in run.bodies.iter().filter(|b| !b.passive) {
+            for c in corners(&b.pose0, b.half_extents) {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+        }
+        DensityGrid {
+            runs: 0,
+            bodies: run.bodies.iter().filter(|b| !b.passive).count(),
+            cell_m: ((hi[0] - lo[0]).min(hi[1] - lo[1]).max(1e-3)) / 40.0,
+            covered: BTreeMap::new(),
+            centres: BTreeMap::new(),
+            footprint: ([lo[0], hi[0]], [lo[1], hi[1]]),
+        }
+    }
+
+    /// Adds one run's final poses.
+    pub fn add(&mut self, run: &RunFolder) {
+        let cell = self.cell_m;
+        let mut cells = std::collections::BTreeSet::new();
+        for (b, p) in run.bodies.iter().zip(&run.final_poses) {
+            if b.passive {
+                continue;
+            }
+            *self
+                .centres
+                .entry((
+                    cell_index(p.position[0], cell),
+                    cell_index(p.position[1], cell),
+                ))
+                .or_default() += 1;
+            let poly = projection(p, b.half_extents);
+            let (mut a, mut z) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for q in &poly {
+                for k in 0..2 {
+                    a[k] = a[k].min(q[k]);
+                    z[k] = z[k].max(q[k]);
+                }
+            }
+            for j in (a[1] / cell).floor() as i64..=(z[1] / cell).ceil() as i64 {
+                for i in (a[0] / cell).floor() as i64..=(z[0] / cell).ceil() as i64 {
+                    let (x, y) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
+                    if inside(&poly, x, y) {
+                        cells.insert((i, j));
+                    }
+                }
+            }
+        }
+        for c in cells {
+            *self.covered.entry(c).or_default() += 1;
+        }
+        self.runs += 1;
+    }
+
+    /// The grid of run folders (sized on the first).
+    pub fn of_runs(runs: &[RunFolder]) -> Result<Self> {
+        let Some(first) = runs.first() else {
+            return Err(PlotError::Input(
+                "a density grid needs at least one run".to_string(),
+            ));
+        };
+        let mut g = Self::for_run(first);
+        for r in runs {
+            g.add(r);
+        }
+        Ok(g)
+    }
+
+    /// Share of runs with debris over each cell (`covered` / runs).
+    pub fn share(&self) -> BTreeMap<(i64, i64), f64> {
+        self.covered
+            .iter()
+            .map(|(k, c)| (*k, *c as f64 / self.runs.max(1) as f64))
+            .collect()
+    }
+}
+
 impl DensityFigure {
+    /// The figure of a grid, titled `label`.
+    pub fn of_grid(g: &DensityGrid, label: String) -> Self {
+        DensityFigure {
+            members: g.runs,
+            cell_m: g.cell_m,
+            share: g.share(),
+            footprint: g.footprint,
+            label,
+        }
+    }
+
     /// Reads `dir/member-*/` (sorted) and computes the map.
     pub fn load(dir: &Path) -> Result<Self> {
         let mut members: Vec<_> = std::fs::read_dir(dir)
@@ -59,55 +186,9 @@ impl DensityFigure {
             .iter()
             .map(|p| RunFolder::load(p).map_err(|e| PlotError::Input(format!("{e:#}"))))
             .collect::<Result<_>>()?;
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for b in runs[0].bodies.iter().filter(|b| !b.passive) {
-            for c in corners(&b.pose0, b.half_extents) {
-                for k in 0..2 {
-                    lo[k] = lo[k].min(c[k]);
-                    hi[k] = hi[k].max(c[k]);
-                }
-            }
-        }
-        let cell = ((hi[0] - lo[0]).min(hi[1] - lo[1]).max(1e-3)) / 40.0;
-        let mut count: BTreeMap<(i64, i64), usize> = BTreeMap::new();
-        for run in &runs {
-            let mut cells = std::collections::BTreeSet::new();
-            for (b, p) in run.bodies.iter().zip(&run.final_poses) {
-                if b.passive {
-                    continue;
-                }
-                let poly = projection(p, b.half_extents);
-                let (mut a, mut z) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-                for q in &poly {
-                    for k in 0..2 {
-                        a[k] = a[k].min(q[k]);
-                        z[k] = z[k].max(q[k]);
-                    }
-                }
-                for j in (a[1] / cell).floor() as i64..=(z[1] / cell).ceil() as i64 {
-                    for i in (a[0] / cell).floor() as i64..=(z[0] / cell).ceil() as i64 {
-                        let (x, y) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
-                        if inside(&poly, x, y) {
-                            cells.insert((i, j));
-                        }
-                    }
-                }
-            }
-            for c in cells {
-                *count.entry(c).or_default() += 1;
-            }
-        }
-        let n = runs.len();
-        Ok(DensityFigure {
-            members: n,
-            cell_m: cell,
-            share: count
-                .into_iter()
-                .map(|(k, c)| (k, c as f64 / n as f64))
-                .collect(),
-            footprint: ([lo[0], hi[0]], [lo[1], hi[1]]),
-            label: format!("{} members, {}", n, dir.display()),
-        })
+        let g = DensityGrid::of_runs(&runs)?;
+        let label = format!("{} members, {}", g.runs, dir.display());
+        Ok(Self::of_grid(&g, label))
     }
 }
 
@@ -188,7 +269,7 @@ impl Figure for DensityFigure {
             4,
             style::FOOTPRINT.stroke_width(2),
         )))?;
-        let mut entries = vec![(Swatch::Heading, "Share of members".to_string())];
+        let mut entries = vec![(Swatch::Heading, "Share of runs".to_string())];
         for s in [0.2, 0.4, 0.6, 0.8, 1.0] {
             entries.push((Swatch::Fill(shade(s)), format!("{:.0} %", 100.0 * s)));
         }

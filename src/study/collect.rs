@@ -20,8 +20,10 @@
 use super::format::{Intensity, Study, MILLI_G};
 use super::fragility::{fit_ida, fit_stripes};
 use super::plan::{read_summary, Outcome, Plan, SequenceState, Store};
-use crate::output::run_folder::parse_history;
+use crate::output::run_folder::{parse_history, RunFolder};
 use crate::output::write_atomic;
+use crate::pipeline::ensemble::stats_json;
+use crate::plot::density::DensityGrid;
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
@@ -67,6 +69,41 @@ pub(crate) struct RunRow {
     pub debris_height_m: Option<f64>,
     /// Smallest slab overlap ratio.
     pub min_slab_overlap: Option<f64>,
+    /// Ensemble member (0 without an ensemble).
+    pub member: u32,
+    /// Every ruin measure of the run by name ([`ruin_measures`]); empty without a ruin
+    /// stage.
+    pub measures: BTreeMap<String, f64>,
+}
+
+/// The ruin measures of a run's `summary.json` that the ensemble statistics aggregate,
+/// flattened to `name → value`: every number of `ruins` (`ruins.debris_footprint_area_m2`,
+/// `ruins.extent_beyond_footprint_m.max`, `ruins.floors[0].horizontal_offset_m`, …) and of
+/// `connections` (`connections.broken`, …), `ruin_stage.end_s`,
+/// `ruin_stage.max_speed_mps` (`ruin_stage.energy.speed.max_mps`),
+/// `ruin_stage.unsettled_bodies` (their count) and `tc_s`. Empty without a ruin stage.
+pub fn ruin_measures(summary: &Value) -> BTreeMap<String, f64> {
+    use crate::pipeline::ensemble::flatten;
+    let mut m = BTreeMap::new();
+    if summary["ruin_stage"].is_null() {
+        return m;
+    }
+    flatten("ruins", &summary["ruins"], &mut m);
+    flatten("connections", &summary["connections"], &mut m);
+    let rs = &summary["ruin_stage"];
+    if let Some(v) = rs["end_s"].as_f64() {
+        m.insert("ruin_stage.end_s".into(), v);
+    }
+    if let Some(v) = rs["energy"]["speed"]["max_mps"].as_f64() {
+        m.insert("ruin_stage.max_speed_mps".into(), v);
+    }
+    if let Some(a) = rs["unsettled_bodies"].as_array() {
+        m.insert("ruin_stage.unsettled_bodies".into(), a.len() as f64);
+    }
+    if let Some(v) = summary["tc_s"].as_f64() {
+        m.insert("tc_s".into(), v);
+    }
+    m
 }
 
 fn opt(v: Option<f64>, d: usize) -> String {
@@ -94,6 +131,8 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
         debris_area_m2: None,
         debris_height_m: None,
         min_slab_overlap: None,
+        member: e.member,
+        measures: BTreeMap::new(),
     };
     if let Outcome::Failed(msg) = o {
         r.error = Some(msg.clone());
@@ -129,6 +168,7 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
             .iter()
             .map(|o| o.overlap_ratio)
             .reduce(f64::min);
+        r.measures = ruin_measures(&super::plan::read_json(&dir.join("summary.json"))?);
     }
     Ok(r)
 }
@@ -142,20 +182,25 @@ fn field(s: &str) -> String {
     }
 }
 
-/// `runs.csv` text.
-pub(crate) fn runs_csv(rows: &[RunRow]) -> String {
-    let mut s = String::from("id,round,model,record,mode,pga_g,status,collapse,tc_s,tc_reason,peak_roof_drift,fe_end_s,ruin_stop,connections_broken,extent_max_m,debris_area_m2,debris_height_m,min_slab_overlap,error\n");
+/// `runs.csv` text; `ensemble`: with a `member` column after `pga_g`.
+pub(crate) fn runs_csv(rows: &[RunRow], ensemble: bool) -> String {
+    let mut s = format!("id,round,model,record,mode,pga_g,{}status,collapse,tc_s,tc_reason,peak_roof_drift,fe_end_s,ruin_stop,connections_broken,extent_max_m,debris_area_m2,debris_height_m,min_slab_overlap,error\n", if ensemble { "member," } else { "" });
     for r in rows {
         let ok = r.error.is_none();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{:.3},{}{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.id,
             r.round,
             r.model,
             r.record,
             r.mode,
             r.pga_g,
+            if ensemble {
+                format!("{},", r.member)
+            } else {
+                String::new()
+            },
             if ok { "ok" } else { "failed" },
             if ok {
                 if r.collapse {
@@ -371,17 +416,228 @@ pub fn collect(study: &Study, store: &Store, partial: bool) -> Result<Vec<PathBu
     let dir = store.dir.join("results");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let js = serde_json::to_string_pretty(&study_json(study, &done, &rows))? + "\n";
-    let files = [
-        ("runs.csv", runs_csv(&rows)),
-        ("ida.csv", ida_csv(&rows)),
-        ("study.json", js),
-        ("manifest.tsv", plan.manifest(study)),
+    let ensemble = study.ensemble.members > 1;
+    let mut files = vec![
+        ("runs.csv".to_string(), runs_csv(&rows, ensemble)),
+        ("ida.csv".to_string(), ida_csv(&rows)),
+        ("study.json".to_string(), js),
+        ("manifest.tsv".to_string(), plan.manifest(study)),
     ];
+    if ensemble {
+        let (j, c) = ensemble_stats(study, &done, &rows);
+        files.push((
+            "ensemble.json".into(),
+            serde_json::to_string_pretty(&j)? + "\n",
+        ));
+        files.push(("ensemble.csv".into(), c));
+    }
+    for (stem, grid) in density_grids(study, store, &done, &rows)? {
+        let (j, c) = density_files(&grid);
+        // Compact: one cell per array, thousands of cells.
+        files.push((
+            format!("density/{stem}.json"),
+            serde_json::to_string(&j)? + "\n",
+        ));
+        files.push((format!("density/{stem}.csv"), c));
+    }
+    // Density files of an earlier collect that no longer has runs are removed.
+    let ddir = dir.join("density");
+    if ddir.is_dir() {
+        for e in std::fs::read_dir(&ddir)?.flatten() {
+            let name = format!("density/{}", e.file_name().to_string_lossy());
+            if !files.iter().any(|(n, _)| *n == name) {
+                std::fs::remove_file(e.path())?;
+            }
+        }
+    }
     let mut out = Vec::new();
     for (name, text) in files {
-        let p = dir.join(name);
+        let p = dir.join(&name);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
+        }
         write_atomic(&p, text.as_bytes())?;
         out.push(p);
     }
     Ok(out)
+}
+
+/// Per (model, record, mode, intensity) the statistics ([`stats_json`]) of every ruin
+/// measure ([`ruin_measures`]) over its ok ensemble members: `ensemble.json` and
+/// `ensemble.csv` (`model,record,mode,pga_g,measure,members,mean,std,min,max`, one row
+/// per group and measure, groups in manifest order and measures by name).
+pub(crate) fn ensemble_stats(study: &Study, plan: &Plan, rows: &[RunRow]) -> (Value, String) {
+    type Key = (usize, usize, usize, u32);
+    let mode_index =
+        |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
+    let mut groups: BTreeMap<Key, (Vec<u32>, BTreeMap<String, Vec<f64>>)> = BTreeMap::new();
+    for (e, r) in plan.entries.iter().zip(rows) {
+        let g = groups
+            .entry((e.model, e.record, mode_index(e.mode), e.milli_g))
+            .or_default();
+        if r.error.is_some() {
+            continue;
+        }
+        g.0.push(e.member);
+        for (k, v) in &r.measures {
+            g.1.entry(k.clone()).or_default().push(*v);
+        }
+    }
+    let mut csv = String::from("model,record,mode,pga_g,measure,members,mean,std,min,max\n");
+    let mut out = Vec::new();
+    for ((mi, ri, modi, g), (members, measures)) in &groups {
+        let (model, record, mode) = (
+            &study.models[*mi].name,
+            &study.records[*ri].name,
+            study.modes[*modi].name(),
+        );
+        let pga = *g as f64 * MILLI_G;
+        let mut ms = serde_json::Map::new();
+        for (k, v) in measures {
+            let st = stats_json(v);
+            let _ = writeln!(
+                csv,
+                "{model},{record},{mode},{pga:.3},{k},{},{:.6},{:.6},{:.6},{:.6}",
+                v.len(),
+                st["mean"].as_f64().unwrap_or(f64::NAN),
+                st["std"].as_f64().unwrap_or(f64::NAN),
+                st["min"].as_f64().unwrap_or(f64::NAN),
+                st["max"].as_f64().unwrap_or(f64::NAN),
+            );
+            ms.insert(k.clone(), st);
+        }
+        out.push(json!({
+            "model": model, "record": record, "mode": mode, "pga_g": r6(pga),
+            "members_ok": members.len(),
+            "measures": Value::Object(ms),
+        }));
+    }
+    let p = crate::pipeline::ensemble::Perturbation::new(study.ensemble.seed, 1);
+    (
+        json!({
+            "study": study.name,
+            "members": study.ensemble.members,
+            "seed": study.ensemble.seed,
+            "member_0": "unperturbed",
+            "perturbation": {
+                "hybrid": {"kind": "handoff_velocity", "amplitude_mps": p.velocity_mps},
+                "physics": {"kind": "ground_motion_scale", "relative_amplitude": p.ground_share},
+            },
+            "groups": out,
+        }),
+        csv,
+    )
+}
+
+/// A density grid of one (model, mode, intensity): file stem
+/// `<model>__<mode>__<pga>g` and the grid over every ok run of that intensity (all
+/// records and members). Modes with a ruin stage only (not `fe`).
+pub(crate) fn density_grids(
+    study: &Study,
+    store: &Store,
+    plan: &Plan,
+    rows: &[RunRow],
+) -> Result<Vec<(String, StudyDensity)>> {
+    let mode_index =
+        |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
+    let mut groups: BTreeMap<(usize, usize, u32), Vec<&super::plan::Entry>> = BTreeMap::new();
+    for (e, r) in plan.entries.iter().zip(rows) {
+        if r.error.is_some() || e.mode == crate::pipeline::Mode::Fe {
+            continue;
+        }
+        groups
+            .entry((e.model, mode_index(e.mode), e.milli_g))
+            .or_default()
+            .push(e);
+    }
+    let mut out = Vec::new();
+    for ((mi, modi, g), entries) in groups {
+        let mut grid: Option<DensityGrid> = None;
+        let mut ids = Vec::new();
+        for e in entries {
+            let run =
+                RunFolder::load(&store.run_dir(&e.id)).with_context(|| format!("run {}", e.id))?;
+            grid.get_or_insert_with(|| DensityGrid::for_run(&run))
+                .add(&run);
+            ids.push(e.id.clone());
+        }
+        let Some(grid) = grid else { continue };
+        let (model, mode) = (&study.models[mi].name, study.modes[modi].name());
+        let stem = format!("{model}__{mode}__{}.{:03}g", g / 1000, g % 1000);
+        out.push((
+            stem,
+            StudyDensity {
+                study: study.name.clone(),
+                model: model.clone(),
+                mode,
+                pga_g: g as f64 * MILLI_G,
+                run_ids: ids,
+                grid,
+            },
+        ));
+    }
+    Ok(out)
+}
+
+/// A density grid of a study intensity level with what it is over.
+#[derive(Debug, Clone)]
+pub struct StudyDensity {
+    /// Study name.
+    pub study: String,
+    /// Model name.
+    pub model: String,
+    /// Mode.
+    pub mode: &'static str,
+    /// Intensity, g.
+    pub pga_g: f64,
+    /// The runs, manifest order.
+    pub run_ids: Vec<String>,
+    /// The grid.
+    pub grid: DensityGrid,
+}
+
+/// `density/<stem>.json` and `.csv` of a grid: the JSON holds the grid's header (runs,
+/// bodies per run, cell side, footprint, run ids) and every non-empty cell as
+/// `[i, j, covered, centres]`; the CSV one row per non-empty cell
+/// (`i,j,x_m,y_m,runs_covered,share,body_centres,bodies_per_m2`: the cell's lower-left
+/// corner, the runs with debris over its centre and their share, the body final centres
+/// in it over all runs, and those per run per m²).
+pub fn density_files(d: &StudyDensity) -> (Value, String) {
+    let g = &d.grid;
+    let keys: std::collections::BTreeSet<(i64, i64)> =
+        g.covered.keys().chain(g.centres.keys()).copied().collect();
+    let c = g.cell_m;
+    let mut csv = String::from("i,j,x_m,y_m,runs_covered,share,body_centres,bodies_per_m2\n");
+    let mut cells = Vec::new();
+    for (i, j) in keys {
+        let cov = g.covered.get(&(i, j)).copied().unwrap_or(0);
+        let cen = g.centres.get(&(i, j)).copied().unwrap_or(0);
+        let _ = writeln!(
+            csv,
+            "{i},{j},{:.6},{:.6},{cov},{:.6},{cen},{:.6}",
+            i as f64 * c,
+            j as f64 * c,
+            cov as f64 / g.runs as f64,
+            cen as f64 / (g.runs as f64 * c * c)
+        );
+        cells.push(json!([i, j, cov, cen]));
+    }
+    (
+        json!({
+            "study": d.study,
+            "model": d.model,
+            "mode": d.mode,
+            "pga_g": r6(d.pga_g),
+            "runs": g.runs,
+            "bodies_per_run": g.bodies,
+            "cell_m": r6(c),
+            "footprint_m": {"x": [r6(g.footprint.0[0]), r6(g.footprint.0[1])],
+                            "y": [r6(g.footprint.1[0]), r6(g.footprint.1[1])]},
+            "run_ids": d.run_ids,
+            "cells_ijcn": "[i, j, runs with debris over the cell centre, body final centres in the cell]",
+            "cells": cells,
+        }),
+        csv,
+    )
 }

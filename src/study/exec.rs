@@ -69,7 +69,7 @@ fn entry_json(study: &Study, entry: &Entry) -> serde_json::Value {
             }))
         })
         .collect();
-    json!({
+    let mut v = json!({
         "id": entry.id,
         "round": entry.round,
         "model": study.models[entry.model].name,
@@ -84,7 +84,23 @@ fn entry_json(study: &Study, entry: &Entry) -> serde_json::Value {
         "scale_factor": round6(f),
         "time_scale": study.time_scale,
         "components": comps,
-    })
+    });
+    if study.ensemble.members > 1 {
+        let p = pipeline::ensemble::Perturbation::new(study.ensemble.seed, 1);
+        v["ensemble"] = json!({
+            "member": entry.member,
+            "members": study.ensemble.members,
+            "seed": study.ensemble.seed,
+            "perturbation": if entry.member == 0 {
+                json!("none (member 0)")
+            } else if entry.mode == crate::pipeline::Mode::Physics {
+                json!({"kind": "ground_motion_scale", "relative_amplitude": p.ground_share})
+            } else {
+                json!({"kind": "handoff_velocity", "amplitude_mps": p.velocity_mps})
+            },
+        });
+    }
+    v
 }
 
 const AXES: [&str; 3] = ["X", "Y", "Z"];
@@ -163,7 +179,12 @@ pub fn run_one(study: &Study, store: &Store, entry: &Entry) -> Result<Outcome> {
     let out = store.run_dir(&entry.id);
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let sc = scenario_for(study, entry, &out);
-        let rec = pipeline::run(&sc, &Silent)?;
+        // Ensemble member m ≥ 1: the ruin stage's start perturbed as `run --ensemble`
+        // (pipeline::ensemble); member 0 is the plain run.
+        let p = (entry.member > 0).then(|| {
+            pipeline::ensemble::Perturbation::new(study.ensemble.seed, u64::from(entry.member))
+        });
+        let rec = pipeline::run_perturbed(&sc, &Silent, p.as_ref())?;
         let files = pipeline::write::contents(&rec, false)?;
         Ok::<_, anyhow::Error>((files, rec.tc_s.is_some()))
     }));

@@ -33,9 +33,35 @@ struct RawStudy {
     records: RawRecords,
     intensity: RawIntensity,
     #[serde(default)]
-    ensemble: Option<toml::Value>,
+    ensemble: Option<RawEnsemble>,
     #[serde(default)]
     slurm: SlurmSpec,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEnsemble {
+    members: Spanned<i64>,
+    #[serde(default = "one_u64")]
+    seed: u64,
+}
+
+fn one_u64() -> u64 {
+    1
+}
+
+/// Largest ensemble size of a study.
+pub const MAX_MEMBERS: u32 = 1000;
+
+/// The ensemble axis: every (model, record, mode, intensity) run `members` times, member 0
+/// unperturbed, member m ≥ 1 perturbed as [`crate::pipeline::ensemble::Perturbation`]
+/// of (`seed`, m).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Ensemble {
+    /// Members per (model, record, mode, intensity); 1 = no ensemble.
+    pub members: u32,
+    /// Seed of the perturbations.
+    pub seed: u64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -115,12 +141,14 @@ pub enum ScaleBy {
 #[serde(default, deny_unknown_fields)]
 pub struct SlurmSpec {
     /// Stated wall-time estimate of one run, s (the time request is
-    /// `shard · estimate_s · safety + 60 s`).
-    pub estimate_s: f64,
+    /// `shard · estimate_s · safety + 60 s`); `None`: the largest run's estimate
+    /// ([`crate::estimate`], [`super::slurm::requests`]).
+    pub estimate_s: Option<f64>,
     /// Safety factor on the time estimate.
     pub safety: f64,
-    /// Memory request per task, MiB.
-    pub mem_mb: u64,
+    /// Memory request per task, MiB; `None`: the largest run's peak-memory estimate
+    /// times `safety` ([`super::slurm::requests`]).
+    pub mem_mb: Option<u64>,
     /// Manifest entries per array task.
     pub shard: usize,
     /// Most array tasks running at once (`--array=…%N`); 0 = no limit.
@@ -134,9 +162,9 @@ pub struct SlurmSpec {
 impl Default for SlurmSpec {
     fn default() -> Self {
         SlurmSpec {
-            estimate_s: 600.0,
+            estimate_s: None,
             safety: 2.0,
-            mem_mb: 1024,
+            mem_mb: None,
             shard: 1,
             throttle: 0,
             partition: String::new(),
@@ -217,6 +245,8 @@ pub struct Study {
     pub intensity: Intensity,
     /// Slurm settings.
     pub slurm: SlurmSpec,
+    /// The ensemble axis (`members = 1` without an `[ensemble]` table).
+    pub ensemble: Ensemble,
 }
 
 /// 1-based line of byte offset `at` in `text`.
@@ -296,11 +326,6 @@ impl Study {
         let base_path = base_dir.join(raw.base.get_ref());
         let base = Scenario::load(&base_path)
             .with_context(|| format!("{}: base scenario", at(raw.base.span())))?;
-        if raw.ensemble.is_some() {
-            bail!(
-                "{p}: ensemble: ensemble members are not built yet in fem2rbd (docs/study-format.md, \"Pending\")"
-            );
-        }
         let modes = if raw.modes.is_empty() {
             vec![base.mode]
         } else {
@@ -489,14 +514,39 @@ impl Study {
                 Intensity::Ida(rule)
             }
         };
+        let ensemble = match &raw.ensemble {
+            None => Ensemble {
+                members: 1,
+                seed: 1,
+            },
+            Some(e) => {
+                let n = *e.members.get_ref();
+                if !(1..=i64::from(MAX_MEMBERS)).contains(&n) {
+                    bail!(
+                        "{}: ensemble.members must be 1 to {MAX_MEMBERS}, got {n}",
+                        at(e.members.span())
+                    );
+                }
+                if n > 1 && modes.contains(&Mode::Fe) {
+                    bail!(
+                        "{}: ensemble.members: members perturb the ruin stage only, so fe-mode members would be identical copies; use modes hybrid or physics",
+                        at(e.members.span())
+                    );
+                }
+                Ensemble {
+                    members: n as u32,
+                    seed: e.seed,
+                }
+            }
+        };
         let s = &raw.slurm;
-        if !(s.estimate_s.is_finite() && s.estimate_s > 0.0) {
+        if s.estimate_s.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
             bail!("{p}: slurm.estimate_s must be positive");
         }
         if !(s.safety.is_finite() && s.safety >= 1.0) {
             bail!("{p}: slurm.safety must be at least 1");
         }
-        if s.shard == 0 || s.mem_mb == 0 {
+        if s.shard == 0 || s.mem_mb == Some(0) {
             bail!("{p}: slurm.shard and slurm.mem_mb must be at least 1");
         }
         let name = path
@@ -519,6 +569,7 @@ impl Study {
             scale_by: rr.scale_by,
             intensity,
             slurm: raw.slurm.clone(),
+            ensemble,
         })
     }
 }

@@ -44,6 +44,8 @@ pub struct Entry {
     pub mode: Mode,
     /// Target intensity, milli-g.
     pub milli_g: u32,
+    /// Ensemble member (0: unperturbed; always 0 without an ensemble).
+    pub member: u32,
 }
 
 impl Entry {
@@ -61,6 +63,25 @@ pub(crate) fn run_id(model: &str, record: &str, mode: Mode, milli_g: u32) -> Str
         milli_g / 1000,
         milli_g % 1000
     )
+}
+
+/// The run id of an ensemble member: [`run_id`] + `__m<member>` (three digits), e.g.
+/// `frame3__FF01__hybrid__0.750g__m002`; without an ensemble (`members` = 1) the plain
+/// [`run_id`].
+pub fn member_id(
+    model: &str,
+    record: &str,
+    mode: Mode,
+    milli_g: u32,
+    member: u32,
+    members: u32,
+) -> String {
+    let id = run_id(model, record, mode, milli_g);
+    if members > 1 {
+        format!("{id}__m{member:03}")
+    } else {
+        id
+    }
 }
 
 /// What became of a run.
@@ -188,12 +209,15 @@ impl Plan {
     }
 
     /// The manifest text: a header, then one line per entry
-    /// (`id round model record mode pga_g`, tab-separated).
+    /// (`id round model record mode pga_g`, tab-separated; an ensemble study adds
+    /// `member`).
     pub fn manifest(&self, study: &Study) -> String {
-        let mut s = String::from("id\tround\tmodel\trecord\tmode\tpga_g\n");
+        let ens = study.ensemble.members > 1;
+        let mut s = String::from("id\tround\tmodel\trecord\tmode\tpga_g");
+        s.push_str(if ens { "\tmember\n" } else { "\n" });
         for e in &self.entries {
             s.push_str(&format!(
-                "{}\t{}\t{}\t{}\t{}\t{:.3}\n",
+                "{}\t{}\t{}\t{}\t{}\t{:.3}",
                 e.id,
                 e.round,
                 study.models[e.model].name,
@@ -201,6 +225,11 @@ impl Plan {
                 e.mode.name(),
                 e.pga_g()
             ));
+            if ens {
+                s.push_str(&format!("\t{}\n", e.member));
+            } else {
+                s.push('\n');
+            }
         }
         s
     }
@@ -213,27 +242,36 @@ pub fn plan(study: &Study, outcome: &dyn Fn(&str) -> Option<Outcome>) -> Plan {
     for (mi, m) in study.models.iter().enumerate() {
         for (ri, r) in study.records.iter().enumerate() {
             for &mode in &study.modes {
-                let entry = |round: u32, milli_g: u32| Entry {
-                    id: run_id(&m.name, &r.name, mode, milli_g),
+                let n = study.ensemble.members;
+                let entry = |round: u32, milli_g: u32, member: u32| Entry {
+                    id: member_id(&m.name, &r.name, mode, milli_g, member, n),
                     round,
                     model: mi,
                     record: ri,
                     mode,
                     milli_g,
+                    member,
                 };
                 match &study.intensity {
                     Intensity::Stripes(list) => {
-                        entries.extend(list.iter().map(|&g| entry(0, g)));
+                        for &g in list {
+                            entries.extend((0..n).map(|k| entry(0, g, k)));
+                        }
                     }
                     Intensity::Ida(rule) => {
+                        // Every member of an intensity is planned with it; member 0's
+                        // outcome drives the sequence (the members share the FE stage,
+                        // so they share its collapse moment).
                         let mut history = Vec::new();
                         let state = loop {
                             match next_intensity(rule, &history) {
                                 Next::Done(s) => break s,
                                 Next::Run(g) => {
-                                    let e = entry(history.len() as u32, g);
+                                    let e = entry(history.len() as u32, g, 0);
                                     let o = outcome(&e.id);
                                     entries.push(e);
+                                    entries
+                                        .extend((1..n).map(|k| entry(history.len() as u32, g, k)));
                                     match o {
                                         Some(o) => history.push((g, o)),
                                         None => break SequenceState::Running,
@@ -259,6 +297,7 @@ pub fn plan(study: &Study, outcome: &dyn Fn(&str) -> Option<Outcome>) -> Plan {
             e.record,
             mode_rank(study, e.mode),
             e.milli_g,
+            e.member,
         )
     };
     entries.sort_by_key(key);

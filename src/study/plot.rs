@@ -366,5 +366,72 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             format,
         )?);
     }
+    files.extend(write_density(dir, out, format)?);
+    Ok(files)
+}
+
+/// The debris-density figure of one `results/density/<stem>.json` ([`super::collect`]).
+pub fn density_figure(path: &Path) -> Result<crate::plot::density::DensityFigure> {
+    let j = super::plan::read_json(path)?;
+    let bad = |what: &str| anyhow::anyhow!("{}: {what} missing or invalid", path.display());
+    let runs = j["runs"]
+        .as_u64()
+        .filter(|r| *r > 0)
+        .ok_or_else(|| bad("runs"))?;
+    let cell = j["cell_m"]
+        .as_f64()
+        .filter(|c| *c > 0.0)
+        .ok_or_else(|| bad("cell_m"))?;
+    let fp = |k: &str, i: usize| {
+        j["footprint_m"][k][i]
+            .as_f64()
+            .ok_or_else(|| bad("footprint_m"))
+    };
+    let mut share = BTreeMap::new();
+    for c in j["cells"].as_array().ok_or_else(|| bad("cells"))? {
+        let (Some(i), Some(jj), Some(cov)) = (c[0].as_i64(), c[1].as_i64(), c[2].as_u64()) else {
+            return Err(bad("cells"));
+        };
+        if cov > 0 {
+            share.insert((i, jj), cov as f64 / runs as f64);
+        }
+    }
+    Ok(crate::plot::density::DensityFigure {
+        members: runs as usize,
+        cell_m: cell,
+        share,
+        footprint: ([fp("x", 0)?, fp("x", 1)?], [fp("y", 0)?, fp("y", 1)?]),
+        label: format!(
+            "{}: {}, mode {}, PGA {:.3} g, {} runs",
+            j["study"].as_str().unwrap_or("study"),
+            j["model"].as_str().unwrap_or("?"),
+            j["mode"].as_str().unwrap_or("?"),
+            j["pga_g"].as_f64().unwrap_or(f64::NAN),
+            runs
+        ),
+    })
+}
+
+/// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order.
+fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
+    let ddir = dir.join("results").join("density");
+    if !ddir.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut jsons: Vec<PathBuf> = std::fs::read_dir(&ddir)
+        .with_context(|| format!("cannot read {}", ddir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    jsons.sort();
+    let mut files = Vec::new();
+    for p in jsons {
+        let fig = density_figure(&p)?;
+        let stem = p
+            .file_stem()
+            .map(|s| s.to_string_lossy().replace("__", "_"))
+            .unwrap_or_default();
+        files.extend(write_fig(&fig, &format!("density_{stem}"), out, format)?);
+    }
     Ok(files)
 }

@@ -10,16 +10,20 @@
 //!   task k runs lines `k·shard + 1 … (k+1)·shard` of the ids file, each with
 //!   `fem2rbd --quiet study run-one STUDY ID --out DIR`, and exits with the last non-zero
 //!   status (a failed run is recorded in its own folder either way). Requests:
-//!   `--array=0-(T-1)%throttle`, one CPU, `--mem` from `slurm.mem_mb`, and
-//!   `--time` = shard × `slurm.estimate_s` × `slurm.safety` + 60 s, rounded up to a
-//!   minute; logs per task `slurm/logs/batch-NNN-<jobid>_<task>.out`; `--chdir` the
+//!   `--array=0-(T-1)%throttle`, one CPU, `--mem` and `--time` from [`requests`]:
+//!   `--time` = shard × estimate × `slurm.safety` + 60 s, rounded up to a minute, and
+//!   `--mem` = the memory estimate × `slurm.safety`, where the estimate is the study's
+//!   `slurm.estimate_s` / `slurm.mem_mb` when stated, else that of the largest run
+//!   ([`largest_run`], [`crate::estimate`]); logs per task `slurm/logs/batch-NNN-<jobid>_<task>.out`; `--chdir` the
 //!   current folder, all paths absolute.
 //!
 //! [`submit_script`] writes `slurm/submit.sh`, a loop for a login node that submits the
 //! next batch with `sbatch --wait` until nothing is pending (one batch for stripes, one
 //! per IDA round), then runs `fem2rbd study collect`.
-use super::format::{SlurmSpec, Study};
-use super::plan::Store;
+use super::exec::scenario_for;
+use super::format::{Intensity, SlurmSpec, Study};
+use super::plan::{Entry, Store};
+use crate::estimate::{self, Estimate};
 use crate::output::write_atomic;
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
@@ -34,13 +38,118 @@ pub struct SlurmOptions {
     pub exe: PathBuf,
 }
 
-/// `--time` of a task running `shard` entries: shard × estimate × safety + 60 s, rounded
-/// up to whole minutes, as `D-HH:MM:SS`.
-pub(crate) fn time_request(spec: &SlurmSpec) -> String {
-    let s = spec.shard as f64 * spec.estimate_s * spec.safety + 60.0;
+/// `--time` of a task running `shard` entries of `estimate_s` each: shard × estimate ×
+/// safety + 60 s, rounded up to whole minutes, as `D-HH:MM:SS`.
+pub fn time_request(spec: &SlurmSpec, estimate_s: f64) -> String {
+    let s = spec.shard as f64 * estimate_s * spec.safety + 60.0;
     let min = (s / 60.0).ceil() as u64;
     let (d, h, m) = (min / 1440, (min / 60) % 24, min % 60);
     format!("{d}-{h:02}:{m:02}:00")
+}
+
+/// The largest estimate ([`crate::estimate::for_scenario`]) over the study's (model,
+/// record, mode) combinations — the intensity does not change the work — and the run it
+/// is for (`model/record/mode`). Reads every model and record once more (milliseconds
+/// each). Combinations whose estimate fails (a model that does not load: its runs will
+/// fail and be recorded) are left out; an error only if every one fails.
+pub fn largest_run(study: &Study) -> Result<(String, Estimate)> {
+    let milli_g = match &study.intensity {
+        Intensity::Stripes(v) => v[0],
+        Intensity::Ida(r) => r.start,
+    };
+    let mut best: Option<(String, Estimate)> = None;
+    let mut first_error: Option<anyhow::Error> = None;
+    for (mi, m) in study.models.iter().enumerate() {
+        for (ri, r) in study.records.iter().enumerate() {
+            for &mode in &study.modes {
+                let e = Entry {
+                    id: String::new(),
+                    round: 0,
+                    model: mi,
+                    record: ri,
+                    mode,
+                    milli_g,
+                    member: 0,
+                };
+                let sc = scenario_for(study, &e, Path::new("."));
+                match estimate::for_scenario(&sc) {
+                    Ok((_, _, est)) => {
+                        if best.as_ref().is_none_or(|b| est.seconds > b.1.seconds) {
+                            best = Some((format!("{}/{}/{}", m.name, r.name, mode.name()), est));
+                        }
+                    }
+                    Err(err) => {
+                        first_error.get_or_insert_with(|| {
+                            err.context(format!("estimating {}/{}/{}", m.name, r.name, mode.name()))
+                        });
+                    }
+                }
+            }
+        }
+    }
+    match (best, first_error) {
+        (Some(b), _) => Ok(b),
+        (None, Some(e)) => Err(e),
+        (None, None) => Err(anyhow::anyhow!(
+            "{}: the study has no runs",
+            study.path.display()
+        )),
+    }
+}
+/// The most runs an IDA sequence can take: the steps from `start_g` to `max_g`, then a
+/// bisection of the widest bracket (a step, or 0 … `start_g`) down to `tolerance_g`.
+pub fn max_runs_per_sequence(study: &Study) -> u64 {
+    match &study.intensity {
+        Intensity::Stripes(v) => v.len() as u64,
+        Intensity::Ida(r) => {
+            let steps = u64::from((r.max - r.start).div_ceil(r.step)) + 1;
+            let width = r.step.max(r.start) as f64 / r.tolerance as f64;
+            steps + width.log2().ceil().max(0.0) as u64
+        }
+    }
+}
+
+/// What a task asks Slurm for: wall time of one run (s) and memory (MiB), and where the
+/// numbers come from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Requests {
+    /// Wall time of one run, s (before shard × safety).
+    pub estimate_s: f64,
+    /// Memory per task, MiB.
+    pub mem_mb: u64,
+    /// Where they come from, for the script's comment.
+    pub source: String,
+}
+
+/// The requests of `spec` (module docs): stated values win; what is not stated comes from
+/// the estimate of the study's largest run (time as estimated; memory × `safety`).
+pub fn requests(study: &Study, spec: &SlurmSpec) -> Result<Requests> {
+    if let (Some(t), Some(m)) = (spec.estimate_s, spec.mem_mb) {
+        return Ok(Requests {
+            estimate_s: t,
+            mem_mb: m,
+            source: format!("stated: {t} s and {m} MiB per run"),
+        });
+    }
+    let (run, e) = largest_run(study)?;
+    let mem = spec
+        .mem_mb
+        .unwrap_or_else(|| (e.peak_bytes * spec.safety / (1024.0 * 1024.0)).ceil() as u64);
+    let t = spec.estimate_s.unwrap_or(e.seconds);
+    Ok(Requests {
+        estimate_s: t,
+        mem_mb: mem,
+        source: format!(
+            "estimate of the largest run ({run}): {:.1} s, {} (fem2rbd::estimate, docs/reliability.md){}",
+            e.seconds,
+            estimate::show_bytes(e.peak_bytes),
+            match (spec.estimate_s, spec.mem_mb) {
+                (Some(_), _) => "; time stated",
+                (_, Some(_)) => "; memory stated",
+                _ => "",
+            }
+        ),
+    })
 }
 
 fn abs(p: &Path) -> Result<PathBuf> {
@@ -64,6 +173,7 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     if spec.shard == 0 {
         bail!("shard must be at least 1");
     }
+    let req = requests(study, spec)?;
     let dir = abs(&store.dir.join("slurm"))?;
     std::fs::create_dir_all(dir.join("logs"))
         .with_context(|| format!("cannot create {}", dir.display()))?;
@@ -100,8 +210,13 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     );
     let _ = writeln!(
         s,
-        "# Written by `fem2rbd study slurm`; time request = {} x {} s x {} + 60 s.",
-        spec.shard, spec.estimate_s, spec.safety
+        "# Written by `fem2rbd study slurm`. Per run: {}.",
+        req.source
+    );
+    let _ = writeln!(
+        s,
+        "# time request = {} x {:.1} s x {} + 60 s; memory = {} MiB.",
+        spec.shard, req.estimate_s, spec.safety, req.mem_mb
     );
     let _ = writeln!(s, "#SBATCH --job-name=fem2rbd-{}", study.name);
     let throttle = if spec.throttle > 0 {
@@ -112,8 +227,8 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     let _ = writeln!(s, "#SBATCH --array=0-{}{throttle}", tasks - 1);
     let _ = writeln!(s, "#SBATCH --ntasks=1");
     let _ = writeln!(s, "#SBATCH --cpus-per-task=1");
-    let _ = writeln!(s, "#SBATCH --time={}", time_request(spec));
-    let _ = writeln!(s, "#SBATCH --mem={}M", spec.mem_mb);
+    let _ = writeln!(s, "#SBATCH --time={}", time_request(spec, req.estimate_s));
+    let _ = writeln!(s, "#SBATCH --mem={}M", req.mem_mb);
     let _ = writeln!(s, "#SBATCH --chdir={}", abs(Path::new("."))?.display());
     let _ = writeln!(
         s,
@@ -198,20 +313,18 @@ mod tests {
     #[test]
     fn time_request_rounds_up_to_minutes() {
         let spec = SlurmSpec {
-            estimate_s: 600.0,
             safety: 2.0,
             shard: 3,
             ..Default::default()
         };
         // 3 × 600 × 2 + 60 = 3660 s = 61 min.
-        assert_eq!(time_request(&spec), "0-01:01:00");
+        assert_eq!(time_request(&spec, 600.0), "0-01:01:00");
         let big = SlurmSpec {
-            estimate_s: 3600.0,
             safety: 1.5,
             shard: 20,
             ..Default::default()
         };
         // 20 × 3600 × 1.5 + 60 = 108060 s = 1801 min = 1 d 06:01.
-        assert_eq!(time_request(&big), "1-06:01:00");
+        assert_eq!(time_request(&big, 3600.0), "1-06:01:00");
     }
 }

@@ -61,6 +61,7 @@ mod scene {
     mod cli;
 }
 mod study {
+    mod ensemble;
     mod fragility;
     mod local;
     mod slurm;

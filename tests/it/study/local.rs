@@ -364,10 +364,11 @@ fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
         let (ok, stdout, err) = fem2rbd(&["plot", out.to_str().unwrap(), "--format", "png"]);
         assert!(ok, "{err}");
         let files: Vec<&str> = stdout.lines().collect();
-        assert_eq!(files.len(), 2, "{stdout}");
+        assert_eq!(files.len(), 3, "{stdout}");
         assert!(
             files[0].ends_with("ida_base_hybrid.png")
                 && files[1].ends_with("fragility_base_hybrid.png")
+                && files[2].ends_with("density_base_hybrid_1.500g.png")
         );
         let bytes: Vec<Vec<u8>> = files.iter().map(|f| fs::read(f).unwrap()).collect();
         assert!(bytes.iter().all(|b| b.starts_with(b"\x89PNG")));

@@ -211,6 +211,61 @@ fn wall_sum(root: &Path) -> (usize, f64) {
     (n, s)
 }
 
+/// Asserts that the study folders `local` and `remote` (without `slurm/`) hold the same
+/// files with the same bytes, `status.json` aside; returns the number compared.
+fn same_bytes(local: &Path, remote: &Path) -> usize {
+    let a = files(local);
+    let b: Vec<PathBuf> = files(remote)
+        .into_iter()
+        .filter(|p| !p.starts_with("slurm"))
+        .collect();
+    assert_eq!(
+        a, b,
+        "the local and the Slurm study folders differ in their files"
+    );
+    let mut compared = 0;
+    for f in &a {
+        if f.file_name().unwrap() == "status.json" {
+            continue;
+        }
+        let (x, y) = (
+            fs::read(local.join(f)).unwrap(),
+            fs::read(remote.join(f)).unwrap(),
+        );
+        assert!(
+            x == y,
+            "{} differs between the local and the Slurm run",
+            f.display()
+        );
+        compared += 1;
+    }
+    compared
+}
+
+/// A hybrid ensemble study (frame3, El Centro at 1.5 g, 2 members, FE 1.5 s, ruin stage to
+/// 1.8 s; no stated Slurm requests: they come from the estimate of its run).
+fn ensemble_study(t: &Path) -> PathBuf {
+    fs::write(
+        t.join("ens-base.toml"),
+        format!(
+            "model = \"{}\"\nmode = \"hybrid\"\n[[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n[fe]\ndt = 0.01\nduration = 1.5\n[collapse]\ncriterion = \"drift_4pct\"\n[physics]\ntime_limit_s = 1.8\n",
+            repo("data/frame3/model.toml").display(),
+            repo("data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2").display()
+        ),
+    )
+    .unwrap();
+    let p = t.join("ens.toml");
+    fs::write(
+        &p,
+        format!(
+            "base = \"ens-base.toml\"\n[records]\ntime_scale = 0.5\n[[records.list]]\nname = \"elcentro\"\nx = \"{gm}/RSN6_IMPVALL.I_I-ELC180.AT2\"\ny = \"{gm}/RSN6_IMPVALL.I_I-ELC270.AT2\"\n[intensity]\npga_g = [1.5]\n[ensemble]\nmembers = 2\nseed = 3\n",
+            gm = repo("data/ground-motions").display()
+        ),
+    )
+    .unwrap();
+    p
+}
+
 #[test]
 fn study_through_slurm_matches_local_run() {
     let tmp = tempfile::Builder::new()
@@ -280,6 +335,15 @@ throttle = 2
         .args(["--jobs", "2"]));
     assert!(ok, "local study run failed: {err}");
     let local_wall = t0.elapsed().as_secs_f64();
+    let ens = ensemble_study(t);
+    let ens_local = t.join("ens-local");
+    let (ok, _, err) = sh(Command::new(EXE)
+        .args(["--quiet", "study", "run"])
+        .arg(&ens)
+        .arg("--out")
+        .arg(&ens_local)
+        .args(["--jobs", "2"]));
+    assert!(ok, "local ensemble study run failed: {err}");
 
     // Slurm run.
     let cluster_dir = t.join("cluster");
@@ -305,12 +369,47 @@ throttle = 2
         .arg(remote.join("slurm/submit.sh"))
         .env("SLURM_CONF", &conf));
     let slurm_wall = t1.elapsed().as_secs_f64();
+    assert!(
+        ok,
+        "submit.sh failed: {out}\n{err}\njobcomp.log:\n{}",
+        fs::read_to_string(cluster_dir.join("jobcomp.log")).unwrap_or_default()
+    );
+    // The ensemble study: its requests come from the estimate of its run.
+    let ens_remote = t.join("ens-slurm");
+    let (ok, script, err) = sh(Command::new(EXE)
+        .args(["--quiet", "study", "slurm"])
+        .arg(&ens)
+        .arg("--out")
+        .arg(&ens_remote));
+    assert!(ok, "study slurm (ensemble) failed: {err}");
+    let text = fs::read_to_string(script.trim()).unwrap();
+    let ens_study = fem2rbd::study::Study::load(&ens).unwrap();
+    let (_, e) = fem2rbd::study::slurm::largest_run(&ens_study).unwrap();
+    let time = fem2rbd::study::slurm::time_request(&ens_study.slurm, e.seconds);
+    let mem = (e.peak_bytes * 2.0 / 1048576.0).ceil() as u64;
+    assert!(text.contains(&format!("#SBATCH --time={time}\n")), "{text}");
+    assert!(text.contains(&format!("#SBATCH --mem={mem}M\n")), "{text}");
+    assert!(
+        text.contains("estimate of the largest run (base/elcentro/hybrid)"),
+        "{text}"
+    );
+    assert!(text.contains("#SBATCH --array=0-1\n"), "{text}");
+    let (ok, out2, err2) = sh(Command::new("timeout")
+        .arg("600")
+        .arg("bash")
+        .arg(ens_remote.join("slurm/submit.sh"))
+        .env("SLURM_CONF", &conf));
     let jobcomp = fs::read_to_string(cluster_dir.join("jobcomp.log")).unwrap_or_default();
     drop(cluster);
     assert!(
         ok,
-        "submit.sh failed: {out}\n{err}\njobcomp.log:\n{jobcomp}"
+        "submit.sh (ensemble) failed: {out2}\n{err2}\njobcomp.log:\n{jobcomp}"
     );
+    let ens_compared = same_bytes(&ens_local, &ens_remote);
+    assert!(ens_local.join("results/ensemble.csv").is_file());
+    assert!(ens_local
+        .join("results/density/base__hybrid__1.500g.csv")
+        .is_file());
     let batches = fs::read_dir(remote.join("slurm"))
         .unwrap()
         .filter(|e| {
@@ -324,39 +423,16 @@ throttle = 2
     let tasks = jobcomp.matches("JobState=COMPLETED").count();
 
     // Same files, same bytes (status.json holds wall times).
-    let a = files(&local);
-    let b: Vec<PathBuf> = files(&remote)
-        .into_iter()
-        .filter(|p| !p.starts_with("slurm"))
-        .collect();
-    assert_eq!(
-        a, b,
-        "the local and the Slurm study folders differ in their files"
-    );
-    let mut compared = 0;
-    for f in &a {
-        if f.file_name().unwrap() == "status.json" {
-            continue;
-        }
-        let (x, y) = (
-            fs::read(local.join(f)).unwrap(),
-            fs::read(remote.join(f)).unwrap(),
-        );
-        assert!(
-            x == y,
-            "{} differs between the local and the Slurm run",
-            f.display()
-        );
-        compared += 1;
-    }
+    let compared = same_bytes(&local, &remote);
     // The IDA went through several rounds and found El Centro's collapse.
     let runs = fs::read_to_string(local.join("results/runs.csv")).unwrap();
     let n_runs = runs.lines().count() - 1;
     assert!(n_runs >= 5, "{runs}");
     assert!(batches >= 3, "{batches} batches");
     assert_eq!(
-        tasks, n_runs,
-        "every run one completed array task:\n{jobcomp}"
+        tasks,
+        n_runs + 2,
+        "every run one completed array task (+2 of the ensemble):\n{jobcomp}"
     );
     let sj: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(local.join("results/study.json")).unwrap())
@@ -369,7 +445,8 @@ throttle = 2
     let (n_s, w_s) = wall_sum(&remote);
     assert_eq!((n_l, n_s), (n_runs, n_runs));
     eprintln!(
-        "study_slurm: {n_runs} runs in {batches} Slurm batches, {compared} files identical; \
+        "study_slurm: {n_runs} runs in {batches} Slurm batches, {compared} files identical \
+         (ensemble: {ens_compared}); \
          local --jobs 2: {local_wall:.1} s wall, runs {w_l:.1} s in total, overhead per run \
          {:.2} s; Slurm: {slurm_wall:.1} s wall, runs {w_s:.1} s in total, overhead per run \
          {:.2} s (wall × 2 slots − run time, per run)",
