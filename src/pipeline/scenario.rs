@@ -207,7 +207,8 @@ pub struct PhysicsSpec {
     /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
     pub spring_rest_at_plastic_onset: bool,
     /// A yielded ductile hinge (FE-derived connections) keeps its plastic rotation (true,
-    /// default) or drives back to its start pose (false, the first FE-derived version):
+    /// recommended) or drives back to its start pose (false, default until the snapshots
+    /// are re-accepted; the first FE-derived version):
     /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
     pub hinge_keeps_rotation: bool,
     /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
@@ -220,7 +221,8 @@ pub struct PhysicsSpec {
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
-    /// its springs together (true), or only per spring as Bullet/BCB (false):
+    /// its springs together (true, recommended), or only per spring as Bullet/BCB (false,
+    /// default until the snapshots are re-accepted):
     /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
@@ -267,11 +269,11 @@ impl Default for PhysicsSpec {
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
-            hinge_keeps_rotation: true,
+            hinge_keeps_rotation: false,
             joint_rows: JointRowsSpec::Locked,
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,
-            spring_cap_per_body: true,
+            spring_cap_per_body: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,

@@ -210,9 +210,9 @@ impl Default for StageSettings {
             warmup_s: 0.0,
             connect: true,
             spring_rest_at_plastic_onset: false,
-            hinge_keeps_rotation: true,
+            hinge_keeps_rotation: false,
             joint_rows: JointRows::Locked,
-            spring_cap_per_body: true,
+            spring_cap_per_body: false,
         }
     }
 }

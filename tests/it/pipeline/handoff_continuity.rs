@@ -141,6 +141,42 @@ fn gravity_alone_the_bullet_building_stands_like_the_fe() {
     assert!(fe_drift < 1e-5, "FE drift {fe_drift}");
 }
 
+/// Target (c) at BCB's default 200 substeps/s: the connections' locked rows given the
+/// members' stiffness through their ERP/CFM (`joint_rows = "member"`, docs/ruin-numerics.md
+/// §8.3) and 200 solver iterations. Measured 3 s runs (release): locked rows 61.8 mm peak
+/// sag, 0.27 % drift; member rows 18.2 mm, 0.088 %; member rows with 200 iterations
+/// 8.9 mm, 0.026 % (0.018 % at 3 s). The sag target (≤ 10 mm) is met this way; the drift
+/// target (≤ 0.02 %) is met at 3 s but not at the peak, so the drift is asserted at the
+/// measured 0.03 % (a regression bound, not the target). 1 s (the peak sag comes at 0.08 s).
+#[test]
+fn gravity_alone_member_rows_at_200_substeps() {
+    let rows = gravity_only(
+        "physics",
+        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n\
+         joint_rows = \"member\"\nsolver_iterations = 200",
+        "",
+        1.0,
+    );
+    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let last = rows.last().unwrap();
+    eprintln!(
+        "Bullet (fe connections, member rows, 200 iterations), gravity alone 1 s at 200 substeps/s: \
+         sag {:.2} mm, drift {:.4} %, counts {:?}",
+        sag * 1e3,
+        drift * 100.0,
+        last.4
+    );
+    assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
+    assert!(drift <= 3e-4, "roof drift {:.4} % > 0.03 %", drift * 100.0);
+    let [_, plastic, broken] = last.4.unwrap();
+    assert_eq!(
+        (plastic, broken),
+        (0, 0),
+        "connections gave way under gravity"
+    );
+}
+
 /// Target (b) of issue 11 with the 1/50-drift hand-off (GB 50011), at the default 200
 /// substeps/s: Bullet does not reach the 0.25 m drop before half-way between the
 /// hand-off and the FE's Tc, and no connection starts broken merely from cover spalling
