@@ -287,6 +287,7 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.margin = p.margin_m;
     s.body.margin_max_share = p.margin_max_share;
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
+    s.body.disable_deactivation = !p.sleeping;
     s
 }
 

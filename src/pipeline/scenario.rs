@@ -171,6 +171,9 @@ pub struct PhysicsSpec {
     /// the stage's start as in BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
     pub spring_rest_at_plastic_onset: bool,
+    /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
+    /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
+    pub sleeping: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -215,6 +218,7 @@ impl Default for PhysicsSpec {
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
+            sleeping: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,

@@ -53,6 +53,7 @@ mod ruin {
     mod contacts;
     mod monitor;
     mod stage_ground;
+    mod speed;
     mod stage_statics;
     mod thresholds;
 }
