@@ -1,20 +1,35 @@
-//! Benchmark: frame3 LC1 (El Centro 0.10/0.08/0.06 g), force-based fiber model, Δt =
-//! 0.005 s, N steps (default 2000), in fem2rbd and in openseespy on the same model
-//! exported by `fem2rbd export opensees`, in the same run. Prints ms per transient step
-//! for both and the ratio, and how far the two roof-centre (node 312) histories differ.
+//! Benchmark of the FE stage against openseespy on the same model exported by
+//! `fem2rbd export opensees`, in the same run. Two models:
 //!
-//! `cargo run --release --bin bench_fe [-- STEPS [--no-opensees]]` from the repository
-//! root (needs `python3` with openseespy 3.7.1 unless `--no-opensees`).
+//! - default: frame3 LC1 (El Centro 0.10/0.08/0.06 g), force-based fiber model, N
+//!   steps (default 2000);
+//! - `--frame7`: the full-scale 7-story 6 × 4-bay frame of issue 14 (`fem2rbd generate
+//!   frame --spans-x 7.5x6 --spans-y 7.5x4 --stories 3.6x7 --column 0.7x0.7 --beam
+//!   0.35x0.7 --slab-thickness 0.15 --scale 1 --ec 30e9 --fc 30e6 --added-mass 200000
+//!   --formulation disp`: 1 099 nodes, 2 646 elements, 6 594 equations, corotational),
+//!   El Centro 0.3 g in X and Y, N steps (default 200).
 //!
-//! Time per step = (wall time of the whole run − wall time of model building, modal and
-//! gravity) / steps, for both programs; both record every node's displacements at every
-//! step (fem2rbd in memory, the exported script to a CSV file).
+//! Δt = 0.005 s. Prints ms per transient step for both programs and the ratio, how far
+//! the two roof histories differ, fem2rbd's time per phase of an equilibrium iteration
+//! (element state determination, residual, tangent assembly, factorisation, solve), and
+//! with `--threads` also fem2rbd on 1 thread against 2 (`FEM2RBD_THREADS`), with a check
+//! that both give the same bits.
+//!
+//! `cargo run --release --bin bench_fe [-- STEPS] [--frame7] [--no-opensees] [--threads]`
+//! from the repository root (needs `python3` with openseespy 3.7.1 unless `--no-opensees`).
+//!
+//! Time per step, fem2rbd: wall time from the end of step 1 to the end of the last step
+//! over the steps in between; openseespy: (wall time of the whole run − wall time of
+//! model building, modal and gravity) / steps. Both record every node's displacements at
+//! every step (fem2rbd in memory, the exported script to a CSV file).
 use anyhow::{bail, Context, Result};
 use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant as OsVariant};
 use fem2rbd::fe::analysis::transient::StepControl;
 use fem2rbd::fe::build::{BuildOptions, Variant};
-use fem2rbd::fe::run::{prepare, run_ground_motion, RunOptions};
-use fem2rbd::model::Model;
+use fem2rbd::fe::profile::{self, Phase};
+use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
+use fem2rbd::model::generate::{frame, FrameParams};
+use fem2rbd::model::{Formulation, Model};
 use fem2rbd::motion::{Format, GroundMotion};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -25,7 +40,10 @@ const RECORDS: [&str; 3] = [
     "RSN6_IMPVALL.I_I-ELC270.AT2",
     "RSN6_IMPVALL.I_I-ELC-UP.AT2",
 ];
-const PGA_G: [f64; 3] = [0.10, 0.08, 0.06];
+/// frame3 LC1 peak ground accelerations X, Y, Z (g).
+const PGA_FRAME3: [Option<f64>; 3] = [Some(0.10), Some(0.08), Some(0.06)];
+/// The 7-story frame: X and Y at 0.3 g, no vertical component.
+const PGA_FRAME7: [Option<f64>; 3] = [Some(0.3), Some(0.3), None];
 const DT: f64 = 0.005;
 
 fn python(script: &Path, args: &[&str]) -> Result<(f64, String)> {
@@ -46,59 +64,306 @@ fn python(script: &Path, args: &[&str]) -> Result<(f64, String)> {
     Ok((wall, String::from_utf8_lossy(&out.stdout).into_owned()))
 }
 
-fn main() -> Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let steps: usize = match args.iter().find(|a| !a.starts_with("--")) {
-        Some(s) => s
-            .parse()
-            .with_context(|| format!("steps {s:?} is not a number"))?,
-        None => 2000,
-    };
-    let with_opensees = !args.iter().any(|a| a == "--no-opensees");
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let model_path = root.join("data/frame3-standin/model.toml");
-    let model = Model::load(&model_path)?;
-    let paths: Vec<PathBuf> = RECORDS
-        .iter()
-        .map(|r| root.join("data/ground-motions").join(r))
-        .collect();
-    let mut gm = GroundMotion::from_files(
-        [
-            Some(paths[0].as_path()),
-            Some(paths[1].as_path()),
-            Some(paths[2].as_path()),
-        ],
-        Format::Auto,
-    )?;
-    gm.scale_to_pga(PGA_G.map(Some))?;
-    let duration = steps as f64 * DT;
-    let build = BuildOptions {
-        variant: Variant::Force,
-        ..Default::default()
-    };
+/// The benchmark case: model, record, element variant, roof node to compare.
+struct Case {
+    name: &'static str,
+    model: Model,
+    source: String,
+    pga: [Option<f64>; 3],
+    variant: Variant,
+    roof: u32,
+}
 
-    // fem2rbd
-    let t0 = Instant::now();
-    let _ = prepare(&model, &build, 3)?;
-    let setup = t0.elapsed().as_secs_f64();
-    let t0 = Instant::now();
+fn frame7() -> Result<Model> {
+    frame(&FrameParams {
+        name: "frame7-6x4-full-scale".into(),
+        spans_x: vec![7.5; 6],
+        spans_y: vec![7.5; 4],
+        story_heights: vec![3.6; 7],
+        column: [0.7, 0.7],
+        beam: [0.35, 0.7],
+        slab_thickness: 0.15,
+        scale: 1.0,
+        ec: vec![30e9],
+        fc: vec![30e6],
+        added_mass: vec![200000.0],
+        formulation: Formulation::Disp,
+        ..Default::default()
+    })
+}
+
+/// One fem2rbd run; returns the result, ms per step (steps 2..N) and the phase totals
+/// over the same steps.
+fn run_ours(
+    case: &Case,
+    gm: &GroundMotion,
+    duration: f64,
+    threads: usize,
+) -> Result<(RunResult, f64, Vec<(Phase, f64, u64)>, u64)> {
+    std::env::set_var("FEM2RBD_THREADS", threads.to_string());
+    let mut t_first = None;
+    let mut t_last = Instant::now();
+    let mut iterations = 0u64;
     let r = run_ground_motion(
-        &model,
-        &gm,
+        &case.model,
+        gm,
         &RunOptions {
-            build,
+            build: BuildOptions {
+                variant: case.variant,
+                ..Default::default()
+            },
             dt: DT,
             duration: Some(duration),
             ..Default::default()
         },
-        &mut |_, _| StepControl::Continue,
+        &mut |info, _| {
+            if info.step == 1 {
+                profile::reset();
+                t_first = Some(Instant::now());
+            } else {
+                iterations += info.iterations as u64;
+            }
+            t_last = Instant::now();
+            StepControl::Continue
+        },
     )?;
-    let total = t0.elapsed().as_secs_f64();
-    let ms_ours = (total - setup) / r.transient.steps as f64 * 1e3;
+    let phases = [
+        Phase::ElementUpdate,
+        Phase::Residual,
+        Phase::Assembly,
+        Phase::Factor,
+        Phase::Solve,
+    ]
+    .map(|p| {
+        let t = profile::total(p);
+        (p, t.seconds, t.calls)
+    })
+    .to_vec();
+    let first = t_first.context("no step converged")?;
+    let steps = r.transient.steps.saturating_sub(1).max(1);
+    let ms = (t_last - first).as_secs_f64() / steps as f64 * 1e3;
+    Ok((r, ms, phases, iterations))
+}
+
+fn same_bits(a: &RunResult, b: &RunResult) -> bool {
+    let (ha, hb) = (&a.transient.history, &b.transient.history);
+    ha.time == hb.time
+        && ha.disp.len() == hb.disp.len()
+        && ha.disp.iter().zip(&hb.disp).all(|(x, y)| {
+            x.iter()
+                .flatten()
+                .zip(y.iter().flatten())
+                .all(|(p, q)| p.to_bits() == q.to_bits())
+        })
+}
+
+
+/// `--probe`: the effective Newmark tangent of the final state (K_t + M/(βΔt²)),
+/// its asymmetry, and the time of one numeric factorisation with faer's LU (the
+/// solver in use) against faer's supernodal LDLᵀ and intranode Bunch-Kaufman LBLᵀ with
+/// AMD ordering.
+fn probe(domain: &mut fem2rbd::fe::domain::Domain) -> Result<()> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::linalg::cholesky::{
+        factorize_symbolic_cholesky, CholeskySymbolicParams, SymmetricOrdering,
+    };
+    use fem2rbd::fe::linalg::{SparseLu, SparsePattern, StiffnessKind};
+    let pattern = SparsePattern::new(domain);
+    let mut a = pattern.zeros();
+    pattern.add_stiffness(domain, StiffnessKind::Tangent, 1.0, &mut a);
+    let m = domain.mass_diagonal();
+    pattern.add_diagonal(&m, 1.0 / (0.25 * DT * DT), &mut a);
+    let sym = pattern.symbolic();
+    let (cp, ri) = (sym.col_ptr(), sym.row_idx());
+    let amax = a.iter().fold(0.0f64, |x, y| x.max(y.abs()));
+    let mut asym = 0.0f64;
+    for c in 0..pattern.dim() {
+        for p in cp[c]..cp[c + 1] {
+            let r = ri[p];
+            let q = cp[r] + ri[cp[r]..cp[r + 1]].binary_search(&c).unwrap();
+            asym = asym.max((a[p] - a[q]).abs());
+        }
+    }
     println!(
-        "fem2rbd:    {} steps, {:.3} ms/step (setup {:.3} s, {} fallback steps)",
-        r.transient.steps, ms_ours, setup, r.transient.fallback_steps
+        "probe: n = {}, nnz = {}, max |a_ij - a_ji| / max |a| = {:.3e}",
+        pattern.dim(),
+        pattern.nnz(),
+        asym / amax
     );
+    let reps = 5;
+    let mut lu = SparseLu::new(&pattern)?;
+    let t0 = Instant::now();
+    for _ in 0..reps {
+        lu.factor(&pattern, &a)?;
+    }
+    println!("  LU (COLAMD, supernodal): {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    let t0 = Instant::now();
+    let chol = factorize_symbolic_cholesky(
+        sym,
+        faer::Side::Lower,
+        SymmetricOrdering::Amd,
+        CholeskySymbolicParams::default(),
+    )
+    .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    println!(
+        "  Cholesky symbolic (AMD): {:.3} ms, nnz(L) = {}",
+        t0.elapsed().as_secs_f64() * 1e3,
+        chol.len_val()
+    );
+    let mut l = vec![0.0; chol.len_val()];
+    let mut mem = MemBuffer::new(chol.factorize_numeric_ldlt_scratch::<f64>(
+        faer::Par::Seq,
+        Default::default(),
+    ));
+    let t0 = Instant::now();
+    for _ in 0..reps {
+        chol.factorize_numeric_ldlt(
+            &mut l,
+            pattern.as_mat(&a),
+            faer::Side::Lower,
+            Default::default(),
+            faer::Par::Seq,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    }
+    println!("  LDLt: {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    let n = pattern.dim();
+    let (mut sub, mut pf, mut pi) = (vec![0.0; n], vec![0usize; n], vec![0usize; n]);
+    let mut mem = MemBuffer::new(chol.factorize_numeric_intranode_lblt_scratch::<f64>(
+        faer::Par::Seq,
+        Default::default(),
+    ));
+    let t0 = Instant::now();
+    for _ in 0..reps {
+        chol.factorize_numeric_intranode_lblt(
+            &mut l,
+            &mut sub,
+            &mut pf,
+            &mut pi,
+            pattern.as_mat(&a),
+            faer::Side::Lower,
+            faer::Par::Seq,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+    }
+    println!("  LBLt (Bunch-Kaufman in supernodes): {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    Ok(())
+}
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let is_frame7 = args.iter().any(|a| a == "--frame7");
+    let steps: usize = match args.iter().find(|a| !a.starts_with("--")) {
+        Some(s) => s
+            .parse()
+            .with_context(|| format!("steps {s:?} is not a number"))?,
+        None if is_frame7 => 200,
+        None => 2000,
+    };
+    let with_opensees = !args.iter().any(|a| a == "--no-opensees");
+    let compare_threads = args.iter().any(|a| a == "--threads");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let case = if is_frame7 {
+        Case {
+            name: "frame7",
+            model: frame7()?,
+            source: "fem2rbd generate frame (bench_fe --frame7)".into(),
+            pga: PGA_FRAME7,
+            variant: Variant::Disp,
+            roof: 0,
+        }
+    } else {
+        let model_path = root.join("data/frame3-standin/model.toml");
+        Case {
+            name: "frame3_lc1",
+            model: Model::load(&model_path)?,
+            source: model_path.display().to_string(),
+            pga: PGA_FRAME3,
+            variant: Variant::Force,
+            roof: 312,
+        }
+    };
+    // Roof node: the given one, else the highest node nearest the plan centre.
+    let roof = if case.roof != 0 {
+        case.roof
+    } else {
+        let n = &case.model.nodes;
+        let top = n.iter().map(|n| n.z).fold(f64::MIN, f64::max);
+        let (cx, cy) = {
+            let tops: Vec<_> = n.iter().filter(|n| (n.z - top).abs() < 1e-6).collect();
+            let k = tops.len() as f64;
+            (
+                tops.iter().map(|n| n.x).sum::<f64>() / k,
+                tops.iter().map(|n| n.y).sum::<f64>() / k,
+            )
+        };
+        n.iter()
+            .filter(|n| (n.z - top).abs() < 1e-6)
+            .min_by(|a, b| {
+                let da = (a.x - cx).hypot(a.y - cy);
+                let db = (b.x - cx).hypot(b.y - cy);
+                da.total_cmp(&db).then(a.tag.cmp(&b.tag))
+            })
+            .context("no nodes")?
+            .tag
+    };
+    let paths: Vec<PathBuf> = RECORDS
+        .iter()
+        .map(|r| root.join("data/ground-motions").join(r))
+        .collect();
+    let used = |k: usize| case.pga[k].map(|_| paths[k].as_path());
+    let mut gm = GroundMotion::from_files([used(0), used(1), used(2)], Format::Auto)?;
+    gm.scale_to_pga(case.pga)?;
+    let duration = steps as f64 * DT;
+    println!(
+        "model {}: {} nodes, {} elements; {} steps of {} s",
+        case.name,
+        case.model.nodes.len(),
+        case.model.elements.len(),
+        steps,
+        DT
+    );
+
+    // fem2rbd, on the default threads.
+    let threads = fem2rbd::fe::domain::default_threads();
+    let (r, ms_ours, phases, iterations) = run_ours(&case, &gm, duration, threads)?;
+    let neq = r.built.domain.num_equations();
+    println!(
+        "fem2rbd:    {} steps, {:.3} ms/step ({} thread(s), {} equations, {} fallback steps, {:.2} iterations/step)",
+        r.transient.steps,
+        ms_ours,
+        threads,
+        neq,
+        r.transient.fallback_steps,
+        iterations as f64 / r.transient.steps.saturating_sub(1).max(1) as f64
+    );
+    let per_step = r.transient.steps.saturating_sub(1).max(1) as f64;
+    for (p, s, calls) in &phases {
+        println!(
+            "  {:<14} {:8.3} ms/step {:8.3} ms/call ({} calls)",
+            format!("{p:?}"),
+            s / per_step * 1e3,
+            s / (*calls).max(1) as f64 * 1e3,
+            calls
+        );
+    }
+    if args.iter().any(|a| a == "--probe") {
+        let mut r = r;
+        probe(&mut r.built.domain)?;
+        return Ok(());
+    }
+    if compare_threads {
+        let (r1, ms1, _, _) = run_ours(&case, &gm, duration, 1)?;
+        let (r2, ms2, _, _) = run_ours(&case, &gm, duration, 2)?;
+        println!(
+            "fem2rbd threads: 1 thread {ms1:.3} ms/step, 2 threads {ms2:.3} ms/step, 2/1 = {:.3}; same bits: {}",
+            ms2 / ms1,
+            same_bits(&r1, &r2) && same_bits(&r1, &r)
+        );
+    }
     if !with_opensees {
         return Ok(());
     }
@@ -106,21 +371,25 @@ fn main() -> Result<()> {
     // openseespy on the exported model
     let dir = std::env::temp_dir().join(format!("fem2rbd-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
-    let script = dir.join("frame3_lc1.py");
+    let script = dir.join(format!("{}.py", case.name));
     let opts = OpenSeesOptions {
         ground_motions: (0..3)
+            .filter(|&k| case.pga[k].is_some())
             .map(|k| GroundMotionInput {
                 direction: k as u8 + 1,
                 path: paths[k].clone(),
-                pga_g: Some(PGA_G[k]),
+                pga_g: case.pga[k],
             })
             .collect(),
         dt: DT,
         duration: Some(duration),
-        variant: Some(OsVariant::Force),
+        variant: Some(match case.variant {
+            Variant::Disp => OsVariant::Disp,
+            _ => OsVariant::Force,
+        }),
         ..Default::default()
     };
-    let text = opensees_script(&model, &model_path.display().to_string(), &opts)?;
+    let text = opensees_script(&case.model, &case.source, &opts)?;
     std::fs::write(&script, text)?;
     let (w_gravity, _) = python(&script, &["gravity"])?;
     let csv = dir.join("th.csv");
@@ -135,15 +404,20 @@ fn main() -> Result<()> {
     );
     println!("ratio (OpenSees / fem2rbd): {:.2}x", ms_os / ms_ours);
 
-    // Same results: node 312 ux, uy over the run.
+    // Same results: the roof node's ux, uy over the run.
     let text = std::fs::read_to_string(&csv)?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let (ux, uy) = (format!("ux_{roof}"), format!("uy_{roof}"));
     let (cx, cy) = (
-        head.iter().position(|h| *h == "ux_312").context("ux_312")?,
-        head.iter().position(|h| *h == "uy_312").context("uy_312")?,
+        head.iter().position(|h| *h == ux).context(ux.clone())?,
+        head.iter().position(|h| *h == uy).context(uy.clone())?,
     );
-    let k312 = r.node_tags.iter().position(|&t| t == 312).context("312")?;
+    let k = r
+        .node_tags
+        .iter()
+        .position(|&t| t == roof)
+        .context("roof node")?;
     let h = &r.transient.history;
     let (mut dmax, mut peak) = (0.0f64, 0.0f64);
     for (i, l) in lines.enumerate() {
@@ -151,7 +425,9 @@ fn main() -> Result<()> {
             .split(',')
             .map(|x| x.parse().unwrap_or(f64::NAN))
             .collect();
-        let ours = h.disp[i + 1][k312];
+        let Some(ours) = h.disp.get(i + 1).map(|d| d[k]) else {
+            break;
+        };
         if (h.time[i + 1] - v[0]).abs() > 1e-6 {
             bail!(
                 "time grids differ at row {i}: {} vs {}",
@@ -165,7 +441,7 @@ fn main() -> Result<()> {
         peak = peak.max(v[cx].abs()).max(v[cy].abs());
     }
     println!(
-        "node 312 ux/uy: max |fem2rbd - OpenSees| = {:.3e} m = {:.3} % of the peak {:.3} mm",
+        "node {roof} ux/uy: max |fem2rbd - OpenSees| = {:.3e} m = {:.3} % of the peak {:.3} mm",
         dmax,
         dmax / peak * 100.0,
         peak * 1e3

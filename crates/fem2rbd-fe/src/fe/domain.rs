@@ -418,10 +418,12 @@ impl Domain {
     }
 
     /// Assembles the element resisting forces of the trial state over the equations.
+    /// The element forces are formed on [`Domain::threads`] threads
+    /// ([`Domain::map_elements`]) and summed in element order.
     pub fn resisting_force(&self, out: &mut [f64]) {
         out.iter_mut().for_each(|x| *x = 0.0);
-        for (i, el) in self.elements.iter().enumerate() {
-            let f = el.resisting_force();
+        let forces = self.map_elements(|_, el| el.resisting_force());
+        for (i, f) in forces.iter().enumerate() {
             for (k, e) in self.element_equations(i).iter().enumerate() {
                 if let Some(e) = e {
                     out[*e] += f[k];
@@ -474,7 +476,9 @@ impl Domain {
                 }
             }
         }
-        self.update_elements()
+        crate::fe::profile::timed(crate::fe::profile::Phase::ElementUpdate, || {
+            self.update_elements()
+        })
     }
 
     /// Element state determination for the current trial displacements: every element's
@@ -525,6 +529,47 @@ impl Domain {
         };
         self.disp_seen.clone_from(&self.disp);
         result
+    }
+
+    /// `f(index, element)` for every element, on [`Domain::threads`] scoped threads
+    /// (contiguous chunks of at least 16 elements, as [`Domain::update_elements`]), the
+    /// results in element order. `f` only reads, so the results are the same bits for any
+    /// thread count; summing them (assembly) is left to the caller, in element order.
+    pub fn map_elements<T: Send>(&self, f: impl Fn(usize, &dyn Element) -> T + Sync) -> Vec<T> {
+        let n = self.elements.len();
+        let threads = self
+            .threads
+            .clamp(1, n.div_ceil(MIN_ELEMENTS_PER_THREAD).max(1));
+        if threads == 1 {
+            return self
+                .elements
+                .iter()
+                .enumerate()
+                .map(|(i, e)| f(i, e.as_ref()))
+                .collect();
+        }
+        let chunk = n.div_ceil(threads);
+        let f = &f;
+        std::thread::scope(|scope| {
+            let workers: Vec<_> = self
+                .elements
+                .chunks(chunk)
+                .enumerate()
+                .map(|(c, els)| {
+                    scope.spawn(move || {
+                        els.iter()
+                            .enumerate()
+                            .map(|(k, e)| f(c * chunk + k, e.as_ref()))
+                            .collect::<Vec<T>>()
+                    })
+                })
+                .collect();
+            let mut out = Vec::with_capacity(n);
+            for w in workers {
+                out.extend(w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+            }
+            out
+        })
     }
 
     /// Threads used for element state determination (1 = sequential). Results do not

@@ -8,6 +8,7 @@ pub mod domain;
 pub mod element;
 pub mod linalg;
 pub mod material;
+pub mod profile;
 pub mod run;
 pub mod section;
 pub mod shell;

@@ -9,7 +9,8 @@
 
 use crate::fe::domain::Domain;
 use crate::fe::element::ElementError;
-use crate::fe::linalg::{SolverError, SparseLu, SparsePattern, StiffnessKind};
+use crate::fe::profile::{self, Phase};
+use crate::fe::linalg::{SolverError, SparsePattern, SparseSolver, StiffnessKind};
 
 /// Equilibrium-iteration algorithm.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,7 +93,7 @@ pub(crate) trait StepProblem {
 #[derive(Debug)]
 pub(crate) struct Workspace {
     pub pattern: SparsePattern,
-    pub lu: SparseLu,
+    pub lu: SparseSolver,
     pub values: Vec<f64>,
     pub r: Vec<f64>,
     pub du: Vec<f64>,
@@ -101,7 +102,7 @@ pub(crate) struct Workspace {
 impl Workspace {
     pub fn new(domain: &mut Domain) -> Result<Self, SolverError> {
         let pattern = SparsePattern::new(domain);
-        let lu = SparseLu::new(&pattern)?;
+        let lu = SparseSolver::new(&pattern)?;
         let n = pattern.dim();
         Ok(Self {
             values: pattern.zeros(),
@@ -118,9 +119,11 @@ impl Workspace {
         domain: &Domain,
         kind: StiffnessKind,
     ) -> Result<(), SolverError> {
-        self.values.iter_mut().for_each(|v| *v = 0.0);
-        problem.tangent(domain, &self.pattern, kind, &mut self.values);
-        self.lu.factor(&self.pattern, &self.values)
+        profile::timed(Phase::Assembly, || {
+            self.values.iter_mut().for_each(|v| *v = 0.0);
+            problem.tangent(domain, &self.pattern, kind, &mut self.values);
+        });
+        profile::timed(Phase::Factor, || self.lu.factor(&self.pattern, &self.values))
     }
 }
 
@@ -137,7 +140,7 @@ fn residual_checked(
     domain: &Domain,
     r: &mut [f64],
 ) -> Result<(), IterationFailure> {
-    problem.residual(domain, r);
+    profile::timed(Phase::Residual, || problem.residual(domain, r));
     if r.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
@@ -181,7 +184,7 @@ pub(crate) fn solve_step(
             }
         }
         ws.du.copy_from_slice(&ws.r);
-        ws.lu.solve(&mut ws.du)?;
+        profile::timed(Phase::Solve, || ws.lu.solve(&ws.pattern, &mut ws.du))?;
         let step_norm = match algorithm {
             Algorithm::Newton | Algorithm::ModifiedNewtonInitial => {
                 problem.apply(domain, &ws.du)?;

@@ -210,9 +210,9 @@ fn displacement_step(
             factored = true;
         }
         ws.du.copy_from_slice(&ws.r);
-        ws.lu.solve(&mut ws.du)?;
+        ws.lu.solve(&ws.pattern, &mut ws.du)?;
         du_p.copy_from_slice(&p_ref);
-        ws.lu.solve(&mut du_p)?;
+        ws.lu.solve(&ws.pattern, &mut du_p)?;
         if du_p[c].abs() < f64::MIN_POSITIVE {
             return Err(IterationFailure::Element(
                 "displacement control: the reference load does not move the control DOF".into(),

@@ -45,8 +45,10 @@ pub struct ElementError {
     pub reason: String,
 }
 
-/// A two-node, 12-DOF structural element.
-pub trait Element: std::fmt::Debug + Send {
+/// A two-node, 12-DOF structural element. `Sync` so that the analysis can read the
+/// elements' forces and stiffnesses on several threads at once
+/// ([`crate::fe::domain::Domain::map_elements`]).
+pub trait Element: std::fmt::Debug + Send + Sync {
     /// The element's tag (id in the model).
     fn tag(&self) -> i64;
     /// Indices of the end nodes i and j in the domain's node arrays.

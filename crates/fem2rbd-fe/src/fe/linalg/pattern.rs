@@ -119,11 +119,13 @@ impl SparsePattern {
         factor: f64,
         values: &mut [f64],
     ) {
-        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
-            let k = match kind {
-                StiffnessKind::Tangent => el.tangent_stiffness(),
-                StiffnessKind::Initial => el.initial_stiffness(),
-            };
+        // The element matrices on the domain's threads, the sums in element order: the
+        // same bits for any thread count.
+        let ks = domain.map_elements(|_, el| match kind {
+            StiffnessKind::Tangent => el.tangent_stiffness(),
+            StiffnessKind::Initial => el.initial_stiffness(),
+        });
+        for (k, slots) in ks.iter().zip(&self.element_slots) {
             for i in 0..12 {
                 for j in 0..12 {
                     let s = slots[12 * i + j];
@@ -157,29 +159,45 @@ impl SparsePattern {
 
     /// `y += Σ_e D_e x_e` over the elements whose damping stiffness `D_e` follows the
     /// trial configuration (`damping_stiffness()` is `Some`), `x` and `y` in equations.
+    /// The element products are formed on the domain's threads and summed in element
+    /// order (the same bits for any thread count).
     pub fn add_trial_damping_product(&self, domain: &Domain, x: &[f64], y: &mut [f64]) {
-        for (el, eqs) in domain.elements().iter().zip(&self.element_eqs) {
-            let Some(k) = el.damping_stiffness() else {
-                continue;
-            };
+        let products = domain.map_elements(|e, el| {
+            let k = el.damping_stiffness()?;
+            let eqs = &self.element_eqs[e];
+            let mut out = [0.0; 12];
             for (i, ri) in eqs.iter().enumerate() {
-                let Some(r) = ri else { continue };
+                if ri.is_none() {
+                    continue;
+                }
                 let mut acc = 0.0;
                 for (j, cj) in eqs.iter().enumerate() {
                     if let Some(c) = cj {
                         acc += k[(i, j)] * x[*c];
                     }
                 }
-                y[*r] += acc;
+                out[i] = acc;
+            }
+            Some(out)
+        });
+        for (p, eqs) in products.iter().zip(&self.element_eqs) {
+            let Some(p) = p else { continue };
+            for (i, ri) in eqs.iter().enumerate() {
+                if let Some(r) = ri {
+                    y[*r] += p[i];
+                }
             }
         }
     }
 
     /// `values += factor · Σ_e D_e` over the elements whose damping stiffness `D_e`
     /// follows the trial configuration (`damping_stiffness()` is `Some`).
+    /// The element matrices are formed on the domain's threads and summed in element
+    /// order (the same bits for any thread count).
     pub fn add_trial_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
-        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
-            let Some(k) = el.damping_stiffness() else {
+        let ks = domain.map_elements(|_, el| el.damping_stiffness());
+        for (k, slots) in ks.iter().zip(&self.element_slots) {
+            let Some(k) = k else {
                 continue;
             };
             for i in 0..12 {

@@ -25,7 +25,7 @@ pub struct SectionDamage {
 }
 
 /// A 3D beam-column section with the trial/commit protocol of its materials.
-pub trait Section: std::fmt::Debug + Send {
+pub trait Section: std::fmt::Debug + Send + Sync {
     /// Sets the trial section deformations `[ε0, κz, κy, ϑ]` and updates the resultants.
     fn set_trial_deformation(&mut self, e: &Vector4<f64>);
     /// Trial section deformations.

@@ -82,7 +82,7 @@ pub enum TransformError {
 /// Protocol: [`update`](Self::update) with the total trial end displacements, then read
 /// [`basic_deformations`](Self::basic_deformations) and map forces/stiffness; then
 /// [`commit`](Self::commit) or [`revert`](Self::revert).
-pub trait CrdTransf: std::fmt::Debug + Send {
+pub trait CrdTransf: std::fmt::Debug + Send + Sync {
     /// Sets the trial configuration from the total end displacements (global; rotations
     /// are the nodal rotation DOFs, which the corotational transformation compounds as
     /// increments onto its nodal triads, as OpenSees does).
