@@ -157,7 +157,6 @@ fn same_bits(a: &RunResult, b: &RunResult) -> bool {
         })
 }
 
-
 /// `--probe`: the effective Newmark tangent of the final state (K_t + M/(βΔt²)),
 /// its asymmetry, and the time of one numeric factorisation with faer's LU (the
 /// solver in use) against faer's supernodal LDLᵀ and intranode Bunch-Kaufman LBLᵀ with
@@ -196,7 +195,10 @@ fn probe(domain: &mut fem2rbd::fe::domain::Domain) -> Result<()> {
     for _ in 0..reps {
         lu.factor(&pattern, &a)?;
     }
-    println!("  LU (COLAMD, supernodal): {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    println!(
+        "  LU (COLAMD, supernodal): {:.3} ms",
+        t0.elapsed().as_secs_f64() / reps as f64 * 1e3
+    );
     let t0 = Instant::now();
     let chol = factorize_symbolic_cholesky(
         sym,
@@ -211,10 +213,9 @@ fn probe(domain: &mut fem2rbd::fe::domain::Domain) -> Result<()> {
         chol.len_val()
     );
     let mut l = vec![0.0; chol.len_val()];
-    let mut mem = MemBuffer::new(chol.factorize_numeric_ldlt_scratch::<f64>(
-        faer::Par::Seq,
-        Default::default(),
-    ));
+    let mut mem = MemBuffer::new(
+        chol.factorize_numeric_ldlt_scratch::<f64>(faer::Par::Seq, Default::default()),
+    );
     let t0 = Instant::now();
     for _ in 0..reps {
         chol.factorize_numeric_ldlt(
@@ -228,13 +229,15 @@ fn probe(domain: &mut fem2rbd::fe::domain::Domain) -> Result<()> {
         )
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     }
-    println!("  LDLt: {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    println!(
+        "  LDLt: {:.3} ms",
+        t0.elapsed().as_secs_f64() / reps as f64 * 1e3
+    );
     let n = pattern.dim();
     let (mut sub, mut pf, mut pi) = (vec![0.0; n], vec![0usize; n], vec![0usize; n]);
-    let mut mem = MemBuffer::new(chol.factorize_numeric_intranode_lblt_scratch::<f64>(
-        faer::Par::Seq,
-        Default::default(),
-    ));
+    let mut mem = MemBuffer::new(
+        chol.factorize_numeric_intranode_lblt_scratch::<f64>(faer::Par::Seq, Default::default()),
+    );
     let t0 = Instant::now();
     for _ in 0..reps {
         chol.factorize_numeric_intranode_lblt(
@@ -249,7 +252,10 @@ fn probe(domain: &mut fem2rbd::fe::domain::Domain) -> Result<()> {
             Default::default(),
         );
     }
-    println!("  LBLt (Bunch-Kaufman in supernodes): {:.3} ms", t0.elapsed().as_secs_f64() / reps as f64 * 1e3);
+    println!(
+        "  LBLt (Bunch-Kaufman in supernodes): {:.3} ms",
+        t0.elapsed().as_secs_f64() / reps as f64 * 1e3
+    );
     Ok(())
 }
 

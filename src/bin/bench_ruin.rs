@@ -135,7 +135,8 @@ fn main() -> Result<()> {
         }
         i += 1;
     }
-    let path = path.context("usage: bench_ruin SCENARIO [--time S] [--rounds N] [--configs t1,t2,t2+sleep]")?;
+    let path = path
+        .context("usage: bench_ruin SCENARIO [--time S] [--rounds N] [--configs t1,t2,t2+sleep]")?;
     if !(time_s.is_finite() && time_s > 0.0) || rounds == 0 {
         bail!("--time must be > 0 and --rounds >= 1");
     }
@@ -148,7 +149,11 @@ fn main() -> Result<()> {
     let end = start + time_s;
     println!(
         "{path}: ruin stage 0 → {end} s simulated, {rounds} round(s), settings {}",
-        configs.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", ")
+        configs
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     let mut samples: Vec<Vec<Sample>> = configs.iter().map(|_| Vec::new()).collect();
     for round in 0..rounds {
@@ -196,7 +201,10 @@ fn main() -> Result<()> {
             .find(|z| z.name == "stepSimulation")
             .map_or(s.bullet_s, |z| z.seconds);
         println!();
-        println!("Bullet's zones, {} (round 1; share of stepSimulation):", cfg.name);
+        println!(
+            "Bullet's zones, {} (round 1; share of stepSimulation):",
+            cfg.name
+        );
         println!("| zone | s | share | calls |");
         println!("|---|---|---|---|");
         for z in &s.profile {

@@ -879,7 +879,8 @@ impl RuinStage {
             {
                 // The ground has stopped (its velocity from the last substep is 0): let it
                 // and the foundations sleep so they stop waking what rests on them.
-                self.world.set_activation_state(self.ground, ISLAND_SLEEPING)?;
+                self.world
+                    .set_activation_state(self.ground, ISLAND_SLEEPING)?;
                 for i in 0..self.handles.len() {
                     if self.passive[i] {
                         self.world

@@ -52,8 +52,8 @@ mod ruin {
     mod closed_form;
     mod contacts;
     mod monitor;
-    mod stage_ground;
     mod speed;
+    mod stage_ground;
     mod stage_statics;
     mod thresholds;
 }

@@ -9,8 +9,8 @@
 
 use crate::fe::domain::Domain;
 use crate::fe::element::ElementError;
-use crate::fe::profile::{self, Phase};
 use crate::fe::linalg::{SolverError, SparsePattern, SparseSolver, StiffnessKind};
+use crate::fe::profile::{self, Phase};
 
 /// Equilibrium-iteration algorithm.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,7 +123,9 @@ impl Workspace {
             self.values.iter_mut().for_each(|v| *v = 0.0);
             problem.tangent(domain, &self.pattern, kind, &mut self.values);
         });
-        profile::timed(Phase::Factor, || self.lu.factor(&self.pattern, &self.values))
+        profile::timed(Phase::Factor, || {
+            self.lu.factor(&self.pattern, &self.values)
+        })
     }
 }
 

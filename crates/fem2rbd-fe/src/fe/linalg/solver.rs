@@ -235,7 +235,11 @@ impl SparseSolver {
             }
         }
         let (symbolic, factor_mem, solve_mem) = if n == 0 {
-            (None, MemBuffer::new(StackReq::EMPTY), MemBuffer::new(StackReq::EMPTY))
+            (
+                None,
+                MemBuffer::new(StackReq::EMPTY),
+                MemBuffer::new(StackReq::EMPTY),
+            )
         } else {
             let symbolic = factorize_symbolic_cholesky(
                 sym_pat,
@@ -248,15 +252,12 @@ impl SparseSolver {
             )
             .map_err(|e| faer_err(&e))?;
             let factor_mem = MemBuffer::try_new(
-                symbolic.factorize_numeric_intranode_lblt_scratch::<f64>(
-                    Par::Seq,
-                    Default::default(),
-                ),
+                symbolic
+                    .factorize_numeric_intranode_lblt_scratch::<f64>(Par::Seq, Default::default()),
             )
             .map_err(|e| faer_err(&e))?;
-            let solve_mem =
-                MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-                    .map_err(|e| faer_err(&e))?;
+            let solve_mem = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
+                .map_err(|e| faer_err(&e))?;
             (Some(symbolic), factor_mem, solve_mem)
         };
         let len_l = symbolic.as_ref().map_or(0, |s| s.len_val());
