@@ -20,7 +20,9 @@
 pub use fem2rbd_bullet as physics;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
+pub mod body;
 pub mod mapping;
+pub mod mode;
 pub mod output;
 pub mod pipeline;
 pub mod plot;

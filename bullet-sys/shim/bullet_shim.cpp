@@ -952,6 +952,52 @@ int bs_constraint_set_equilibrium_point(bs_world *w, int c) {
     });
 }
 
+int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis) {
+    return guard([&]() -> int {
+        if (int e = check_constraint(w, c)) return e;
+        Constraint &k = *w->constraints[c];
+        if (k.kind != BS_GENERIC6DOF && k.kind != BS_SPRING2)
+            return fail(BS_ERR_WRONG_KIND, "set_param needs a generic6dof or spring2 constraint");
+        if (num != BT_CONSTRAINT_STOP_ERP && num != BT_CONSTRAINT_STOP_CFM)
+            return fail(BS_ERR_BAD_ARG, "set_param: num must be 2 (STOP_ERP) or 4 (STOP_CFM), got " + std::to_string(num));
+        if (axis < 0 || axis > 5)
+            return fail(BS_ERR_BAD_ARG, "set_param: axis must be 0..5, got " + std::to_string(axis));
+        if (!(std::isfinite(value) && value >= 0))
+            return fail(BS_ERR_BAD_ARG, "set_param: value must be finite and >= 0");
+        k.constraint->setParam(num, value, axis);
+        return BS_OK;
+    });
+}
+
+int bs_constraint_relock(bs_world *w, int c, int mask) {
+    return guard([&]() -> int {
+        if (int e = check_constraint(w, c)) return e;
+        Constraint &k = *w->constraints[c];
+        if (k.kind != BS_GENERIC6DOF)
+            return fail(BS_ERR_WRONG_KIND, "relock needs a generic6dof constraint");
+        auto *g = static_cast<btGeneric6DofConstraint *>(k.constraint.get());
+        g->calculateTransforms();
+        btVector3 llo, lhi, alo, ahi;
+        g->getLinearLowerLimit(llo);
+        g->getLinearUpperLimit(lhi);
+        g->getAngularLowerLimit(alo);
+        g->getAngularUpperLimit(ahi);
+        for (int i = 0; i < 6; ++i) {
+            if (!(mask & (1 << i))) continue;
+            if (i < 3) {
+                if (llo[i] != lhi[i]) continue;
+                btScalar v = g->getRelativePivotPosition(i);
+                g->setLimit(i, v, v);
+            } else {
+                if (alo[i - 3] != ahi[i - 3]) continue;
+                btScalar v = g->getAngle(i - 3);
+                g->setLimit(i, v, v);
+            }
+        }
+        return BS_OK;
+    });
+}
+
 int bs_world_set_solver_threads(bs_world *w, int n) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;

@@ -161,6 +161,16 @@ int bs_constraint_feedback(const bs_world *w, int c, double force_a[3], double t
                            double force_b[3], double torque_b[3]);
 /* spring2/fixed: setEquilibriumPoint() at the current relative pose. */
 int bs_constraint_set_equilibrium_point(bs_world *w, int c);
+/* btTypedConstraint::setParam(num, value, axis) of a generic6dof or spring2 constraint:
+ * num 2 = BT_CONSTRAINT_STOP_ERP (the limit rows' error reduction, default the world's m_erp),
+ * 4 = BT_CONSTRAINT_STOP_CFM (the limit rows' constraint force mixing, default m_globalCfm);
+ * axis 0..5. value finite and >= 0. */
+int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis);
+/* Generic6dof: every axis i with bit i of `mask` set whose limits are locked (lower == upper)
+ * is locked again at its current value (calculateTransforms(); linear axes
+ * getRelativePivotPosition(i), angular axes getAngle(i - 3)): the joint keeps its present
+ * deformation instead of driving back to the old lock. */
+int bs_constraint_relock(bs_world *w, int c, int mask);
 
 /* ---- speed: island-parallel solving, sleeping, phase timing --------------------------- */
 /* Solver threads of this world (>= 1; 1 = Bullet's own sequential path). With n > 1 every

@@ -23,7 +23,7 @@
 //! model building, modal and gravity) / steps. Both record every node's displacements at
 //! every step (fem2rbd in memory, the exported script to a CSV file).
 use anyhow::{bail, Context, Result};
-use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant as OsVariant};
+use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions};
 use fem2rbd::fe::analysis::transient::StepControl;
 use fem2rbd::fe::build::{BuildOptions, Variant};
 use fem2rbd::fe::profile::{self, Phase};
@@ -94,6 +94,7 @@ fn frame7() -> Result<Model> {
 
 /// One fem2rbd run; returns the result, ms per step (steps 2..N) and the phase totals
 /// over the same steps.
+#[allow(clippy::type_complexity)]
 fn run_ours(
     case: &Case,
     gm: &GroundMotion,
@@ -389,10 +390,10 @@ fn main() -> Result<()> {
             .collect(),
         dt: DT,
         duration: Some(duration),
-        variant: Some(match case.variant {
-            Variant::Disp => OsVariant::Disp,
-            _ => OsVariant::Force,
-        }),
+        variant: match case.variant {
+            Variant::Disp => Variant::Disp,
+            _ => Variant::Force,
+        },
         ..Default::default()
     };
     let text = opensees_script(&case.model, &case.source, &opts)?;

@@ -67,8 +67,8 @@ fn main() -> Result<()> {
     );
     let mut kinds: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for (i, c) in bcb.iter().enumerate() {
-        let (ta, tb) = (&bodies[c.a].type_name, &bodies[c.b].type_name);
-        let mut k = [ta.as_str(), tb.as_str()];
+        let (ta, tb) = (bodies[c.a].id.type_name(), bodies[c.b].id.type_name());
+        let mut k = [ta, tb];
         k.sort();
         kinds
             .entry(format!("{}–{}", k[0], k[1]))

@@ -106,10 +106,10 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
             check_output_file(&a.output, "--output")?;
             let model = Model::load(&a.model)?;
             let variant = match a.variant.as_deref() {
-                None => None,
-                Some("force") => Some(Variant::Force),
-                Some("disp") => Some(Variant::Disp),
-                Some("elastic") => Some(Variant::Elastic),
+                None => Variant::AsModel,
+                Some("force") => Variant::Force,
+                Some("disp") => Variant::Disp,
+                Some("elastic") => Variant::Elastic,
                 Some(o) => bail!("--variant {o:?}: use force, disp or elastic"),
             };
             let opts = OpenSeesOptions {

@@ -5,7 +5,7 @@
 //! stdout (nothing with `--quiet`).
 use anyhow::Result;
 use clap::Args;
-use fem2rbd::plot::{self, Format, RunFolder};
+use fem2rbd::plot::{self, ImageFormat, RunFolder};
 use std::path::PathBuf;
 
 /// Options of `plot`.
@@ -18,8 +18,8 @@ pub struct PlotArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Image format(s).
-    #[arg(long, value_enum, default_value_t = Format::Both)]
-    pub format: Format,
+    #[arg(long, value_enum, default_value_t = ImageFormat::Both)]
+    pub format: ImageFormat,
 }
 
 /// Runs `plot`.

@@ -17,7 +17,7 @@ pub enum StudyCommand {
     /// Print the manifest: one line per run (id, round, model, record, mode, pga_g).
     Plan(Common),
     /// Run every pending run on this machine, `--jobs` at a time, then collect.
-    Run(RunArgs),
+    Run(StudyRunArgs),
     /// Run one manifest entry by id (what each Slurm task calls).
     RunOne(RunOneArgs),
     /// Write the next sbatch job-array script (prints its path; nothing when no run is
@@ -39,7 +39,7 @@ pub struct Common {
 
 /// Options of `study run`.
 #[derive(Debug, Args)]
-pub struct RunArgs {
+pub struct StudyRunArgs {
     #[command(flatten)]
     pub common: Common,
     /// Runs at once (child processes).

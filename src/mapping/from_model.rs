@@ -10,7 +10,7 @@
 //!   self-weight ([`Model::element_mass`]). A rigid elastic strip maps with its own width
 //!   × thickness.
 //! - Shells (thickness = the plate's h) and panels → [`Quad`], mass = self-weight.
-//! - Nodal masses → [`NodalMass`] (translational `m` only: a rigid box's inertia is its
+//! - Nodal masses → [`PointMass`] (translational `m` only: a rigid box's inertia is its
 //!   own uniform-box inertia, nodal rotational inertias are not carried over).
 //! - The self-weight of an FE-only element is not lost: half (line) or a quarter (quad)
 //!   goes to each of its nodes as a nodal mass, then follows the nodal-mass rule of
@@ -19,7 +19,7 @@
 //!   [`Model::total_mass`] (the lower halves of the base columns included, whose mass the
 //!   FE lumps onto the fixed base nodes).
 
-use super::input::{LineMember, MappingInput, NodalMass, Quad};
+use super::input::{LineMember, MappingInput, PointMass, Quad};
 use crate::model::{ElementKind, Model};
 use anyhow::{anyhow, Result};
 
@@ -41,7 +41,7 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
             let share = mass_kg / e.nodes().len() as f64;
             if share > 0.0 {
                 for n in e.nodes() {
-                    input.nodal_masses.push(NodalMass {
+                    input.nodal_masses.push(PointMass {
                         position: pos(n, e.tag)?,
                         mass_kg: share,
                     });
@@ -58,8 +58,8 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
                 .get(&tt)
                 .ok_or_else(|| anyhow!("element {}: unknown transformation {tt}", e.tag))?;
             Ok(LineMember {
-                element: i64::from(e.tag),
-                type_name: e.type_name.clone(),
+                element: e.tag,
+                body_type: e.type_name.as_str().into(),
                 material: e.group.0.clone(),
                 node_i: pos(i, e.tag)?,
                 node_j: pos(j, e.tag)?,
@@ -72,8 +72,8 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
         let quad = |thickness_m: f64| -> Result<Quad> {
             let n = e.nodes();
             Ok(Quad {
-                element: i64::from(e.tag),
-                type_name: e.type_name.clone(),
+                element: e.tag,
+                body_type: e.type_name.as_str().into(),
                 material: e.group.0.clone(),
                 nodes: [
                     pos(&n[0], e.tag)?,
@@ -118,7 +118,7 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
         }
     }
     for m in &model.masses {
-        input.nodal_masses.push(NodalMass {
+        input.nodal_masses.push(PointMass {
             position: pos(&m.node, 0).map_err(|_| anyhow!("mass at unknown node {}", m.node))?,
             mass_kg: m.m,
         });

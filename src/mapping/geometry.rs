@@ -22,12 +22,13 @@
 //! For a trapezoid the centre (node mean) differs slightly from the area centroid.
 
 use super::input::{LineMember, Quad};
+use crate::body::BodyId;
 use anyhow::{bail, Result};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// What a body is, for the overlap rule ([`super::overlap`]): decided from geometry.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum BodyKind {
+pub enum Role {
     /// Line element within 45° of vertical.
     Column,
     /// Quad whose normal is within 45° of horizontal.
@@ -41,18 +42,11 @@ pub enum BodyKind {
 /// One rigid body: an oriented box.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RigidBox {
-    /// `Type:material:element`, e.g. `Beam:1:234` (paper §3.1).
-    pub name: String,
-    /// Rigid-body group: one per material (= `material`).
-    pub group: String,
-    /// Element type name.
-    pub type_name: String,
-    /// Material id.
-    pub material: String,
-    /// FE element id.
-    pub element: i64,
+    /// Identity: named `Type:material:element`, e.g. `Beam:1:234` (paper §3.1); its
+    /// rigid-body group is its material.
+    pub id: BodyId,
     /// Geometric role, for overlap removal and mass mapping.
-    pub kind: BodyKind,
+    pub kind: Role,
     /// Box centre (m), after trimming.
     pub centre: [f64; 3],
     /// Orientation: box local axes (x = member axis / quad x, y, z) in global coordinates.
@@ -172,7 +166,7 @@ pub fn paper_rotation(
     Ok(r0 * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), gamma))
 }
 
-fn kind_of_axis(axis_z: f64, vertical: BodyKind, other: BodyKind) -> BodyKind {
+fn kind_of_axis(axis_z: f64, vertical: Role, other: Role) -> Role {
     if axis_z.abs() >= std::f64::consts::FRAC_1_SQRT_2 {
         vertical
     } else {
@@ -183,7 +177,7 @@ fn kind_of_axis(axis_z: f64, vertical: BodyKind, other: BodyKind) -> BodyKind {
 /// The untrimmed box of a line element, carrying the element's own mass (nodal masses
 /// are added by [`super::mass`]).
 pub fn member_box(m: &LineMember) -> Result<RigidBox> {
-    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", m.element, m.type_name);
+    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", m.element, m.body_type);
     if !finite(&m.node_i) || !finite(&m.node_j) || !finite(&m.vecxz) {
         return Err(ctx("node coordinates and vecxz must be finite".into()));
     }
@@ -202,12 +196,8 @@ pub fn member_box(m: &LineMember) -> Result<RigidBox> {
     let axis_z = (m.node_j[2] - m.node_i[2]) / len;
     let half = [0.5 * len, 0.5 * m.width_m, 0.5 * m.depth_m];
     Ok(RigidBox {
-        name: format!("{}:{}:{}", m.type_name, m.material, m.element),
-        group: m.material.clone(),
-        type_name: m.type_name.clone(),
-        material: m.material.clone(),
-        element: m.element,
-        kind: kind_of_axis(axis_z, BodyKind::Column, BodyKind::Beam),
+        id: BodyId::element(m.body_type.clone(), m.material.clone(), m.element),
+        kind: kind_of_axis(axis_z, Role::Column, Role::Beam),
         centre: [c.x, c.y, c.z],
         rotation,
         half_extents: half,
@@ -220,7 +210,7 @@ pub fn member_box(m: &LineMember) -> Result<RigidBox> {
 
 /// The untrimmed box of a quad (module docs), carrying the element's own mass.
 pub fn quad_box(q: &Quad) -> Result<RigidBox> {
-    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", q.element, q.type_name);
+    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", q.element, q.body_type);
     if !q.nodes.iter().all(|n| finite(n)) {
         return Err(ctx("node coordinates must be finite".into()));
     }
@@ -269,12 +259,8 @@ pub fn quad_box(q: &Quad) -> Result<RigidBox> {
     let rot = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z]));
     let half = [0.5 * a, 0.5 * b, 0.5 * q.thickness_m];
     Ok(RigidBox {
-        name: format!("{}:{}:{}", q.type_name, q.material, q.element),
-        group: q.material.clone(),
-        type_name: q.type_name.clone(),
-        material: q.material.clone(),
-        element: q.element,
-        kind: kind_of_axis(z.z, BodyKind::Slab, BodyKind::Wall),
+        id: BodyId::element(q.body_type.clone(), q.material.clone(), q.element),
+        kind: kind_of_axis(z.z, Role::Slab, Role::Wall),
         centre: [c.x, c.y, c.z],
         rotation: UnitQuaternion::from_rotation_matrix(&rot),
         half_extents: half,

@@ -38,6 +38,7 @@
 
 use super::geometry::RigidBox;
 use super::Mapping;
+use crate::body::BodyId;
 use crate::model::Model;
 use anyhow::{anyhow, bail, Result};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
@@ -67,8 +68,8 @@ pub struct GroundState {
 /// A body's absolute pose and velocity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyState {
-    /// Body name (as in the mapping).
-    pub name: String,
+    /// Body identity (as in the mapping).
+    pub id: BodyId,
     /// Box centre (m).
     pub centre: [f64; 3],
     /// Box orientation (local x, y, z → global).
@@ -93,7 +94,7 @@ enum Plan {
 
 #[derive(Debug, Clone)]
 struct BodyPlan {
-    name: String,
+    id: BodyId,
     plan: Plan,
     /// Box rotation relative to the element frame: q_box = q_frame · rel.
     rel: UnitQuaternion<f64>,
@@ -155,27 +156,29 @@ impl Handoff {
             .enumerate()
             .map(|(i, n)| (n.tag, i))
             .collect();
-        let elems: std::collections::BTreeMap<i64, &crate::model::Element> = model
-            .elements
-            .iter()
-            .map(|e| (i64::from(e.tag), e))
-            .collect();
+        let elems: std::collections::BTreeMap<u32, &crate::model::Element> =
+            model.elements.iter().map(|e| (e.tag, e)).collect();
         let x0: Vec<Vector3<f64>> = model.nodes.iter().map(|n| v3(n.xyz())).collect();
         let mut plans = Vec::with_capacity(mapping.bodies.len());
         for b in &mapping.bodies {
-            let e = elems
-                .get(&b.element)
-                .ok_or_else(|| anyhow!("body {}: no element {} in the model", b.name, b.element))?;
+            let tag = b.id.element_tag();
+            let e = tag.and_then(|t| elems.get(&t)).ok_or_else(|| {
+                anyhow!(
+                    "body {}: no element {} in the model",
+                    b.id,
+                    b.id.element_field()
+                )
+            })?;
             let idx = |t: &u32| {
                 index
                     .get(t)
                     .copied()
-                    .ok_or_else(|| anyhow!("body {}: unknown node {t}", b.name))
+                    .ok_or_else(|| anyhow!("body {}: unknown node {t}", b.id))
             };
             let (plan, frame) = match e.nodes() {
                 [i, j] => {
                     let axes = model.local_axes(e).ok_or_else(|| {
-                        anyhow!("body {}: element {} has no local axes", b.name, e.tag)
+                        anyhow!("body {}: element {} has no local axes", b.id, e.tag)
                     })?;
                     let y0 = v3(axes[1]);
                     let nodes = [idx(i)?, idx(j)?];
@@ -189,13 +192,13 @@ impl Handoff {
                 }
                 _ => bail!(
                     "body {}: element {} has {} nodes",
-                    b.name,
+                    b.id,
                     e.tag,
                     e.nodes().len()
                 ),
             };
             plans.push(BodyPlan {
-                name: b.name.clone(),
+                id: b.id.clone(),
                 plan,
                 rel: quat(frame).inverse() * b.rotation,
                 offset: v3(RigidBox::trim_offset_local(b)),
@@ -227,7 +230,7 @@ impl Handoff {
                     if !(len > 0.0) {
                         bail!(
                             "hand-off: body {}: its element's chord has zero length",
-                            p.name
+                            p.id
                         );
                     }
                     let ri = Rotation3::new(v3(nodes[i].theta));
@@ -258,17 +261,14 @@ impl Handoff {
                         b += r.cross(&(vs[k] - vm));
                     }
                     let omega = a.lu().solve(&b).ok_or_else(|| {
-                        anyhow!(
-                            "hand-off: body {}: degenerate quad (collinear nodes)",
-                            p.name
-                        )
+                        anyhow!("hand-off: body {}: degenerate quad (collinear nodes)", p.id)
                     })?;
                     let lin = vm + omega.cross(&(centre - xm));
                     (rotation, centre, lin, omega)
                 }
             };
             out.push(BodyState {
-                name: p.name.clone(),
+                id: p.id.clone(),
                 centre: arr(centre),
                 rotation,
                 linear_velocity: arr(lin),
@@ -277,29 +277,6 @@ impl Handoff {
         }
         Ok(out)
     }
-}
-
-/// The committed FE state of every model node (model order), read from a built domain
-/// ([`crate::fe::build::BuiltDomain`]): displacement/rotation and velocity/rotational
-/// velocity, relative to the ground. Errors name a model node missing from the domain.
-pub fn node_states(model: &Model, built: &crate::fe::build::BuiltDomain) -> Result<Vec<NodeState>> {
-    model
-        .nodes
-        .iter()
-        .map(|n| {
-            let k = *built
-                .node_index
-                .get(&n.tag)
-                .ok_or_else(|| anyhow!("hand-off: node {} is not in the FE domain", n.tag))?;
-            let (d, v) = (built.domain.displacement(k), built.domain.velocity(k));
-            Ok(NodeState {
-                u: [d[0], d[1], d[2]],
-                theta: [d[3], d[4], d[5]],
-                v: [v[0], v[1], v[2]],
-                omega: [v[3], v[4], v[5]],
-            })
-        })
-        .collect()
 }
 
 /// The translations of node states, for [`crate::collapse::CollapseMonitor::observe`].

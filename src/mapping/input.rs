@@ -1,13 +1,15 @@
 //! The mapping's own plain input: geometry and mass of each FE element, independent of
 //! the model file format (a converter from the model builds these). SI units.
 
+use crate::body::BodyType;
+
 /// A line element (beam-column, elastic strip): one box per FE element.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LineMember {
-    /// FE element id (used in the body name and in messages).
-    pub element: i64,
-    /// Type name for the body name, e.g. `Beam`, `Column`.
-    pub type_name: String,
+    /// FE element tag (used in the body name and in messages).
+    pub element: u32,
+    /// Member type for the body name, e.g. `Beam`, `Column`.
+    pub body_type: BodyType,
     /// Material (group) id; one rigid-body group per material.
     pub material: String,
     /// End node i (m).
@@ -28,10 +30,10 @@ pub struct LineMember {
 /// A quadrilateral shell / slab / wall element: one box of its thickness per FE element.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Quad {
-    /// FE element id.
-    pub element: i64,
-    /// Type name, e.g. `Slab`, `Wall`.
-    pub type_name: String,
+    /// FE element tag.
+    pub element: u32,
+    /// Member type, e.g. `Slab`, `Wall`.
+    pub body_type: BodyType,
     /// Material (group) id.
     pub material: String,
     /// The four corner nodes in cyclic order (m).
@@ -44,7 +46,7 @@ pub struct Quad {
 
 /// A lumped (translational) mass at an FE node, e.g. ballast.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NodalMass {
+pub struct PointMass {
     /// Node position (m).
     pub position: [f64; 3],
     /// Mass (kg), ≥ 0.
@@ -59,5 +61,5 @@ pub struct MappingInput {
     /// Quadrilateral elements.
     pub quads: Vec<Quad>,
     /// Nodal masses.
-    pub nodal_masses: Vec<NodalMass>,
+    pub nodal_masses: Vec<PointMass>,
 }

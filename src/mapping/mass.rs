@@ -18,8 +18,8 @@
 //! floor's centre of mass stays where it was in plan (tests measure the shift).
 //! Inertia ([`super::RigidBox::principal_inertia_kgm2`]) treats each body as a uniform box.
 
-use super::geometry::{BodyKind, RigidBox};
-use super::input::NodalMass;
+use super::geometry::{RigidBox, Role};
+use super::input::PointMass;
 use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
@@ -33,7 +33,7 @@ fn key(p: [f64; 3]) -> Key {
 /// indices that received a share.
 pub fn distribute_nodal_masses(
     boxes: &mut [RigidBox],
-    masses: &[NodalMass],
+    masses: &[PointMass],
 ) -> Result<Vec<Vec<usize>>> {
     let mut at: BTreeMap<Key, Vec<usize>> = BTreeMap::new();
     for (i, b) in boxes.iter().enumerate() {
@@ -70,16 +70,16 @@ pub fn distribute_nodal_masses(
                 p[2]
             );
         };
-        let pick = |kind: BodyKind| -> Vec<usize> {
+        let pick = |kind: Role| -> Vec<usize> {
             attached
                 .iter()
                 .copied()
                 .filter(|&i| boxes[i].kind == kind)
                 .collect()
         };
-        let mut to = pick(BodyKind::Slab);
+        let mut to = pick(Role::Slab);
         if to.is_empty() {
-            to = pick(BodyKind::Beam);
+            to = pick(Role::Beam);
         }
         if to.is_empty() {
             to = attached.clone();

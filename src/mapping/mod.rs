@@ -2,7 +2,7 @@
 //! overlap removal (BCB step 2) and mass mapping.
 //!
 //! The mapping reads its own plain input ([`MappingInput`]: [`LineMember`], [`Quad`],
-//! [`NodalMass`]), not the model file: a converter from the model builds it. Then
+//! [`PointMass`]), not the model file: a converter from the model builds it. Then
 //! [`map_to_boxes`] runs three steps:
 //! 1. [`geometry`]: one box per FE element, named `Type:material:element`, one group per
 //!    material;
@@ -27,8 +27,8 @@ pub mod polytope;
 pub mod table;
 
 pub use from_model::from_model;
-pub use geometry::{BodyKind, RigidBox};
-pub use input::{LineMember, MappingInput, NodalMass, Quad};
+pub use geometry::{RigidBox, Role};
+pub use input::{LineMember, MappingInput, PointMass, Quad};
 pub use overlap::TrimReport;
 
 use anyhow::{bail, Result};
@@ -73,8 +73,8 @@ pub fn map_to_boxes(input: &MappingInput, opts: &MapOptions) -> Result<Mapping> 
     }
     let mut seen = BTreeMap::new();
     for b in &bodies {
-        if seen.insert(b.name.clone(), ()).is_some() {
-            bail!("two elements map to the same body name {}", b.name);
+        if seen.insert(b.id.clone(), ()).is_some() {
+            bail!("two elements map to the same body name {}", b.id);
         }
     }
     let trim = if opts.remove_overlaps {
@@ -90,7 +90,7 @@ pub fn map_to_boxes(input: &MappingInput, opts: &MapOptions) -> Result<Mapping> 
 pub fn groups(bodies: &[RigidBox]) -> BTreeMap<String, Vec<usize>> {
     let mut g: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     for (i, b) in bodies.iter().enumerate() {
-        g.entry(b.group.clone()).or_default().push(i);
+        g.entry(b.id.group().to_string()).or_default().push(i);
     }
     g
 }

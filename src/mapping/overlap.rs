@@ -6,7 +6,7 @@
 //!
 //! **Who is cut.** Boxes are put in a precedence order; a box is trimmed against every box
 //! before it, which is already final. The order is, first to last:
-//! 1. by kind: columns, walls, beams, slabs ([`BodyKind`]) — columns are continuous
+//! 1. by kind: columns, walls, beams, slabs ([`Role`]) — columns are continuous
 //!    through joints, beams stop at column (and wall) faces, slabs are reduced to the clear
 //!    area between beams (and lose the small corner left at a column that is wider than
 //!    the beams);
@@ -31,7 +31,7 @@
 //! Subdivided members: each FE element's box spans its own nodes, so consecutive boxes of
 //! one straight member touch without overlapping and are not cut.
 
-use super::geometry::{BodyKind, RigidBox};
+use super::geometry::{RigidBox, Role};
 use super::polytope::{intersect, overlap_volume as obb_overlap, Obb};
 use anyhow::{bail, Result};
 use nalgebra::Vector3;
@@ -100,12 +100,12 @@ fn aabb_overlap(a: &Aabb, b: &Aabb) -> bool {
     (0..3).all(|k| a.0[k] < b.1[k] && b.0[k] < a.1[k])
 }
 
-fn kind_rank(k: BodyKind) -> u8 {
+fn kind_rank(k: Role) -> u8 {
     match k {
-        BodyKind::Column => 0,
-        BodyKind::Wall => 1,
-        BodyKind::Beam => 2,
-        BodyKind::Slab => 3,
+        Role::Column => 0,
+        Role::Wall => 1,
+        Role::Beam => 2,
+        Role::Slab => 3,
     }
 }
 
@@ -161,7 +161,7 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
             if iteration == 1000 {
                 bail!(
                     "overlap removal: body {} needs more than 1000 cuts",
-                    boxes[bi].name
+                    boxes[bi].id
                 );
             }
             let ob = obb(&boxes[bi]);
@@ -216,8 +216,8 @@ pub fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimRe
                 bail!(
                     "overlap removal: body {} lies within body {}; it would vanish \
                      (fix the model's geometry)",
-                    boxes[bi].name,
-                    boxes[best_other].name
+                    boxes[bi].id,
+                    boxes[best_other].id
                 );
             }
             let b = &mut boxes[bi];

@@ -29,11 +29,11 @@ pub fn bodies_csv(bodies: &[RigidBox]) -> String {
         let _ = write!(
             out,
             "{},{},{},{},{},{:?}",
-            field(&b.name),
-            field(&b.group),
-            field(&b.type_name),
-            field(&b.material),
-            b.element,
+            field(&b.id.name()),
+            field(b.id.group()),
+            field(b.id.body_type().as_str()),
+            field(b.id.material()),
+            b.id.element_field(),
             b.kind
         );
         for v in b

@@ -46,10 +46,11 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::Path;
 
-/// A body pose at one keyframe: position of the box centre (m, Z-up world frame) and the
-/// unit quaternion `[w, x, y, z]` that rotates the body frame into the world frame.
-/// The quaternion need not be normalised nor sign-continuous; the writer does both.
-pub type Pose = ([f64; 3], [f64; 4]);
+/// A body pose at one keyframe ([`crate::physics::Pose`]): position of the box centre (m,
+/// Z-up world frame) and the unit quaternion `[w, x, y, z]` that rotates the body frame
+/// into the world frame. The quaternion need not be normalised nor sign-continuous; the
+/// writer does both.
+pub use crate::physics::Pose;
 
 /// The element type given to the ground box's material.
 pub const GROUND_TYPE: &str = "Ground";
@@ -305,13 +306,10 @@ pub fn run_scene(
         .iter()
         .enumerate()
         .map(|(i, b)| AnimBody {
-            name: b.name.clone(),
-            type_name: b.type_name.clone(),
+            name: b.id.name(),
+            type_name: b.id.type_name().to_string(),
             half_extents: b.half_extents,
-            poses: keep
-                .iter()
-                .map(|&k| (frames[k].1[i].position, frames[k].1[i].orientation))
-                .collect(),
+            poses: keep.iter().map(|&k| frames[k].1[i]).collect(),
         })
         .collect();
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -346,10 +344,7 @@ pub fn run_scene(
                 .iter()
                 .map(|&k| {
                     let d = ground_m[k];
-                    (
-                        [c[0] + d[0], c[1] + d[1], c[2] + d[2]],
-                        [1.0, 0.0, 0.0, 0.0],
-                    )
+                    Pose::at([c[0] + d[0], c[1] + d[1], c[2] + d[2]])
                 })
                 .collect(),
         })
@@ -466,7 +461,8 @@ impl Track {
         let mut rotations = Vec::with_capacity(poses.len());
         let mut previous = None;
         let mut first = None;
-        for (k, (p, q)) in poses.iter().enumerate() {
+        for (k, pose) in poses.iter().enumerate() {
+            let (p, q) = (&pose.position, &pose.orientation);
             let at = || format!("{label} at keyframe {k} (t = {} s)", times_s[k]);
             let p32 = p.map(|c| c as f32);
             ensure!(

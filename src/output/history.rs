@@ -34,6 +34,7 @@
 //!
 //! Numbers use fixed decimals (times 4, lengths 6, ratios 8, quaternions 8), so the same
 //! run gives the same bytes.
+use crate::body::BodyId;
 use crate::output::csv_text::field;
 use crate::physics::Pose;
 use std::fmt::Write as _;
@@ -67,16 +68,8 @@ pub const BODIES_HEADER: &str =
 /// The identity, undeformed geometry and mass of one body, as `bodies.csv` holds it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyRow<'a> {
-    /// Name (`Type:material:element`).
-    pub name: &'a str,
-    /// Group.
-    pub group: &'a str,
-    /// Element type.
-    pub type_name: &'a str,
-    /// Material id.
-    pub material: &'a str,
-    /// Element id.
-    pub element: &'a str,
+    /// Identity (columns `name,group,type,material,element`).
+    pub id: &'a BodyId,
     /// Passive (kinematic foundation).
     pub passive: bool,
     /// Undeformed pose.
@@ -96,11 +89,11 @@ pub fn bodies_csv(rows: &[BodyRow]) -> String {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.6},{:.6},{:.6},{:.6}",
-            field(r.name),
-            field(r.group),
-            field(r.type_name),
-            field(r.material),
-            field(r.element),
+            field(&r.id.name()),
+            field(r.id.group()),
+            field(r.id.body_type().as_str()),
+            field(r.id.material()),
+            field(&r.id.element_field()),
             u8::from(r.passive),
             p[0] + 0.0,
             p[1] + 0.0,
@@ -267,13 +260,10 @@ pub fn history_csv(rows: &[BodyRow], frames: &[HistoryFrame]) -> String {
 mod tests {
     use super::*;
 
-    fn row<'a>(name: &'a str, z: f64, passive: bool, mass: f64) -> BodyRow<'a> {
+    /// A body row of element `tag` (type `T`, group `g`).
+    fn row(tag: u32, z: f64, passive: bool, mass: f64) -> BodyRow<'static> {
         BodyRow {
-            name,
-            group: "g",
-            type_name: "T",
-            material: "1",
-            element: "1",
+            id: Box::leak(Box::new(BodyId::element("T".into(), "g", tag))),
             passive,
             pose0: Pose {
                 position: [0.0, 0.0, z],
@@ -297,13 +287,13 @@ mod tests {
     /// centre); the middle body at 1.26 m with the ground 0.01 m up → max drop 0.25 m.
     #[test]
     fn drift_and_drop_by_hand() {
-        let mut f = row("F", -0.05, true, 0.0);
+        let mut f = row(1, -0.05, true, 0.0);
         f.half_extents = [1.0, 1.0, 0.05];
         let rows = vec![
             f,
-            row("M", 1.5, false, 5.0),
-            row("R1", 3.0, false, 1.0),
-            row("R2", 2.95, false, 3.0),
+            row(2, 1.5, false, 5.0),
+            row(3, 3.0, false, 1.0),
+            row(4, 2.95, false, 3.0),
         ];
         let r = roof(&rows).unwrap();
         assert_eq!(r.ids, vec![2, 3]);
@@ -346,7 +336,7 @@ mod tests {
 
     #[test]
     fn fe_frames_have_no_counts() {
-        let rows = vec![row("A", 1.0, false, 1.0)];
+        let rows = vec![row(1, 1.0, false, 1.0)];
         let poses = vec![at([0.0, 0.0, 1.0])];
         let s = history_csv(
             &rows,
@@ -367,11 +357,11 @@ mod tests {
 
     #[test]
     fn bodies_table_round_numbers() {
-        let rows = vec![row("Beam:1:2", 1.0, false, 12.5)];
+        let rows = vec![row(2, 1.0, false, 12.5)];
         let s = bodies_csv(&rows);
         assert_eq!(
             s.lines().nth(1).unwrap(),
-            "Beam:1:2,g,T,1,1,0,0.000000,0.000000,1.000000,1.00000000,0.00000000,0.00000000,0.00000000,0.500000,0.500000,0.050000,12.500000"
+            "T:g:2,g,T,g,2,0,0.000000,0.000000,1.000000,1.00000000,0.00000000,0.00000000,0.00000000,0.500000,0.500000,0.050000,12.500000"
         );
     }
 }

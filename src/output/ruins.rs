@@ -2,6 +2,7 @@
 //! `name,group,type,material,element,x,y,z,qw,qx,qy,qz,at_rest` — position in m
 //! (6 decimals), orientation as a unit quaternion (8 decimals), `at_rest` 1/0 (the ruin
 //! stage's rest test per body; `-` when no ruin stage ran).
+use crate::body::BodyId;
 use crate::output::csv_text::field;
 use crate::physics::Pose;
 use std::fmt::Write as _;
@@ -12,16 +13,8 @@ pub const HEADER: &str = "name,group,type,material,element,x,y,z,qw,qx,qy,qz,at_
 /// One body's identity columns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RuinRow<'a> {
-    /// Name.
-    pub name: &'a str,
-    /// Group.
-    pub group: &'a str,
-    /// Element type.
-    pub type_name: &'a str,
-    /// Material id.
-    pub material: &'a str,
-    /// Element id.
-    pub element: &'a str,
+    /// Identity (columns `name,group,type,material,element`).
+    pub id: &'a BodyId,
     /// Final pose.
     pub pose: Pose,
     /// At rest (None = no ruin stage).
@@ -43,11 +36,11 @@ pub fn ruins_csv(rows: &[RuinRow]) -> String {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{rest}",
-            field(r.name),
-            field(r.group),
-            field(r.type_name),
-            field(r.material),
-            field(r.element),
+            field(&r.id.name()),
+            field(r.id.group()),
+            field(r.id.body_type().as_str()),
+            field(r.id.material()),
+            field(&r.id.element_field()),
             p[0] + 0.0,
             p[1] + 0.0,
             p[2] + 0.0,

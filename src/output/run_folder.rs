@@ -13,7 +13,9 @@
 //!
 //! Numbers come back as written: times to 4 decimals (s), lengths to 6 (m), quaternions
 //! and ratios to 8.
+use crate::body::BodyId;
 use crate::output::history::{BodyRow, BODIES_HEADER, HISTORY_HEADER};
+use crate::output::summary::RunSummary;
 use crate::output::{keyframes, ruins};
 use crate::physics::Pose;
 use anyhow::{anyhow, bail, Context, Result};
@@ -35,16 +37,8 @@ pub const FILES: [&str; 5] = [
 /// One row of `bodies.csv`: a body's identity, undeformed geometry and mass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyInfo {
-    /// Name (`Type:material:element`, or `Foundation:base:<node>`).
-    pub name: String,
-    /// Element group.
-    pub group: String,
-    /// Element type (`Column`, `Beam`, `Slab`, `Foundation`, …).
-    pub type_name: String,
-    /// Material id.
-    pub material: String,
-    /// Element id.
-    pub element: String,
+    /// Identity (`Type:material:element`, or `Foundation:base:<node>`).
+    pub id: BodyId,
     /// Passive (kinematic foundation block, moved with the ground).
     pub passive: bool,
     /// Undeformed pose: box centre (m) and unit quaternion of the box axes.
@@ -59,11 +53,7 @@ impl BodyInfo {
     /// The row [`crate::output::history::bodies_csv`] writes for this body.
     pub fn row(&self) -> BodyRow<'_> {
         BodyRow {
-            name: &self.name,
-            group: &self.group,
-            type_name: &self.type_name,
-            material: &self.material,
-            element: &self.element,
+            id: &self.id,
             passive: self.passive,
             pose0: self.pose0,
             half_extents: self.half_extents,
@@ -108,7 +98,7 @@ pub struct RunFolder {
     /// `ruins.csv`: at rest per body (`None`: no ruin stage ran).
     pub at_rest: Vec<Option<bool>>,
     /// `summary.json`.
-    pub summary: serde_json::Value,
+    pub summary: RunSummary,
 }
 
 impl RunFolder {
@@ -141,11 +131,8 @@ impl RunFolder {
         let (rf, rt) = read("ruins.csv")?;
         let (final_poses, at_rest) = parse_ruins(&rt, &rf, &bodies)?;
         let (sf, st) = read("summary.json")?;
-        let summary: serde_json::Value = serde_json::from_str(&st)
+        let summary: RunSummary = serde_json::from_str(&st)
             .map_err(|e| anyhow!("{sf}:{}:{}: {e}", e.line(), e.column()))?;
-        if !summary.is_object() {
-            bail!("{sf}:1: expected a JSON object");
-        }
         Ok(RunFolder {
             dir: dir.to_path_buf(),
             bodies,
@@ -309,15 +296,26 @@ pub fn parse_bodies(text: &str, file: &str) -> Result<Vec<BodyInfo>> {
             return Err(r.err(16, format!("mass {mass_kg} kg must be >= 0")));
         }
         let name = r.text(0)?.to_string();
-        if let Some(k) = out.iter().position(|b| b.name == name) {
+        r.text(2)?;
+        let id = BodyId::from_columns(
+            &name,
+            &r.fields[1],
+            &r.fields[2],
+            &r.fields[3],
+            &r.fields[4],
+        )
+        .map_err(|e| {
+            let c = ["name", "group", "type", "material", "element"]
+                .iter()
+                .position(|c| *c == e.column)
+                .unwrap_or(0);
+            r.err(c, e.message)
+        })?;
+        if let Some(k) = out.iter().position(|b| b.id == id) {
             return Err(r.err(0, format!("body {name:?} is already on line {}", k + 2)));
         }
         out.push(BodyInfo {
-            name,
-            group: r.fields[1].to_string(),
-            type_name: r.text(2)?.to_string(),
-            material: r.fields[3].to_string(),
-            element: r.fields[4].to_string(),
+            id,
             passive: r.flag(5)?,
             pose0: r.pose(6)?,
             half_extents,
@@ -347,17 +345,18 @@ pub fn parse_keyframes(
         return Ok(Vec::new());
     }
     let mut frames: Vec<(f64, Vec<Pose>)> = Vec::with_capacity(rows.len() / n);
+    let names: Vec<String> = bodies.iter().map(|b| b.id.name()).collect();
     for (k, r) in rows.iter().enumerate() {
         let i = k % n;
         let t = r.f64(0)?;
         let name = r.fields[1].as_str();
-        if name != bodies[i].name {
+        if name != names[i] {
             return Err(r.err(
                 1,
                 format!(
                     "body {name:?} where bodies.csv has {:?} (body #{i}; each frame lists \
                      every body in bodies.csv order)",
-                    bodies[i].name
+                    names[i]
                 ),
             ));
         }
@@ -491,9 +490,15 @@ pub fn parse_ruins(
                 bodies.len()
             );
         };
-        let want = [&b.name, &b.group, &b.type_name, &b.material, &b.element];
+        let want = [
+            b.id.name(),
+            b.id.group().to_string(),
+            b.id.body_type().to_string(),
+            b.id.material().to_string(),
+            b.id.element_field(),
+        ];
         for (c, w) in want.iter().enumerate() {
-            if r.fields[c] != w.as_str() {
+            if r.fields[c] != *w {
                 return Err(r.err(
                     c,
                     format!(
@@ -536,12 +541,8 @@ mod tests {
             let s = (a / 2.0).sin() / n;
             [(a / 2.0).cos(), s * axis[0], s * axis[1], s * axis[2]]
         };
-        let b = |name: &str, t: &str, passive, p: [f64; 3], o, h, m| BodyInfo {
-            name: name.to_string(),
-            group: if passive { "foundation" } else { "frame" }.to_string(),
-            type_name: t.to_string(),
-            material: "mat1".to_string(),
-            element: name.rsplit(':').next().unwrap().to_string(),
+        let b = |name: &str, _t: &str, passive, p: [f64; 3], o, h, m| BodyInfo {
+            id: name.parse().unwrap(),
             passive,
             pose0: Pose {
                 position: p,
@@ -626,7 +627,8 @@ mod tests {
             .iter()
             .map(|(t, _)| [0.01 * (9.0 * t).sin(), -0.003 * t, 1e-4 / 3.0])
             .collect();
-        let names: Vec<&str> = bs.iter().map(|b| b.name.as_str()).collect();
+        let names: Vec<String> = bs.iter().map(|b| b.id.name()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
         let hf: Vec<HistoryFrame> = frames
             .iter()
@@ -647,11 +649,7 @@ mod tests {
             .zip(last)
             .enumerate()
             .map(|(i, (b, p))| RuinRow {
-                name: &b.name,
-                group: &b.group,
-                type_name: &b.type_name,
-                material: &b.material,
-                element: &b.element,
+                id: &b.id,
                 pose: *p,
                 at_rest: [None, Some(true), Some(false)][i],
             })
@@ -671,7 +669,7 @@ mod tests {
         std::fs::write(dir.join("keyframes.csv"), &w.keyframes).unwrap();
         std::fs::write(dir.join("history.csv"), &w.history).unwrap();
         std::fs::write(dir.join("ruins.csv"), &w.ruins).unwrap();
-        std::fs::write(dir.join("summary.json"), "{\n  \"mode\": \"hybrid\"\n}\n").unwrap();
+        std::fs::write(dir.join("summary.json"), "{\"mode\": \"hybrid\", \"tc_s\": 1.0, \"tc_reason\": \"criterion\", \"tc_detail\": \"d\", \"fe_end_s\": 1.0, \"bodies\": 2, \"foundation_blocks\": 1, \"keyframes_fe\": 3, \"ruins\": {\"original_footprint_m\": {\"x\": [0, 1], \"y\": [0, 1]}, \"extent_beyond_footprint_m\": {\"x_minus\": 0, \"x_plus\": 0, \"y_minus\": 0, \"y_plus\": 0, \"max\": 0}, \"debris_footprint_area_m2\": 1, \"original_footprint_area_m2\": 1, \"max_debris_height_m\": 1, \"floors\": [], \"slab_overlap\": []}}\n").unwrap();
     }
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -709,24 +707,9 @@ mod tests {
         let bs = bodies();
         assert_eq!(rf.bodies.len(), 3);
         for (got, want) in rf.bodies.iter().zip(&bs) {
-            assert_eq!(
-                (
-                    &got.name,
-                    &got.group,
-                    &got.type_name,
-                    &got.material,
-                    &got.element
-                ),
-                (
-                    &want.name,
-                    &want.group,
-                    &want.type_name,
-                    &want.material,
-                    &want.element
-                )
-            );
+            assert_eq!(got.id, want.id);
             assert_eq!(got.passive, want.passive);
-            assert_pose(&got.pose0, &want.pose0, &want.name);
+            assert_pose(&got.pose0, &want.pose0, &want.id.name());
             for d in 0..3 {
                 assert!(close(got.half_extents[d], want.half_extents[d], 5e-7));
             }
@@ -763,13 +746,14 @@ mod tests {
         for (a, b) in rf.final_poses.iter().zip(&w.frames.last().unwrap().1) {
             assert_pose(a, b, "ruins");
         }
-        assert_eq!(rf.summary["mode"], "hybrid");
+        assert_eq!(rf.summary.mode, crate::mode::Mode::Hybrid);
         assert_eq!(rf.ground_per_frame().len(), 6);
 
         // Writing what was read gives the same text.
         let rows: Vec<BodyRow> = rf.bodies.iter().map(BodyInfo::row).collect();
         assert_eq!(bodies_csv(&rows), w.bodies);
-        let names: Vec<&str> = rf.bodies.iter().map(|b| b.name.as_str()).collect();
+        let names: Vec<String> = rf.bodies.iter().map(|b| b.id.name()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let fr: Vec<(f64, &[Pose])> = rf.frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
         assert_eq!(keyframes_csv(&names, &fr), w.keyframes);
     }

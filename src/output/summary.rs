@@ -12,12 +12,14 @@
 //! * the **pancake measure** (paper §4: stacked vs offset slabs) of two consecutive
 //!   floors is the area of the intersection of their final slab projections divided by
 //!   the upper floor's undeformed slab area (1 = fully stacked, 0 = no overlap).
+use crate::body::Body;
+use crate::mapping::Role;
+use crate::mode::Mode;
+use crate::motion::GroundHistory;
 use crate::physics::Pose;
-use crate::pipeline::{ruin_stop_name, RunRecord, TcReason};
-use crate::ruin::connection::ConnectionState;
-use crate::ruin::stage::to_isometry;
+use crate::ruin::stage::{to_isometry, RuinResult, RuinStop};
 use nalgebra::{Point3, Vector3};
-use serde_json::{json, Value};
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Raster resolution of the area measures: cells across the smallest projection side.
@@ -164,19 +166,19 @@ pub fn intersection_area(a: &[&Vec<[f64; 2]>], b: &[&Vec<[f64; 2]>]) -> f64 {
     n as f64 * cell * cell
 }
 
-fn r6(x: f64) -> f64 {
+/// Rounds to 6 decimals (and −0 to 0), as every number of `summary.json`.
+pub fn r6(x: f64) -> f64 {
     (x * 1e6).round() / 1e6 + 0.0
 }
 
-/// The ruin measures of a record (module docs), as JSON.
-pub fn ruin_measures(rec: &RunRecord) -> Value {
-    let active: Vec<usize> = (0..rec.bodies.len())
-        .filter(|&i| !rec.bodies[i].passive)
-        .collect();
+/// The ruin measures (module docs) of `bodies` at `final_poses`; `ground_z` is the
+/// ground's vertical displacement at the end, m.
+pub fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64) -> RuinMeasures {
+    let active: Vec<usize> = (0..bodies.len()).filter(|&i| !bodies[i].passive).collect();
     // Original footprint.
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for &i in &active {
-        for c in corners(&rec.bodies[i].pose0, rec.bodies[i].half_extents) {
+        for c in corners(&bodies[i].pose0, bodies[i].half_extents) {
             for k in 0..2 {
                 lo[k] = lo[k].min(c[k]);
                 hi[k] = hi[k].max(c[k]);
@@ -186,7 +188,7 @@ pub fn ruin_measures(rec: &RunRecord) -> Value {
     let mut beyond = [0.0f64; 4];
     let mut top = f64::NEG_INFINITY;
     for &i in &active {
-        for c in corners(&rec.final_poses[i], rec.bodies[i].half_extents) {
+        for c in corners(&final_poses[i], bodies[i].half_extents) {
             beyond[0] = beyond[0].max(lo[0] - c[0]);
             beyond[1] = beyond[1].max(c[0] - hi[0]);
             beyond[2] = beyond[2].max(lo[1] - c[1]);
@@ -194,8 +196,7 @@ pub fn ruin_measures(rec: &RunRecord) -> Value {
             top = top.max(c[2]);
         }
     }
-    let base_z = rec
-        .bodies
+    let base_z = bodies
         .iter()
         .filter(|b| b.passive)
         .map(|b| b.pose0.position[2] + b.half_extents[2])
@@ -203,83 +204,84 @@ pub fn ruin_measures(rec: &RunRecord) -> Value {
     let base_z = if base_z.is_nan() {
         active
             .iter()
-            .flat_map(|&i| corners(&rec.bodies[i].pose0, rec.bodies[i].half_extents))
+            .flat_map(|&i| corners(&bodies[i].pose0, bodies[i].half_extents))
             .map(|c| c[2])
             .fold(f64::INFINITY, f64::min)
     } else {
         base_z
     };
-    let t_end = rec
-        .ruin
-        .as_ref()
-        .map(|r| r.end_time_s)
-        .or(rec.fe_end_s)
-        .unwrap_or(0.0);
-    let ground_z = rec.ground.ground_state_at(t_end).0[2];
-    let final_proj: Vec<Vec<[f64; 2]>> = (0..rec.bodies.len())
-        .map(|i| projection(&rec.final_poses[i], rec.bodies[i].half_extents))
+    let final_proj: Vec<Vec<[f64; 2]>> = (0..bodies.len())
+        .map(|i| projection(&final_poses[i], bodies[i].half_extents))
         .collect();
-    let init_proj: Vec<Vec<[f64; 2]>> = (0..rec.bodies.len())
-        .map(|i| projection(&rec.bodies[i].pose0, rec.bodies[i].half_extents))
+    let init_proj: Vec<Vec<[f64; 2]>> = (0..bodies.len())
+        .map(|i| projection(&bodies[i].pose0, bodies[i].half_extents))
         .collect();
     let debris: Vec<&Vec<[f64; 2]>> = active.iter().map(|&i| &final_proj[i]).collect();
     // Floors.
     let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
     for &i in &active {
-        if rec.bodies[i].kind == Some(crate::mapping::BodyKind::Slab) {
-            let z = (rec.bodies[i].pose0.position[2] * 1000.0).round() as i64;
+        if bodies[i].kind == Some(Role::Slab) {
+            let z = (bodies[i].pose0.position[2] * 1000.0).round() as i64;
             floors.entry(z).or_default().push(i);
         }
     }
     let floor_list: Vec<(i64, Vec<usize>)> = floors.into_iter().collect();
-    let mut floor_json = Vec::new();
+    let mut floor_out = Vec::new();
     for (n, (z, ids)) in floor_list.iter().enumerate() {
-        let m: f64 = ids.iter().map(|&i| rec.bodies[i].mass_kg).sum();
+        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
         let mut c0 = [0.0; 3];
         let mut c1 = [0.0; 3];
         for &i in ids {
-            let w = rec.bodies[i].mass_kg / m;
+            let w = bodies[i].mass_kg / m;
             for k in 0..3 {
-                c0[k] += w * rec.bodies[i].pose0.position[k];
-                c1[k] += w * rec.final_poses[i].position[k];
+                c0[k] += w * bodies[i].pose0.position[k];
+                c1[k] += w * final_poses[i].position[k];
             }
         }
         let d = [c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]];
-        floor_json.push(json!({
-            "floor": n + 1,
-            "level_m": r6(*z as f64 / 1000.0),
-            "slabs": ids.len(),
-            "centroid_displacement_m": [r6(d[0]), r6(d[1]), r6(d[2])],
-            "horizontal_offset_m": r6(d[0].hypot(d[1])),
-        }));
+        floor_out.push(FloorMeasure {
+            floor: n + 1,
+            level_m: r6(*z as f64 / 1000.0),
+            slabs: ids.len(),
+            centroid_displacement_m: [r6(d[0]), r6(d[1]), r6(d[2])],
+            horizontal_offset_m: r6(d[0].hypot(d[1])),
+        });
     }
-    let mut overlap_json = Vec::new();
+    let mut overlap_out = Vec::new();
     for w in floor_list.windows(2) {
         let lower: Vec<&Vec<[f64; 2]>> = w[0].1.iter().map(|&i| &final_proj[i]).collect();
         let upper: Vec<&Vec<[f64; 2]>> = w[1].1.iter().map(|&i| &final_proj[i]).collect();
         let upper0: Vec<&Vec<[f64; 2]>> = w[1].1.iter().map(|&i| &init_proj[i]).collect();
         let a_int = intersection_area(&lower, &upper);
         let a0 = union_area(&upper0);
-        overlap_json.push(json!({
-            "floors": [floor_index(&floor_list, w[0].0), floor_index(&floor_list, w[1].0)],
-            "overlap_area_m2": r6(a_int),
-            "upper_slab_area_m2": r6(a0),
-            "overlap_ratio": r6(if a0 > 0.0 { a_int / a0 } else { 0.0 }),
-        }));
+        overlap_out.push(SlabOverlap {
+            floors: [
+                floor_index(&floor_list, w[0].0),
+                floor_index(&floor_list, w[1].0),
+            ],
+            overlap_area_m2: r6(a_int),
+            upper_slab_area_m2: r6(a0),
+            overlap_ratio: r6(if a0 > 0.0 { a_int / a0 } else { 0.0 }),
+        });
     }
-    json!({
-        "original_footprint_m": {"x": [r6(lo[0]), r6(hi[0])], "y": [r6(lo[1]), r6(hi[1])]},
-        "extent_beyond_footprint_m": {
-            "x_minus": r6(beyond[0]), "x_plus": r6(beyond[1]),
-            "y_minus": r6(beyond[2]), "y_plus": r6(beyond[3]),
-            "max": r6(beyond.iter().copied().fold(0.0, f64::max)),
+    RuinMeasures {
+        original_footprint_m: Footprint {
+            x: [r6(lo[0]), r6(hi[0])],
+            y: [r6(lo[1]), r6(hi[1])],
         },
-        "debris_footprint_area_m2": r6(union_area(&debris)),
-        "original_footprint_area_m2": r6((hi[0] - lo[0]) * (hi[1] - lo[1])),
-        "max_debris_height_m": r6(top - (base_z + ground_z)),
-        "floors": floor_json,
-        "slab_overlap": overlap_json,
-    })
+        extent_beyond_footprint_m: Extent {
+            x_minus: r6(beyond[0]),
+            x_plus: r6(beyond[1]),
+            y_minus: r6(beyond[2]),
+            y_plus: r6(beyond[3]),
+            max: r6(beyond.iter().copied().fold(0.0, f64::max)),
+        },
+        debris_footprint_area_m2: r6(union_area(&debris)),
+        original_footprint_area_m2: r6((hi[0] - lo[0]) * (hi[1] - lo[1])),
+        max_debris_height_m: r6(top - (base_z + ground_z)),
+        floors: floor_out,
+        slab_overlap: overlap_out,
+    }
 }
 
 fn floor_index(list: &[(i64, Vec<usize>)], z: i64) -> usize {
@@ -294,14 +296,17 @@ pub const SETTLE_RISE_LIMIT: f64 = 1e-3;
 /// work, damping, dissipated (J); the settle phase's largest rise of the mechanical energy
 /// between two frames (t ≥ the record's end, ground still) against
 /// [`SETTLE_RISE_LIMIT`] × the undeformed building's potential energy; the fastest body
-/// against √(v_Tc,max² + 2·g·H) + the record's peak ground speed (m/s).
-pub fn energy_summary(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Value {
+/// against √(v_Tc,max² + 2·g·H) + the record's peak ground speed (m/s). `None` without
+/// frames.
+pub fn energy_summary(
+    bodies: &[Body],
+    ground: &GroundHistory,
+    r: &RuinResult,
+) -> Option<EnergySummary> {
     let l = &r.ledger;
-    let (Some(first), Some(last)) = (r.frames.first(), r.frames.last()) else {
-        return Value::Null;
-    };
+    let (first, last) = (r.frames.first()?, r.frames.last()?);
     let (e0, e1) = (&first.energy, &last.energy);
-    let motion_end = rec.ground.end_time_s();
+    let motion_end = ground.end_time_s();
     let mut rise = (0.0_f64, None::<f64>);
     let mut settle_frames = 0usize;
     for w in r.frames.windows(2) {
@@ -314,8 +319,7 @@ pub fn energy_summary(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Va
             rise = (d, Some(w[1].time_s));
         }
     }
-    let peak_ground = rec
-        .ground
+    let peak_ground = ground
         .vel
         .iter()
         .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
@@ -327,124 +331,355 @@ pub fn energy_summary(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Va
     } else {
         0.0
     };
-    json!({
-        "initial_potential_j": r6(l.initial_potential_j),
-        "start": {"kinetic_j": r6(e0.kinetic_translational_j + e0.kinetic_rotational_j), "potential_j": r6(e0.potential_j)},
-        "end": {
-            "kinetic_j": r6(e1.kinetic_translational_j + e1.kinetic_rotational_j),
-            "potential_j": r6(e1.potential_j),
-            "ground_work_j": r6(e1.ground_work_j),
-            "damping_j": r6(e1.damping_j),
-            "dissipated_j": r6(e1.dissipated_j(e0)),
+    Some(EnergySummary {
+        initial_potential_j: r6(l.initial_potential_j),
+        start: StartEnergy {
+            kinetic_j: r6(e0.kinetic_translational_j + e0.kinetic_rotational_j),
+            potential_j: r6(e0.potential_j),
         },
-        "injected_j": r6(l.injected_j),
-        "max_substep_injection_j": r6(l.max_injection.0),
-        "max_substep_injection_at_s": r6(l.max_injection.1),
-        "settle_phase": {
-            "from_s": r6(motion_end),
-            "frames": settle_frames,
-            "max_rise_j": r6(rise.0),
-            "max_rise_at_s": rise.1.map(r6),
-            "max_rise_ratio": r6(ratio),
-            "limit_ratio": SETTLE_RISE_LIMIT,
-            "ok": ratio <= SETTLE_RISE_LIMIT,
+        end: EndEnergy {
+            kinetic_j: r6(e1.kinetic_translational_j + e1.kinetic_rotational_j),
+            potential_j: r6(e1.potential_j),
+            ground_work_j: r6(e1.ground_work_j),
+            damping_j: r6(e1.damping_j),
+            dissipated_j: r6(e1.dissipated_j(e0)),
         },
-        "speed": {
-            "max_mps": r6(l.max_speed_mps),
-            "max_body": l.max_speed_at.map(|(i, _)| rec.bodies[i].name.clone()),
-            "max_at_s": l.max_speed_at.map(|(_, t)| r6(t)),
-            "start_max_mps": r6(l.start_max_speed_mps),
-            "peak_ground_mps": r6(peak_ground),
-            "bound_mps": r6(bound),
-            "ok": l.max_speed_mps <= bound,
+        injected_j: r6(l.injected_j),
+        max_substep_injection_j: r6(l.max_injection.0),
+        max_substep_injection_at_s: r6(l.max_injection.1),
+        settle_phase: SettlePhase {
+            from_s: r6(motion_end),
+            frames: settle_frames,
+            max_rise_j: r6(rise.0),
+            max_rise_at_s: rise.1.map(r6),
+            max_rise_ratio: r6(ratio),
+            limit_ratio: SETTLE_RISE_LIMIT,
+            ok: ratio <= SETTLE_RISE_LIMIT,
+        },
+        speed: SpeedCheck {
+            max_mps: r6(l.max_speed_mps),
+            max_body: l.max_speed_at.map(|(i, _)| bodies[i].id.name()),
+            max_at_s: l.max_speed_at.map(|(_, t)| r6(t)),
+            start_max_mps: r6(l.start_max_speed_mps),
+            peak_ground_mps: r6(peak_ground),
+            bound_mps: r6(bound),
+            ok: l.max_speed_mps <= bound,
         },
     })
 }
 
 /// The bodies not at rest at the end (name and point speed relative to the ground, m/s),
 /// in body order.
-pub fn unsettled(rec: &RunRecord, r: &crate::ruin::stage::RuinResult) -> Value {
-    Value::Array(
-        r.at_rest
-            .iter()
-            .enumerate()
-            .filter(|(_, ok)| !**ok)
-            .map(|(i, _)| {
-                json!({"body": rec.bodies[i].name, "speed_mps": r6(r.ledger.final_point_speeds_mps[i])})
-            })
-            .collect(),
-    )
+pub fn unsettled(bodies: &[Body], r: &RuinResult) -> Vec<UnsettledBody> {
+    r.at_rest
+        .iter()
+        .enumerate()
+        .filter(|(_, ok)| !**ok)
+        .map(|(i, _)| UnsettledBody {
+            body: bodies[i].id.name(),
+            speed_mps: r6(r.ledger.final_point_speeds_mps[i]),
+        })
+        .collect()
 }
 
-/// The whole `summary.json` value. `timing` = include the wall times (not byte-stable).
-pub fn summary(rec: &RunRecord, timing: bool) -> Value {
-    let (reason, detail) = match &rec.tc_reason {
-        TcReason::Criterion(s) => ("criterion", s.clone()),
-        TcReason::Diverged(s) => ("fe_diverged", s.clone()),
-        TcReason::NoCollapse => (
-            "no_collapse",
-            format!(
-                "the criterion was not met before the FE stage ended at t = {:.4} s",
-                rec.fe_end_s.unwrap_or(0.0)
-            ),
-        ),
-        TcReason::PhysicsOnly => (
-            "physics_only",
-            "no FE stage; the ruin stage starts at t = 0".into(),
-        ),
-    };
-    let mut v = json!({
-        "mode": rec.mode.name(),
-        "tc_s": rec.tc_s.map(r6),
-        "tc_reason": reason,
-        "tc_detail": detail,
-        "fe_end_s": rec.fe_end_s.map(r6),
-        "bodies": rec.bodies.iter().filter(|b| !b.passive).count(),
-        "foundation_blocks": rec.bodies.iter().filter(|b| b.passive).count(),
-        "keyframes_fe": rec.fe_frames.len(),
-    });
-    let m = v.as_object_mut().expect("object");
-    if let Some(r) = &rec.ruin {
-        let mut counts = [0usize; 3];
-        for c in &r.connections {
-            counts[match c.state {
-                ConnectionState::Elastic => 0,
-                ConnectionState::Plastic => 1,
-                ConnectionState::Broken => 2,
-            }] += 1;
+/// `summary.json` as a type: what the run writer serialises and every reader (the run
+/// folder, `fem2rbd plot`, study collection, tests) deserialises. Field by field with units
+/// in docs/scenario-format.md "Outputs". The file is written through a
+/// [`serde_json::Value`], whose keys are ordered by name, so the bytes do not depend on the
+/// field order here; numbers are rounded to 6 decimals (times 4 in `tc_detail`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// `hybrid`, `physics` or `fe`.
+    pub mode: Mode,
+    /// Collapse moment Tc, s (`None`: no collapse, or the physics mode).
+    pub tc_s: Option<f64>,
+    /// Why the FE stage ended.
+    pub tc_reason: TcKind,
+    /// The reason in words (criterion and values, or the diverged step).
+    pub tc_detail: String,
+    /// End time of the FE stage, s (`None` in the physics mode).
+    pub fe_end_s: Option<f64>,
+    /// Active bodies.
+    pub bodies: usize,
+    /// Passive foundation blocks.
+    pub foundation_blocks: usize,
+    /// FE keyframes (25 fps up to Tc).
+    pub keyframes_fe: usize,
+    /// The ruin stage (absent when none ran).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ruin_stage: Option<RuinStageSummary>,
+    /// Connection states at the end of the ruin stage (absent when none ran).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub connections: Option<ConnectionCounts>,
+    /// Geometric measures of the ruins (module docs).
+    pub ruins: RuinMeasures,
+    /// Wall times, s (only with timing on: not byte-stable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_time_s: Option<WallTimes>,
+}
+
+/// `tc_reason`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TcKind {
+    /// The collapse criterion was met.
+    Criterion,
+    /// A step did not converge first: hand-off at the last converged step.
+    FeDiverged,
+    /// The FE stage ended without collapse.
+    NoCollapse,
+    /// No FE stage (physics mode).
+    PhysicsOnly,
+}
+
+impl TcKind {
+    /// The name written in the file.
+    pub fn name(self) -> &'static str {
+        match self {
+            TcKind::Criterion => "criterion",
+            TcKind::FeDiverged => "fe_diverged",
+            TcKind::NoCollapse => "no_collapse",
+            TcKind::PhysicsOnly => "physics_only",
         }
-        m.insert(
-            "ruin_stage".into(),
-            json!({
-                "start_s": r6(rec.tc_s.unwrap_or(0.0)),
-                "end_s": r6(r.end_time_s),
-                "stop": ruin_stop_name(r.stop),
-                "frames": r.frames.len(),
-                "bodies_at_rest": r.at_rest.iter().filter(|b| **b).count(),
-                "first_frame_penetration_m": r6(r.first_frame_penetration_m),
-                "max_penetration_m": r6(r.max_penetration_m),
-                "energy": energy_summary(rec, r),
-                "unsettled_bodies": unsettled(rec, r),
-            }),
-        );
-        m.insert(
-            "connections".into(),
-            json!({"total": r.connections.len(), "intact": counts[0], "plastic": counts[1], "broken": counts[2]}),
-        );
     }
-    m.insert("ruins".into(), ruin_measures(rec));
-    if timing {
-        let fe = rec.fe_wall.as_secs_f64();
-        let ph = rec.ruin_wall.as_secs_f64();
-        let share = if ph > 0.0 {
-            rec.ruin_in_bullet.as_secs_f64() / ph
-        } else {
-            0.0
-        };
-        m.insert(
-            "wall_time_s".into(),
-            json!({"fe": fe, "physics": ph, "physics_in_bullet": rec.ruin_in_bullet.as_secs_f64(), "physics_bullet_share": share}),
-        );
+}
+
+/// `ruin_stage`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RuinStageSummary {
+    /// Start time (Tc, or 0), s.
+    pub start_s: f64,
+    /// End time, s.
+    pub end_s: f64,
+    /// Why it stopped.
+    pub stop: RuinStop,
+    /// Frames (25 fps), the start included.
+    pub frames: usize,
+    /// Bodies at rest at the end.
+    pub bodies_at_rest: usize,
+    /// Deepest penetration after the first frame, m.
+    pub first_frame_penetration_m: f64,
+    /// Deepest penetration at the end of any frame, m.
+    pub max_penetration_m: f64,
+    /// The energy ledger (`None` without frames).
+    pub energy: Option<EnergySummary>,
+    /// Bodies not at rest at the end, in body order.
+    pub unsettled_bodies: Vec<UnsettledBody>,
+}
+
+/// One body not at rest at the end.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct UnsettledBody {
+    /// Body name.
+    pub body: String,
+    /// Point speed relative to the ground, m/s.
+    pub speed_mps: f64,
+}
+
+/// `connections`: states at the end of the ruin stage.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ConnectionCounts {
+    /// All connections.
+    pub total: usize,
+    /// Elastic (intact).
+    pub intact: usize,
+    /// Plastic.
+    pub plastic: usize,
+    /// Broken.
+    pub broken: usize,
+}
+
+/// `ruin_stage.energy` (docs/ruin-numerics.md), J unless named otherwise.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EnergySummary {
+    /// Potential energy of the undeformed building above the ground's top.
+    pub initial_potential_j: f64,
+    /// Energies at the start of the ruin stage.
+    pub start: StartEnergy,
+    /// Energies at the end and the ledger's totals.
+    pub end: EndEnergy,
+    /// Added by the solver over the stage.
+    pub injected_j: f64,
+    /// Largest addition in one substep.
+    pub max_substep_injection_j: f64,
+    /// Its time, s.
+    pub max_substep_injection_at_s: f64,
+    /// The settle phase's energy check.
+    pub settle_phase: SettlePhase,
+    /// The speed check.
+    pub speed: SpeedCheck,
+}
+
+/// `energy.start`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StartEnergy {
+    /// Kinetic (translational + rotational).
+    pub kinetic_j: f64,
+    /// Potential.
+    pub potential_j: f64,
+}
+
+/// `energy.end`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EndEnergy {
+    /// Kinetic (translational + rotational).
+    pub kinetic_j: f64,
+    /// Potential.
+    pub potential_j: f64,
+    /// Work done by the moving ground since the start.
+    pub ground_work_j: f64,
+    /// Taken out by Bullet's velocity damping since the start.
+    pub damping_j: f64,
+    /// E(start) + W_ground − E(end).
+    pub dissipated_j: f64,
+}
+
+/// `energy.settle_phase`: the largest rise of the mechanical energy between two frames
+/// after the record's end, against [`SETTLE_RISE_LIMIT`] × the initial potential energy.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SettlePhase {
+    /// Start of the settle phase (end of the record), s.
+    pub from_s: f64,
+    /// Frames in it.
+    pub frames: usize,
+    /// Largest rise.
+    pub max_rise_j: f64,
+    /// Its time, s (`None`: no rise).
+    pub max_rise_at_s: Option<f64>,
+    /// Largest rise / initial potential energy.
+    pub max_rise_ratio: f64,
+    /// [`SETTLE_RISE_LIMIT`].
+    pub limit_ratio: f64,
+    /// `max_rise_ratio <= limit_ratio`.
+    pub ok: bool,
+}
+
+/// `energy.speed`: the fastest body against √(v_Tc,max² + 2·g·H) + the peak ground speed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SpeedCheck {
+    /// Largest centre speed of any dynamic body, m/s.
+    pub max_mps: f64,
+    /// Its body.
+    pub max_body: Option<String>,
+    /// Its time, s.
+    pub max_at_s: Option<f64>,
+    /// Largest centre speed at the start, m/s.
+    pub start_max_mps: f64,
+    /// Peak ground speed of the record, m/s.
+    pub peak_ground_mps: f64,
+    /// The bound, m/s.
+    pub bound_mps: f64,
+    /// `max_mps <= bound_mps`.
+    pub ok: bool,
+}
+
+/// `wall_time_s` (s).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WallTimes {
+    /// FE stage.
+    pub fe: f64,
+    /// Ruin stage (build + run).
+    pub physics: f64,
+    /// Inside Bullet's step.
+    pub physics_in_bullet: f64,
+    /// `physics_in_bullet / physics`.
+    pub physics_bullet_share: f64,
+}
+
+/// `ruins`: geometric measures of the final state (module docs), m and m². Measures of an
+/// empty set of bodies are not finite and written as `null` (read back as NaN).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RuinMeasures {
+    /// Plan AABB of the undeformed active bodies.
+    pub original_footprint_m: Footprint,
+    /// How far the debris reaches beyond it on each side.
+    pub extent_beyond_footprint_m: Extent,
+    /// Plan area of the union of the final projections.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub debris_footprint_area_m2: f64,
+    /// Area of the original footprint.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub original_footprint_area_m2: f64,
+    /// Highest final corner above the ground's top.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub max_debris_height_m: f64,
+    /// The floors, bottom up.
+    pub floors: Vec<FloorMeasure>,
+    /// Slab overlap of consecutive floors.
+    pub slab_overlap: Vec<SlabOverlap>,
+}
+
+/// `original_footprint_m`: [min, max] along x and y.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Footprint {
+    /// x range.
+    #[serde(deserialize_with = "nan_if_null_2")]
+    pub x: [f64; 2],
+    /// y range.
+    #[serde(deserialize_with = "nan_if_null_2")]
+    pub y: [f64; 2],
+}
+
+/// `extent_beyond_footprint_m`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Extent {
+    /// Beyond the −x side.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub x_minus: f64,
+    /// Beyond the +x side.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub x_plus: f64,
+    /// Beyond the −y side.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub y_minus: f64,
+    /// Beyond the +y side.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub y_plus: f64,
+    /// The largest of the four.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub max: f64,
+}
+
+/// One floor.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloorMeasure {
+    /// Floor number from 1 (bottom).
+    pub floor: usize,
+    /// Undeformed level of its slab centres.
+    pub level_m: f64,
+    /// Slab bodies.
+    pub slabs: usize,
+    /// Displacement of the mass-weighted slab centroid.
+    pub centroid_displacement_m: [f64; 3],
+    /// Its horizontal length.
+    pub horizontal_offset_m: f64,
+}
+
+/// The pancake measure of two consecutive floors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SlabOverlap {
+    /// Lower and upper floor numbers.
+    pub floors: [usize; 2],
+    /// Area of the intersection of their final slab projections.
+    pub overlap_area_m2: f64,
+    /// The upper floor's undeformed slab area.
+    pub upper_slab_area_m2: f64,
+    /// Their ratio (1 = fully stacked, 0 = no overlap).
+    pub overlap_ratio: f64,
+}
+
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+fn nan_if_null_2<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let v = <[Option<f64>; 2]>::deserialize(d)?;
+    Ok(v.map(|x| x.unwrap_or(f64::NAN)))
+}
+
+impl RunSummary {
+    /// The `summary.json` text: pretty JSON (keys ordered by name) and a newline.
+    pub fn to_json(&self) -> serde_json::Result<String> {
+        Ok(serde_json::to_string_pretty(&serde_json::to_value(self)?)? + "\n")
     }
-    v
 }

@@ -115,7 +115,7 @@ pub fn type_names(scene: &AnimatedScene) -> Vec<String> {
 /// The 8 corners (m) of a box of half sizes `h` at pose `(p, q)`, `q = [w, x, y, z]`
 /// normalised here, in VTK_HEXAHEDRON order.
 pub fn box_corners(pose: &Pose, h: [f64; 3]) -> [[f64; 3]; 8] {
-    let (p, q) = pose;
+    let (p, q) = (&pose.position, &pose.orientation);
     let n = q.iter().map(|c| c * c).sum::<f64>().sqrt();
     let [w, x, y, z] = q.map(|c| c / n);
     // Rotation matrix of a unit quaternion (e.g. Shoemake 1985).
@@ -269,7 +269,8 @@ fn check_scene(scene: &AnimatedScene) -> Result<()> {
             h.iter().all(|&x| x.is_finite() && x > 0.0),
             "{label}: half_extents {h:?} m must be finite and > 0"
         );
-        for (k, (p, q)) in poses.iter().enumerate() {
+        for (k, pose) in poses.iter().enumerate() {
+            let (p, q) = (&pose.position, &pose.orientation);
             let at = || {
                 format!(
                     "{label} at keyframe {k} (t = {} s)",
@@ -332,7 +333,10 @@ mod tests {
     fn hexahedron_corners_have_positive_volume_and_rotate_with_the_body() {
         // 90° about z: local x goes to world y.
         let h = std::f64::consts::FRAC_1_SQRT_2;
-        let pose: Pose = ([1.0, 2.0, 3.0], [h, 0.0, 0.0, h]);
+        let pose = Pose {
+            position: [1.0, 2.0, 3.0],
+            orientation: [h, 0.0, 0.0, h],
+        };
         let c = box_corners(&pose, [0.5, 0.25, 0.1]);
         let close = |a: [f64; 3], b: [f64; 3]| a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12);
         // Corner (+,-,-): local (0.5, -0.25, -0.1) -> world (0.25, 0.5, -0.1) + p.

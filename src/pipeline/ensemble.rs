@@ -15,7 +15,6 @@
 //!   complete, independent pipeline run (its own FE stage and Bullet world), so the
 //!   results do not depend on the thread count (tested in `tests/it/pipeline/ensemble.rs`).
 use super::{run_perturbed, RunRecord, Scenario, Silent};
-use crate::output::summary::ruin_measures;
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -157,7 +156,8 @@ fn flatten(prefix: &str, v: &Value, out: &mut BTreeMap<String, f64>) {
 /// distance percentiles and the ruin stage's end time and fastest body).
 pub fn member_measures(rec: &RunRecord) -> BTreeMap<String, f64> {
     let mut m = BTreeMap::new();
-    flatten("", &ruin_measures(rec), &mut m);
+    let measures = serde_json::to_value(super::write::record_measures(rec)).unwrap_or_default();
+    flatten("", &measures, &mut m);
     let [p50, p90, p100] = distance_percentiles(rec);
     m.insert("distance_beyond_footprint_m.p50".into(), p50);
     m.insert("distance_beyond_footprint_m.p90".into(), p90);

@@ -39,20 +39,26 @@ pub mod scenario;
 pub mod strengths;
 pub mod write;
 
-use crate::collapse::{CollapseMonitor, Trigger};
+use crate::body::BodyId;
+use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
-use crate::fe::build::BuildOptions;
-use crate::fe::run::{run_ground_motion, RunOptions};
-use crate::mapping::handoff::{node_states, GroundState, Handoff, NodeState};
-use crate::mapping::{self, BodyKind, MapOptions};
+use crate::fe::build::{BuildOptions, BuiltDomain};
+use crate::fe::capacity::{
+    gravity_capacities_of, member_capacities_against, AxialLoads, MemberCapacity, PushSettings,
+};
+use crate::fe::domain::Domain;
+use crate::fe::run::{prepare, run_prepared, Prepared, RunOptions};
+use crate::mapping::handoff::{GroundState, Handoff, NodeState};
+use crate::mapping::{self, MapOptions, Role};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
+use crate::ruin::connection::GroupStrength;
 use crate::ruin::ground::GroundSpec;
-use crate::ruin::groups::{group_strengths, FOUNDATION_GROUP};
+use crate::ruin::groups::group_strengths;
 use crate::ruin::monitor::FeDamage;
 use crate::ruin::stage::{
-    to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopReason, StopRule,
+    to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopRule,
 };
 use crate::ruin::BodyGeom;
 use anyhow::{anyhow, Context, Result};
@@ -64,30 +70,7 @@ use std::time::{Duration, Instant};
 /// Keyframe rate, frames per second (BCB/Blender 25 fps).
 pub const FRAME_RATE: f64 = 25.0;
 
-/// One rigid body of the run (the mapping's boxes, then the foundation blocks).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Body {
-    /// Name, e.g. `Column:1:4`, `Foundation:base:1`.
-    pub name: String,
-    /// Group (element group; `foundation`).
-    pub group: String,
-    /// Element type (`Column`, `Beam`, `Slab`, `Foundation`).
-    pub type_name: String,
-    /// Material / group id of the element (`-` for foundations).
-    pub material: String,
-    /// FE element id (`-` for foundations, which carry the base node tag in the name).
-    pub element: String,
-    /// Geometric role (`None` for foundations).
-    pub kind: Option<BodyKind>,
-    /// Half extents, m.
-    pub half_extents: [f64; 3],
-    /// Undeformed pose.
-    pub pose0: Pose,
-    /// Mass, kg (0 for passive).
-    pub mass_kg: f64,
-    /// Passive (kinematic foundation).
-    pub passive: bool,
-}
+pub use crate::body::Body;
 
 /// Why the FE stage ended / what Tc is.
 #[derive(Debug, Clone, PartialEq)]
@@ -189,11 +172,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .bodies
         .iter()
         .map(|b| Body {
-            name: b.name.clone(),
-            group: b.group.clone(),
-            type_name: b.type_name.clone(),
-            material: b.material.clone(),
-            element: b.element.to_string(),
+            id: b.id.clone(),
             kind: Some(b.kind),
             half_extents: b.half_extents,
             pose0: to_pose(&BodyGeom::pose(&geom_of_box(b))),
@@ -208,7 +187,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
         .fold(f64::INFINITY, f64::min);
     let mut feet = Vec::new();
     for b in &mapping.bodies {
-        if b.kind != BodyKind::Column {
+        if b.kind != Role::Column {
             continue;
         }
         let Some(base) = b.nodes.iter().find(|n| (n[2] - zmin).abs() < 1e-9) else {
@@ -221,11 +200,7 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
             .find(|n| n.xyz() == *base)
             .map_or(0, |n| n.tag);
         feet.push(Body {
-            name: format!("Foundation:base:{tag}"),
-            group: FOUNDATION_GROUP.into(),
-            type_name: "Foundation".into(),
-            material: "-".into(),
-            element: "-".into(),
+            id: BodyId::Foundation { node: tag },
             kind: None,
             half_extents: [a, a, a / 2.0],
             pose0: Pose::at([base[0], base[1], zmin - a / 2.0]),
@@ -239,8 +214,8 @@ pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
 
 fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
     BodyGeom {
-        name: b.name.clone(),
-        group: b.group.clone(),
+        name: b.id.name(),
+        group: b.id.group().to_string(),
         centre: b.centre,
         rotation: b.rotation,
         half_extents: b.half_extents,
@@ -255,8 +230,8 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
         .map(|b| {
             let iso = to_isometry(&b.pose0);
             BodyGeom {
-                name: b.name.clone(),
-                group: b.group.clone(),
+                name: b.id.name(),
+                group: b.id.group().to_string(),
                 centre: [iso.translation.x, iso.translation.y, iso.translation.z],
                 rotation: iso.rotation,
                 half_extents: b.half_extents,
@@ -287,6 +262,15 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.margin = p.margin_m;
     s.body.margin_max_share = p.margin_max_share;
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
+    s.hinge_keeps_rotation = p.hinge_keeps_rotation;
+    s.spring_cap_per_body = p.spring_cap_per_body;
+    s.joint_rows = match p.joint_rows {
+        scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
+        scenario::JointRowsSpec::Member => crate::ruin::stage::JointRows::Member {
+            modulus_pa: p.joint_modulus_pa,
+            damping_ratio: p.joint_damping_ratio,
+        },
+    };
     s.body.disable_deactivation = !p.sleeping;
     s
 }
@@ -406,286 +390,365 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
     run_perturbed(sc, progress, None)
 }
 
-/// As [`run`], with the start of the ruin stage perturbed as an ensemble member
-/// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
-pub fn run_perturbed(
-    sc: &Scenario,
-    progress: &dyn Progress,
-    perturbation: Option<&ensemble::Perturbation>,
-) -> Result<RunRecord> {
+/// What every stage reads, loaded and checked once before any work: the model, the
+/// ground motion (perturbed for a physics-only ensemble member), its integral on the FE
+/// step, the mapped bodies and the BCB group strengths.
+pub struct Inputs {
+    /// The model.
+    pub model: Model,
+    /// The ground motion (accelerations), as the FE stage uses it.
+    pub motion: GroundMotion,
+    /// Its integral on the FE step (displacement, velocity), the ground of the mapping
+    /// and the ruin stage.
+    pub ground: GroundHistory,
+    /// The mapping of the FE elements to boxes.
+    pub mapping: mapping::Mapping,
+    /// The run's bodies: mapped boxes, then foundation blocks ([`bodies_of`]).
+    pub bodies: Vec<Body>,
+    /// BCB's Formula-Assistant strengths per group.
+    pub groups: Vec<GroupStrength>,
+    /// The work ahead ([`check_budget`]): FE steps and physics substeps.
+    pub budget: (u64, u64),
+}
+
+/// Loads and checks the scenario's inputs (module docs of [`Inputs`]). In the physics
+/// mode an ensemble member's ground motion is scaled by its perturbation.
+pub fn load_inputs(sc: &Scenario, perturbation: Option<&ensemble::Perturbation>) -> Result<Inputs> {
     let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
-    let mut gm = ground_motion(sc)?;
+    let mut motion = ground_motion(sc)?;
     if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
-        for (k, c) in gm.components.iter_mut().enumerate() {
+        for (k, c) in motion.components.iter_mut().enumerate() {
             if let Some(rec) = c {
                 rec.scale(1.0 + p.ground_share * p.uniform(1, k as u64));
             }
         }
     }
-    let (fe_steps, substeps) = check_budget(sc, &gm)?;
-    progress.plan(fe_steps, substeps);
-    let ground = gm
+    let budget = check_budget(sc, &motion)?;
+    let ground = motion
         .integrate(sc.dt, Baseline::default())
         .context("integrating the ground motion")?;
-    let map = mapping::map_to_boxes(&mapping::from_model(&model)?, &MapOptions::default())
+    let mapping = mapping::map_to_boxes(&mapping::from_model(&model)?, &MapOptions::default())
         .with_context(|| format!("mapping {}", sc.model.display()))?;
-    let bodies = bodies_of(&model, &map);
-    let geoms = geoms(&bodies);
-    let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();
+    let bodies = bodies_of(&model, &mapping);
     let groups = group_strengths(&model).with_context(|| format!("{}", sc.model.display()))?;
-    let settings = stage_settings(sc);
-    let limit = time_limit(sc, &gm);
+    Ok(Inputs {
+        model,
+        motion,
+        ground,
+        mapping,
+        bodies,
+        groups,
+        budget,
+    })
+}
+
+/// The FE domain of a scenario, built once ([`crate::fe::run::prepare`]: the element
+/// variant, the initial modal analysis, gravity applied and held). The FE-derived
+/// connection strengths read its gravity state; the FE stage then runs the time history
+/// on it.
+pub fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
+    prepare(model, &fe_build(sc), RunOptions::default().modes).context("building the FE domain")
+}
+
+fn fe_build(sc: &Scenario) -> BuildOptions {
+    BuildOptions {
+        variant: sc.variant,
+        ..Default::default()
+    }
+}
+
+/// What the FE stage produced.
+pub struct FeStageOutput {
+    /// The domain in its last converged state.
+    pub built: BuiltDomain,
+    /// Why the time history ended.
+    pub stop: FeStop,
+    /// The collapse criterion's event, if it was met.
+    pub event: Option<CollapseEvent>,
+    /// The FE nodal state (model node order) every 1/[`FRAME_RATE`] s from t = 0.
+    pub frames: Vec<(f64, Vec<NodeState>)>,
+    /// The nodal state at the end (model node order).
+    pub end_state: Vec<NodeState>,
+    /// End time reached, s.
+    pub end_s: f64,
+    /// Wall time.
+    pub wall: Duration,
+}
+
+/// The FE stage: the time history on the prepared domain `prepared` under the scenario's
+/// ground motion, the collapse monitor observing every converged step; in the hybrid mode
+/// it stops when the criterion is met. Keyframes of the nodal state every 1/25 s.
+pub fn fe_stage(
+    sc: &Scenario,
+    inputs: &Inputs,
+    prepared: Prepared,
+    progress: &dyn Progress,
+) -> Result<FeStageOutput> {
+    let model = &inputs.model;
+    let gm = &inputs.motion;
+    let criterion = sc.criterion.resolve(model.scale);
+    let mut monitor = CollapseMonitor::new(model, criterion)?;
+    let node_index = |t: &u32| -> Result<usize> {
+        prepared
+            .built
+            .node_index
+            .get(t)
+            .copied()
+            .ok_or_else(|| anyhow!("node {t} is not in the FE domain"))
+    };
+    let index: Vec<usize> = monitor
+        .structure()
+        .node_tags
+        .iter()
+        .map(node_index)
+        .collect::<Result<_>>()?;
+    let model_index: Vec<usize> = model
+        .nodes
+        .iter()
+        .map(|n| node_index(&n.tag))
+        .collect::<Result<_>>()?;
+    let t_end = sc.duration.unwrap_or_else(|| gm.duration_s());
+    let options = RunOptions {
+        build: fe_build(sc),
+        dt: sc.dt,
+        duration: Some(t_end),
+        every: usize::MAX,
+        ..Default::default()
+    };
+    let stop_at_tc = sc.mode == Mode::Hybrid;
+    let mut frames: Vec<(f64, Vec<NodeState>)> = Vec::new();
+    let mut next_frame = 1u64;
+    progress.stage("fe", 0.0, t_end);
+    let t0 = Instant::now();
+    frames.push((0.0, vec![NodeState::default(); model.nodes.len()]));
+    let result = run_prepared(model, prepared, gm, &options, &mut |info, domain| {
+        progress.fe(info.time, t_end);
+        let frame_t = next_frame as f64 / FRAME_RATE;
+        if info.time >= frame_t - 1e-9 {
+            frames.push((frame_t, states_at(domain, &model_index)));
+            while next_frame as f64 / FRAME_RATE <= info.time + 1e-9 {
+                next_frame += 1;
+            }
+        }
+        let u: Vec<[f64; 3]> = index
+            .iter()
+            .map(|&k| {
+                let d = domain.displacement(k);
+                [d[0], d[1], d[2]]
+            })
+            .collect();
+        if monitor.observe(info.step, info.time, &u).is_some() && stop_at_tc {
+            StepControl::Stop
+        } else {
+            StepControl::Continue
+        }
+    })?;
+    progress.done();
+    let wall = t0.elapsed();
+    let end_state = states_at(&result.built.domain, &model_index);
+    Ok(FeStageOutput {
+        end_s: result.built.domain.time(),
+        stop: result.transient.stop,
+        built: result.built,
+        event: monitor.event().copied(),
+        frames,
+        end_state,
+        wall,
+    })
+}
+
+/// The committed FE state of every model node (model order) of a built domain:
+/// displacement/rotation and velocity/rotational velocity, relative to the ground (the
+/// hand-off's plain input, [`NodeState`]). Errors name a model node missing from the
+/// domain.
+pub fn node_states(model: &Model, built: &BuiltDomain) -> Result<Vec<NodeState>> {
+    let index = model
+        .nodes
+        .iter()
+        .map(|n| {
+            built
+                .node_index
+                .get(&n.tag)
+                .copied()
+                .ok_or_else(|| anyhow!("hand-off: node {} is not in the FE domain", n.tag))
+        })
+        .collect::<Result<Vec<usize>>>()?;
+    Ok(states_at(&built.domain, &index))
+}
+
+/// The committed state (displacement/rotation, velocity/rotational velocity, relative
+/// to the ground) of the domain nodes `index`.
+fn states_at(domain: &Domain, index: &[usize]) -> Vec<NodeState> {
+    index
+        .iter()
+        .map(|&k| {
+            let (d, v) = (domain.displacement(k), domain.velocity(k));
+            NodeState {
+                u: [d[0], d[1], d[2]],
+                theta: [d[3], d[4], d[5]],
+                v: [v[0], v[1], v[2]],
+                omega: [v[3], v[4], v[5]],
+            }
+        })
+        .collect()
+}
+
+/// The collapse decision: Tc and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CollapseDecision {
+    /// Tc, s: the criterion's time, or the last converged step when the FE diverged;
+    /// `None` without collapse.
+    pub tc_s: Option<f64>,
+    /// Why.
+    pub reason: TcReason,
+}
+
+/// Decides Tc from the FE stage: a step that did not converge first means a hand-off at
+/// the last converged step; else the criterion's event (in the `fe` mode the FE runs on
+/// past it, Tc is still the event's time); else no collapse.
+pub fn collapse_decision(fe: &FeStageOutput) -> CollapseDecision {
+    let tc = fe.end_s;
+    let reason = match (&fe.stop, &fe.event) {
+        (
+            FeStop::Diverged {
+                attempted, reason, ..
+            },
+            _,
+        ) => TcReason::Diverged(format!(
+            "the step to t = {attempted:.4} s did not converge ({reason}); hand-off at the last converged step t = {tc:.4} s"
+        )),
+        (_, Some(ev)) => TcReason::Criterion(match ev.trigger {
+            Trigger::VerticalDrop { node, drop_m, threshold_m } => format!(
+                "vertical drop of node {node}: {drop_m:.4} m >= {threshold_m:.4} m"
+            ),
+            Trigger::StoryDrift { story, ratio, limit, .. } => format!(
+                "story {story} drift ratio {ratio:.5} >= {limit:.5}"
+            ),
+        }),
+        _ => TcReason::NoCollapse,
+    };
+    let tc_s = match reason {
+        TcReason::Criterion(_) => fe.event.as_ref().map(|e| e.time_s),
+        TcReason::Diverged(_) => Some(tc),
+        _ => None,
+    };
+    CollapseDecision { tc_s, reason }
+}
+
+/// The hand-off's result: the bodies' keyframes up to the end of the FE stage and their
+/// poses and velocities there.
+#[derive(Debug, Clone)]
+pub struct HandoffOutput {
+    /// Keyframes (t, one pose per body), every 1/25 s from 0.
+    pub frames: Vec<(f64, Vec<Pose>)>,
+    /// Poses at the end of the FE stage (Tc).
+    pub poses: Vec<Pose>,
+    /// Velocities there (instantaneous or secant, [`VelocityHandoff`]).
+    pub velocities: Vec<Velocity>,
+}
+
+/// The hand-off: every FE keyframe and the end state posed as rigid bodies (absolute:
+/// the ground's displacement plus the FE's relative state; foundations move with the
+/// ground), with the instantaneous velocities at the end, or the paper's secant through
+/// the last keyframe before it.
+pub fn hand_off(
+    sc: &Scenario,
+    inputs: &Inputs,
+    handoff: &Handoff,
+    fe: &FeStageOutput,
+) -> Result<HandoffOutput> {
+    let bodies = &inputs.bodies;
+    let mut frames = Vec::with_capacity(fe.frames.len());
+    for (t, nodes) in &fe.frames {
+        let (poses, _) = poses_from_states(handoff, bodies, nodes, &ground_at(&inputs.ground, *t))?;
+        frames.push((*t, poses));
+    }
+    let tc = fe.end_s;
+    let (poses, mut velocities) = poses_from_states(
+        handoff,
+        bodies,
+        &fe.end_state,
+        &ground_at(&inputs.ground, tc),
+    )?;
+    if sc.velocity == VelocityHandoff::Secant {
+        let (t_prev, prev) = frames
+            .iter()
+            .rev()
+            .find(|(t, _)| *t < tc - 1e-9)
+            .cloned()
+            .ok_or_else(|| anyhow!("secant velocity: no keyframe before Tc = {tc} s"))?;
+        let q = |p: &Pose| {
+            UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                p.orientation[0],
+                p.orientation[1],
+                p.orientation[2],
+                p.orientation[3],
+            ))
+        };
+        for (i, v) in velocities
+            .iter_mut()
+            .enumerate()
+            .take(inputs.mapping.bodies.len())
+        {
+            let (lin, ang) = mapping::handoff::secant_velocity(
+                &[
+                    (prev[i].position, q(&prev[i])),
+                    (poses[i].position, q(&poses[i])),
+                ],
+                tc - t_prev,
+                1,
+            )?;
+            *v = Velocity {
+                linear: lin,
+                angular: ang,
+            };
+        }
+    }
+    Ok(HandoffOutput {
+        frames,
+        poses,
+        velocities,
+    })
+}
+
+/// The connection strengths of the ruin stage: FE-derived ([`ConnectionModel::Fe`]:
+/// capacities at the gravity axial loads, [`strengths`]) or BCB's per group.
+pub struct FeStrengths {
+    /// Gravity axial loads, by element.
+    pub gravity_n: AxialLoads,
+    /// Undamaged capacities at them, by element.
+    pub gravity_caps: BTreeMap<u32, MemberCapacity>,
+}
+
+/// The ruin stage: the Bullet world of `input` (start poses, velocities, connection
+/// states) on the moving ground, stepped until rest or the time limit. A blown-up stage
+/// (a non-finite pose) is an error naming the body.
+pub fn ruin_stage(
+    sc: &Scenario,
+    inputs: &Inputs,
+    input: &StageInput,
+    progress: &dyn Progress,
+) -> Result<(RuinResult, Duration)> {
+    let limit = time_limit(sc, &inputs.motion);
     let stop = StopRule {
         max_time_s: limit,
         rest: sc.physics.stop_at_rest.then_some(sc.physics.rest),
     };
-    let mut rec = RunRecord {
-        mode: sc.mode,
-        scale: model.scale,
-        bodies: bodies.clone(),
-        tc_s: None,
-        tc_reason: TcReason::PhysicsOnly,
-        fe_frames: Vec::new(),
-        ruin: None,
-        final_poses: bodies.iter().map(|b| b.pose0).collect(),
-        ground,
-        fe_wall: Duration::ZERO,
-        ruin_wall: Duration::ZERO,
-        ruin_in_bullet: Duration::ZERO,
-        fe_end_s: None,
-    };
-    let mut start_input = StageInput::physics_only(&geoms, &masses, &groups);
-    // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
-    // the physics mode the undamaged capacities at them.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
-    let push = crate::fe::capacity::PushSettings::default();
-    let mut gravity_n = BTreeMap::new();
-    let mut gravity_caps = BTreeMap::new();
-    if fe_strengths {
-        let build = BuildOptions {
-            variant: sc.variant,
-            ..Default::default()
-        };
-        let (loads, caps) = crate::fe::capacity::gravity_capacities(&model, &build, &push)
-            .context("FE-derived connection strengths")?;
-        gravity_n = loads;
-        start_input.body_strengths = strengths::body_strengths(&bodies, &caps);
-        gravity_caps = caps;
-    }
-    if sc.mode != Mode::Physics {
-        let handoff = Handoff::new(&model, &map)?;
-        let criterion = sc.criterion.resolve(model.scale);
-        let mut monitor = CollapseMonitor::new(&model, criterion)?;
-        let index: Vec<usize> = {
-            let built = crate::fe::build::build_domain(
-                &model,
-                &BuildOptions {
-                    variant: sc.variant,
-                    ..Default::default()
-                },
-            )?;
-            monitor
-                .structure()
-                .node_tags
-                .iter()
-                .map(|t| built.node_index[t])
-                .collect()
-        };
-        let model_index: Vec<usize> = {
-            let built = crate::fe::build::build_domain(&model, &BuildOptions::default())?;
-            model
-                .nodes
-                .iter()
-                .map(|n| built.node_index[&n.tag])
-                .collect()
-        };
-        let t_end = sc.duration.unwrap_or_else(|| gm.duration_s());
-        let options = RunOptions {
-            build: BuildOptions {
-                variant: sc.variant,
-                ..Default::default()
-            },
-            dt: sc.dt,
-            duration: Some(t_end),
-            every: usize::MAX,
-            ..Default::default()
-        };
-        let stop_at_tc = sc.mode == Mode::Hybrid;
-        let mut frames_nodes: Vec<(f64, Vec<NodeState>)> = Vec::new();
-        let mut next_frame = 1u64;
-        progress.stage("fe", 0.0, t_end);
-        let t0 = Instant::now();
-        frames_nodes.push((0.0, vec![NodeState::default(); model.nodes.len()]));
-        let result = run_ground_motion(&model, &gm, &options, &mut |info, domain| {
-            progress.fe(info.time, t_end);
-            let frame_t = next_frame as f64 / FRAME_RATE;
-            if info.time >= frame_t - 1e-9 {
-                let nodes = model_index
-                    .iter()
-                    .map(|&k| {
-                        let (d, v) = (domain.displacement(k), domain.velocity(k));
-                        NodeState {
-                            u: [d[0], d[1], d[2]],
-                            theta: [d[3], d[4], d[5]],
-                            v: [v[0], v[1], v[2]],
-                            omega: [v[3], v[4], v[5]],
-                        }
-                    })
-                    .collect();
-                frames_nodes.push((frame_t, nodes));
-                while next_frame as f64 / FRAME_RATE <= info.time + 1e-9 {
-                    next_frame += 1;
-                }
-            }
-            let u: Vec<[f64; 3]> = index
-                .iter()
-                .map(|&k| {
-                    let d = domain.displacement(k);
-                    [d[0], d[1], d[2]]
-                })
-                .collect();
-            if monitor.observe(info.step, info.time, &u).is_some() && stop_at_tc {
-                StepControl::Stop
-            } else {
-                StepControl::Continue
-            }
-        })?;
-        progress.done();
-        rec.fe_wall = t0.elapsed();
-        let tc = result.built.domain.time();
-        rec.fe_end_s = Some(tc);
-        rec.tc_reason = match (&result.transient.stop, monitor.event()) {
-            (
-                FeStop::Diverged {
-                    attempted, reason, ..
-                },
-                _,
-            ) => TcReason::Diverged(format!(
-                "the step to t = {attempted:.4} s did not converge ({reason}); hand-off at the last converged step t = {tc:.4} s"
-            )),
-            (_, Some(ev)) => TcReason::Criterion(match ev.trigger {
-                Trigger::VerticalDrop { node, drop_m, threshold_m } => format!(
-                    "vertical drop of node {node}: {drop_m:.4} m >= {threshold_m:.4} m"
-                ),
-                Trigger::StoryDrift { story, ratio, limit, .. } => format!(
-                    "story {story} drift ratio {ratio:.5} >= {limit:.5}"
-                ),
-            }),
-            _ => TcReason::NoCollapse,
-        };
-        rec.tc_s = match rec.tc_reason {
-            // In `fe` mode the FE runs on past the criterion: Tc is the event's time.
-            TcReason::Criterion(_) => monitor.event().map(|e| e.time_s),
-            TcReason::Diverged(_) => Some(tc),
-            _ => None,
-        };
-        for (t, nodes) in &frames_nodes {
-            let (poses, _) =
-                poses_from_states(&handoff, &bodies, nodes, &ground_at(&rec.ground, *t))?;
-            rec.fe_frames.push((*t, poses));
-        }
-        let at_tc = node_states(&model, &result.built)?;
-        let (poses, mut vels) =
-            poses_from_states(&handoff, &bodies, &at_tc, &ground_at(&rec.ground, tc))?;
-        if sc.velocity == VelocityHandoff::Secant {
-            let (t_prev, prev) = rec
-                .fe_frames
-                .iter()
-                .rev()
-                .find(|(t, _)| *t < tc - 1e-9)
-                .cloned()
-                .ok_or_else(|| anyhow!("secant velocity: no keyframe before Tc = {tc} s"))?;
-            for (i, v) in vels.iter_mut().enumerate().take(map.bodies.len()) {
-                let q = |p: &Pose| {
-                    UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-                        p.orientation[0],
-                        p.orientation[1],
-                        p.orientation[2],
-                        p.orientation[3],
-                    ))
-                };
-                let (lin, ang) = mapping::handoff::secant_velocity(
-                    &[
-                        (prev[i].position, q(&prev[i])),
-                        (poses[i].position, q(&poses[i])),
-                    ],
-                    tc - t_prev,
-                    1,
-                )?;
-                *v = Velocity {
-                    linear: lin,
-                    angular: ang,
-                };
-            }
-        }
-        rec.final_poses = poses.clone();
-        if sc.mode == Mode::Fe || rec.tc_s.is_none() {
-            return Ok(rec);
-        }
-        if fe_strengths {
-            // Residual capacities at Tc; broken only where the load path is lost.
-            let caps = crate::fe::capacity::member_capacities_against(
-                &model,
-                &result.built,
-                &gravity_n,
-                &push,
-                Some(&gravity_caps),
-            )
-            .context("FE-derived connection strengths at Tc")?;
-            start_input.body_strengths = strengths::body_strengths(&bodies, &caps);
-        }
-        // FE damage per body → per connected pair (BCB's Formula-Assistant connections).
-        let damage = if fe_strengths {
-            BTreeMap::new()
-        } else {
-            element_damage(&model, &result.built)
-        };
-        let body_damage: Vec<FeDamage> = bodies
-            .iter()
-            .map(|b| {
-                b.element
-                    .parse::<u32>()
-                    .ok()
-                    .and_then(|e| damage.get(&e).copied())
-                    .unwrap_or(FeDamage::Intact)
-            })
-            .collect();
-        let mut start_damage = BTreeMap::new();
-        for a in 0..bodies.len() {
-            for b in a + 1..bodies.len() {
-                let d = body_damage[a].max(body_damage[b]);
-                if d != FeDamage::Intact {
-                    start_damage.insert((a, b), d);
-                }
-            }
-        }
-        if let Some(p) = perturbation {
-            for (i, v) in vels.iter_mut().enumerate().take(map.bodies.len()) {
-                for (d, x) in v.linear.iter_mut().enumerate() {
-                    *x += p.velocity_mps * p.uniform(2, (3 * i + d) as u64);
-                }
-            }
-        }
-        start_input.start_poses = poses.iter().map(to_isometry).collect();
-        start_input.start_velocities = vels;
-        start_input.start_time_s = tc;
-        start_input.start_damage = start_damage;
-    }
     let t0 = Instant::now();
-    progress.stage("physics", start_input.start_time_s, limit);
-    let base_z = bodies
+    progress.stage("physics", input.start_time_s, limit);
+    let base_z = inputs
+        .bodies
         .iter()
         .filter(|b| b.passive)
         .map(|b| b.pose0.position[2] + b.half_extents[2])
         .reduce(f64::max);
     let mut stage = RuinStage::build(
-        &start_input,
+        input,
         GroundSpec {
             top_z: base_z,
-            ..GroundSpec::moving(rec.ground.clone())
+            ..GroundSpec::moving(inputs.ground.clone())
         },
-        &settings,
+        &stage_settings(sc),
     )
     .context("building the ruin stage")?;
     let result = stage
@@ -695,12 +758,145 @@ pub fn run_perturbed(
         })
         .context("running the ruin stage")?;
     progress.done();
-    check_finite(&result, &bodies, sc)?;
-    rec.ruin_wall = t0.elapsed();
+    check_finite(&result, &inputs.bodies, sc)?;
+    Ok((result, t0.elapsed()))
+}
+
+/// As [`run`], with the start of the ruin stage perturbed as an ensemble member
+/// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
+/// The stages in order: [`load_inputs`], [`fe_domain`] (once), [`fe_stage`],
+/// [`collapse_decision`], [`hand_off`], the ruin stage's start state, [`ruin_stage`].
+pub fn run_perturbed(
+    sc: &Scenario,
+    progress: &dyn Progress,
+    perturbation: Option<&ensemble::Perturbation>,
+) -> Result<RunRecord> {
+    let inputs = load_inputs(sc, perturbation)?;
+    progress.plan(inputs.budget.0, inputs.budget.1);
+    let bodies = &inputs.bodies;
+    let mut rec = RunRecord {
+        mode: sc.mode,
+        scale: inputs.model.scale,
+        bodies: bodies.clone(),
+        tc_s: None,
+        tc_reason: TcReason::PhysicsOnly,
+        fe_frames: Vec::new(),
+        ruin: None,
+        final_poses: bodies.iter().map(|b| b.pose0).collect(),
+        ground: inputs.ground.clone(),
+        fe_wall: Duration::ZERO,
+        ruin_wall: Duration::ZERO,
+        ruin_in_bullet: Duration::ZERO,
+        fe_end_s: None,
+    };
+    let geoms = geoms(bodies);
+    let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();
+    let mut start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
+    // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
+    // the physics mode the undamaged capacities at them.
+    let fe_strengths =
+        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let push = PushSettings::default();
+    let domain = if sc.mode != Mode::Physics || fe_strengths {
+        Some(fe_domain(sc, &inputs.model)?)
+    } else {
+        None
+    };
+    let gravity = match (&domain, fe_strengths) {
+        (Some(d), true) => {
+            let (loads, caps) = gravity_capacities_of(&inputs.model, &d.built, &push)
+                .context("FE-derived connection strengths")?;
+            start.body_strengths = strengths::body_strengths(bodies, &caps);
+            Some(FeStrengths {
+                gravity_n: loads,
+                gravity_caps: caps,
+            })
+        }
+        _ => None,
+    };
+    if sc.mode != Mode::Physics {
+        let handoff = Handoff::new(&inputs.model, &inputs.mapping)?;
+        let prepared = domain.expect("the FE modes build the domain");
+        let fe = fe_stage(sc, &inputs, prepared, progress)?;
+        rec.fe_wall = fe.wall;
+        rec.fe_end_s = Some(fe.end_s);
+        let decision = collapse_decision(&fe);
+        rec.tc_s = decision.tc_s;
+        rec.tc_reason = decision.reason;
+        let HandoffOutput {
+            frames,
+            poses,
+            mut velocities,
+        } = hand_off(sc, &inputs, &handoff, &fe)?;
+        rec.fe_frames = frames;
+        rec.final_poses = poses.clone();
+        if sc.mode == Mode::Fe || rec.tc_s.is_none() {
+            return Ok(rec);
+        }
+        if let Some(g) = &gravity {
+            // Residual capacities at Tc; broken only where the load path is lost.
+            let caps = member_capacities_against(
+                &inputs.model,
+                &fe.built,
+                &g.gravity_n,
+                &push,
+                Some(&g.gravity_caps),
+            )
+            .context("FE-derived connection strengths at Tc")?;
+            start.body_strengths = strengths::body_strengths(bodies, &caps);
+        }
+        start.start_damage = if gravity.is_some() {
+            BTreeMap::new()
+        } else {
+            pair_damage(bodies, &element_damage(&inputs.model, &fe.built))
+        };
+        if let Some(p) = perturbation {
+            for (i, v) in velocities
+                .iter_mut()
+                .enumerate()
+                .take(inputs.mapping.bodies.len())
+            {
+                for (d, x) in v.linear.iter_mut().enumerate() {
+                    *x += p.velocity_mps * p.uniform(2, (3 * i + d) as u64);
+                }
+            }
+        }
+        start.start_poses = poses.iter().map(to_isometry).collect();
+        start.start_velocities = velocities;
+        start.start_time_s = fe.end_s;
+    }
+    let (result, wall) = ruin_stage(sc, &inputs, &start, progress)?;
+    rec.ruin_wall = wall;
     rec.ruin_in_bullet = result.wall.in_bullet;
     rec.final_poses = result.final_poses.clone();
     rec.ruin = Some(result);
     Ok(rec)
+}
+
+/// FE damage per body → per connected pair (BCB's Formula-Assistant connections): the
+/// worse of the two bodies' element flags; intact pairs are left out.
+fn pair_damage(
+    bodies: &[Body],
+    damage: &BTreeMap<u32, FeDamage>,
+) -> BTreeMap<(usize, usize), FeDamage> {
+    let body_damage: Vec<FeDamage> = bodies
+        .iter()
+        .map(|b| {
+            b.id.element_tag()
+                .and_then(|e| damage.get(&e).copied())
+                .unwrap_or(FeDamage::Intact)
+        })
+        .collect();
+    let mut out = BTreeMap::new();
+    for a in 0..bodies.len() {
+        for b in a + 1..bodies.len() {
+            let d = body_damage[a].max(body_damage[b]);
+            if d != FeDamage::Intact {
+                out.insert((a, b), d);
+            }
+        }
+    }
+    out
 }
 
 /// A ruin stage that blew up (a non-finite pose) is an error naming the first body, the
@@ -717,7 +913,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
                  (physics.steps_per_second = {}, spring_correction = {}, spring_damping = {}; \
                  a higher substep rate or spring_limit = true may help)",
                 sc.path.display(),
-                bodies[i].name,
+                bodies[i].id,
                 f.time_s,
                 sc.physics.steps_per_second,
                 sc.physics.spring_correction,
@@ -729,7 +925,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
         anyhow::bail!(
             "{}: the ruin stage blew up: body {} has a non-finite final pose",
             sc.path.display(),
-            bodies[i].name
+            bodies[i].id
         );
     }
     Ok(())
@@ -755,12 +951,4 @@ fn element_damage(model: &Model, built: &crate::fe::build::BuiltDomain) -> BTree
         }
     }
     out
-}
-
-/// Why the ruin stage stopped, as written in the summary.
-pub fn ruin_stop_name(s: StopReason) -> &'static str {
-    match s {
-        StopReason::AtRest => "at_rest",
-        StopReason::TimeLimit => "time_limit",
-    }
 }

@@ -8,33 +8,13 @@
 
 use crate::collapse::Criterion;
 use crate::fe::build::Variant;
+use crate::motion::Direction;
 use crate::ruin::rest::RestTest;
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// What runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "snake_case")]
-pub enum Mode {
-    /// FE until the collapse moment Tc, then Bullet with the remaining ground motion.
-    Hybrid,
-    /// Bullet alone from t = 0 on the undeformed model (BCB alone).
-    Physics,
-    /// FE only.
-    Fe,
-}
-
-impl Mode {
-    /// The name used in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Hybrid => "hybrid",
-            Mode::Physics => "physics",
-            Mode::Fe => "fe",
-        }
-    }
-}
+pub use crate::mode::Mode;
 
 /// How the bodies' velocities at Tc are obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
@@ -53,8 +33,8 @@ pub enum VelocityHandoff {
 pub struct ComponentSpec {
     /// Record file (AT2 or two-column), relative to the scenario file.
     pub file: PathBuf,
-    /// `X`, `Y` or `Z`.
-    pub direction: String,
+    /// `X`, `Y` or `Z` (either case).
+    pub direction: Direction,
     /// Target PGA, g; absent = as recorded.
     pub pga_g: Option<f64>,
     /// Time-scale factor t' = f·t (1 = as recorded; 0.5 for a 1/4-scale model by
@@ -74,7 +54,7 @@ pub struct FeSpec {
     /// Time step, s.
     pub dt: f64,
     /// `model`, `force`, `disp` or `elastic`.
-    pub variant: String,
+    pub variant: Variant,
     /// Analysis length, s; absent = the record's length.
     pub duration: Option<f64>,
 }
@@ -83,7 +63,7 @@ impl Default for FeSpec {
     fn default() -> Self {
         FeSpec {
             dt: 0.005,
-            variant: "model".into(),
+            variant: Variant::AsModel,
             duration: None,
         }
     }
@@ -95,7 +75,7 @@ impl Default for FeSpec {
 pub struct CollapseSpec {
     /// `vertical_drop` (default), `drift_1_50` (GB 50011), `drift_4pct` (FEMA 356) or
     /// `drift` (with `ratio`).
-    pub criterion: String,
+    pub criterion: CriterionName,
     /// Vertical-drop threshold, m; default 1 m × model scale (paper Criterion 4).
     pub threshold_m: Option<f64>,
     /// Drift ratio of `criterion = "drift"`.
@@ -105,10 +85,55 @@ pub struct CollapseSpec {
 impl Default for CollapseSpec {
     fn default() -> Self {
         CollapseSpec {
-            criterion: "vertical_drop".into(),
+            criterion: CriterionName::VerticalDrop,
             threshold_m: None,
             ratio: None,
         }
+    }
+}
+
+/// The collapse criteria a scenario can name (`[collapse] criterion`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CriterionName {
+    /// `vertical_drop`: a main member's vertical drop (paper Criterion 4).
+    VerticalDrop,
+    /// `drift_1_50`: story drift ratio 1/50 (GB 50011).
+    Drift1In50,
+    /// `drift_4pct`: story drift ratio 4 % (FEMA 356).
+    Drift4Pct,
+    /// `drift`: story drift ratio `ratio`.
+    Drift,
+}
+
+impl CriterionName {
+    /// The name as written in the file.
+    pub fn name(self) -> &'static str {
+        match self {
+            CriterionName::VerticalDrop => "vertical_drop",
+            CriterionName::Drift1In50 => "drift_1_50",
+            CriterionName::Drift4Pct => "drift_4pct",
+            CriterionName::Drift => "drift",
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for CriterionName {
+    /// One of the four names; anything else is an error naming the value and the choices.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        [
+            CriterionName::VerticalDrop,
+            CriterionName::Drift1In50,
+            CriterionName::Drift4Pct,
+            CriterionName::Drift,
+        ]
+        .into_iter()
+        .find(|c| c.name() == s)
+        .ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "collapse.criterion {s:?} is not vertical_drop, drift_1_50, drift_4pct or drift"
+            ))
+        })
     }
 }
 
@@ -121,6 +146,16 @@ pub enum ConnectionModel {
     /// From the FE model's own sections: capacities at the gravity axial load, residual
     /// at Tc (`crate::fe::capacity`, docs/handoff.md).
     Fe,
+}
+
+/// How the connections' locked rows correct their error (`crate::ruin::stage::JointRows`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointRowsSpec {
+    /// BCB: the world's joint ERP, CFM 0.
+    Locked,
+    /// ERP/CFM from the members' stiffness.
+    Member,
 }
 
 /// Physics (Bullet) settings; defaults are BCB's.
@@ -171,6 +206,23 @@ pub struct PhysicsSpec {
     /// the stage's start as in BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
     pub spring_rest_at_plastic_onset: bool,
+    /// A yielded ductile hinge (FE-derived connections) keeps its plastic rotation (true,
+    /// default) or drives back to its start pose (false, the first FE-derived version):
+    /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
+    pub hinge_keeps_rotation: bool,
+    /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
+    /// `"member"` (each row an implicit spring–damper of the members' stiffness through
+    /// its ERP/CFM): `crate::ruin::stage::JointRows`.
+    pub joint_rows: JointRowsSpec,
+    /// Young's modulus of the `"member"` rows, Pa (25 GPa: frame3's Concrete02,
+    /// 2·f′c/ε_c0 = 2·22.5 MPa/0.0018).
+    pub joint_modulus_pa: f64,
+    /// Damping ratio of the `"member"` rows (1).
+    pub joint_damping_ratio: f64,
+    /// Cap the plastic springs for the explicit stability of each body they act on, all
+    /// its springs together (true), or only per spring as Bullet/BCB (false):
+    /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
+    pub spring_cap_per_body: bool,
     /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
     /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
     pub sleeping: bool,
@@ -218,6 +270,11 @@ impl Default for PhysicsSpec {
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
+            hinge_keeps_rotation: true,
+            joint_rows: JointRowsSpec::Locked,
+            joint_modulus_pa: 2.5e10,
+            joint_damping_ratio: 1.0,
+            spring_cap_per_body: true,
             sleeping: false,
             time_limit_s: None,
             settle_s: 5.0,
@@ -395,6 +452,22 @@ impl PhysicsSpec {
         r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
         r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
         r(
+            "physics.joint_modulus_pa",
+            self.joint_modulus_pa,
+            0.0,
+            true,
+            1e13,
+            "Pa",
+        )?;
+        r(
+            "physics.joint_damping_ratio",
+            self.joint_damping_ratio,
+            0.0,
+            true,
+            1e3,
+            "",
+        )?;
+        r(
             "physics.split_impulse_threshold_m",
             self.split_impulse_threshold_m,
             -1.0,
@@ -471,12 +544,7 @@ impl Scenario {
         let mut components: [Option<ComponentSpec>; 3] = [None, None, None];
         for (i, c) in raw.ground_motion.iter().enumerate() {
             let item = format!("{p}: ground_motion[{i}]");
-            let axis = match c.direction.trim().to_ascii_uppercase().as_str() {
-                "X" => 0,
-                "Y" => 1,
-                "Z" => 2,
-                o => bail!("{item}: direction {o:?} is not X, Y or Z"),
-            };
+            let axis = c.direction.index();
             if components[axis].is_some() {
                 bail!("{item}: direction {} given twice", c.direction);
             }
@@ -509,14 +577,10 @@ impl Scenario {
         if let Some(d) = raw.fe.duration {
             range(&p, "fe.duration", d, 0.0, true, MAX_TIME_S, "s")?;
         }
-        let variant: Variant = raw
-            .fe
-            .variant
-            .parse()
-            .map_err(|e| anyhow::anyhow!("{p}: fe.variant: {e}"))?;
+        let variant = raw.fe.variant;
         let c = &raw.collapse;
-        let criterion = match c.criterion.as_str() {
-            "vertical_drop" => {
+        let criterion = match c.criterion {
+            CriterionName::VerticalDrop => {
                 if c.ratio.is_some() {
                     bail!("{p}: collapse.ratio is for a drift criterion, not vertical_drop");
                 }
@@ -525,17 +589,19 @@ impl Scenario {
                 }
                 CriterionSpec::VerticalDrop(c.threshold_m)
             }
-            "drift_1_50" | "drift_4pct" | "drift" => {
+            CriterionName::Drift1In50 | CriterionName::Drift4Pct | CriterionName::Drift => {
                 if c.threshold_m.is_some() {
                     bail!("{p}: collapse.threshold_m is for vertical_drop, not a drift criterion");
                 }
-                let r = match (c.criterion.as_str(), c.ratio) {
-                    ("drift", Some(r)) => r,
-                    ("drift", None) => bail!("{p}: collapse.criterion = \"drift\" needs ratio"),
+                let r = match (c.criterion, c.ratio) {
+                    (CriterionName::Drift, Some(r)) => r,
+                    (CriterionName::Drift, None) => {
+                        bail!("{p}: collapse.criterion = \"drift\" needs ratio")
+                    }
                     (_, Some(_)) => {
                         bail!("{p}: collapse.ratio is only for criterion = \"drift\"")
                     }
-                    ("drift_1_50", None) => 1.0 / 50.0,
+                    (CriterionName::Drift1In50, None) => 1.0 / 50.0,
                     _ => 0.04,
                 };
                 if !(positive(r) && r < 1.0) {
@@ -543,9 +609,6 @@ impl Scenario {
                 }
                 CriterionSpec::StoryDrift(r)
             }
-            o => bail!(
-                "{p}: collapse.criterion {o:?} is not vertical_drop, drift_1_50, drift_4pct or drift"
-            ),
         };
         raw.physics
             .check()

@@ -36,7 +36,7 @@ pub fn body_strengths(
     bodies
         .iter()
         .map(|b| {
-            let tag = b.element.parse::<u32>().ok()?;
+            let tag = b.id.element_tag()?;
             let m = caps.get(&tag)?;
             Some(BodyStrength {
                 axes: m.axes,

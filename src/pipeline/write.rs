@@ -5,7 +5,7 @@
 //! [`crate::output::history`]). Formatting is fixed (decimals, key order), so the
 //! same input gives the same bytes; only `summary.json`'s `wall_time_s` differs between
 //! runs (left out with `timing = false`).
-use super::RunRecord;
+use super::{RunRecord, TcReason};
 use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, EnergyRow, HistoryFrame};
@@ -14,7 +14,10 @@ use crate::output::ruins::{ruins_csv, RuinRow};
 use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
-use crate::output::summary::summary;
+use crate::output::summary::{
+    energy_summary, r6, ruin_measures, unsettled, ConnectionCounts, RuinMeasures, RuinStageSummary,
+    RunSummary, TcKind, WallTimes,
+};
 use crate::physics::Pose;
 use crate::ruin::connection::ConnectionState;
 use anyhow::{Context, Result};
@@ -30,18 +33,15 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
         .iter()
         .enumerate()
         .map(|(i, b)| RuinRow {
-            name: &b.name,
-            group: &b.group,
-            type_name: &b.type_name,
-            material: &b.material,
-            element: &b.element,
+            id: &b.id,
             pose: rec.final_poses[i],
             at_rest: at_rest.map(|a| a[i]),
         })
         .collect();
     out.push(("ruins.csv", ruins_csv(&rows).into_bytes()));
     let frames = timeline(rec);
-    let names: Vec<&str> = rec.bodies.iter().map(|b| b.name.as_str()).collect();
+    let names: Vec<String> = rec.bodies.iter().map(|b| b.id.name()).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
     let keyframes_text = keyframes_csv(&names, &fr);
     let body_rows = body_rows(rec);
@@ -63,8 +63,8 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
             let _ = writeln!(
                 s,
                 "{},{},{},{},{}",
-                field(&rec.bodies[c.a].name),
-                field(&rec.bodies[c.b].name),
+                field(&rec.bodies[c.a].id.name()),
+                field(&rec.bodies[c.b].id.name()),
                 st(c.start_state),
                 st(c.state),
                 c.broke_at_s.map_or(String::new(), |t| format!("{t:.4}"))
@@ -72,10 +72,100 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
         }
         out.push(("connections.csv", s.into_bytes()));
     }
-    let js = serde_json::to_string_pretty(&summary(rec, timing))? + "\n";
+    let js = run_summary(rec, timing).to_json()?;
     out.push(("summary.json", js.into_bytes()));
     out.push(("collapse.glb", glb));
     Ok(out)
+}
+
+/// The ruin measures of a record (`summary.json` `ruins`): its bodies at their final
+/// poses, against the ground's height at the end of the timeline.
+pub fn record_measures(rec: &RunRecord) -> RuinMeasures {
+    let t_end = rec
+        .ruin
+        .as_ref()
+        .map(|r| r.end_time_s)
+        .or(rec.fe_end_s)
+        .unwrap_or(0.0);
+    let ground_z = rec.ground.ground_state_at(t_end).0[2];
+    ruin_measures(&rec.bodies, &rec.final_poses, ground_z)
+}
+
+/// The run's `summary.json` ([`RunSummary`]). `timing` = include the wall times (not
+/// byte-stable).
+pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
+    let (reason, detail) = match &rec.tc_reason {
+        TcReason::Criterion(s) => (TcKind::Criterion, s.clone()),
+        TcReason::Diverged(s) => (TcKind::FeDiverged, s.clone()),
+        TcReason::NoCollapse => (
+            TcKind::NoCollapse,
+            format!(
+                "the criterion was not met before the FE stage ended at t = {:.4} s",
+                rec.fe_end_s.unwrap_or(0.0)
+            ),
+        ),
+        TcReason::PhysicsOnly => (
+            TcKind::PhysicsOnly,
+            "no FE stage; the ruin stage starts at t = 0".into(),
+        ),
+    };
+    let mut connections = None;
+    let ruin_stage = rec.ruin.as_ref().map(|r| {
+        let mut counts = [0usize; 3];
+        for c in &r.connections {
+            counts[match c.state {
+                ConnectionState::Elastic => 0,
+                ConnectionState::Plastic => 1,
+                ConnectionState::Broken => 2,
+            }] += 1;
+        }
+        connections = Some(ConnectionCounts {
+            total: r.connections.len(),
+            intact: counts[0],
+            plastic: counts[1],
+            broken: counts[2],
+        });
+        RuinStageSummary {
+            start_s: r6(rec.tc_s.unwrap_or(0.0)),
+            end_s: r6(r.end_time_s),
+            stop: r.stop,
+            frames: r.frames.len(),
+            bodies_at_rest: r.at_rest.iter().filter(|b| **b).count(),
+            first_frame_penetration_m: r6(r.first_frame_penetration_m),
+            max_penetration_m: r6(r.max_penetration_m),
+            energy: energy_summary(&rec.bodies, &rec.ground, r),
+            unsettled_bodies: unsettled(&rec.bodies, r),
+        }
+    });
+    let wall_time_s = timing.then(|| {
+        let fe = rec.fe_wall.as_secs_f64();
+        let ph = rec.ruin_wall.as_secs_f64();
+        let share = if ph > 0.0 {
+            rec.ruin_in_bullet.as_secs_f64() / ph
+        } else {
+            0.0
+        };
+        WallTimes {
+            fe,
+            physics: ph,
+            physics_in_bullet: rec.ruin_in_bullet.as_secs_f64(),
+            physics_bullet_share: share,
+        }
+    });
+    RunSummary {
+        mode: rec.mode,
+        tc_s: rec.tc_s.map(r6),
+        tc_reason: reason,
+        tc_detail: detail,
+        fe_end_s: rec.fe_end_s.map(r6),
+        bodies: rec.bodies.iter().filter(|b| !b.passive).count(),
+        foundation_blocks: rec.bodies.iter().filter(|b| b.passive).count(),
+        keyframes_fe: rec.fe_frames.len(),
+        ruin_stage,
+        connections,
+        ruins: record_measures(rec),
+        wall_time_s,
+    }
 }
 
 /// The one timeline: FE keyframes up to Tc, then the ruin stage's frames after the last
@@ -98,11 +188,7 @@ fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
     rec.bodies
         .iter()
         .map(|b| BodyRow {
-            name: &b.name,
-            group: &b.group,
-            type_name: &b.type_name,
-            material: &b.material,
-            element: &b.element,
+            id: &b.id,
             passive: b.passive,
             pose0: b.pose0,
             half_extents: b.half_extents,

@@ -96,7 +96,7 @@ impl Stories {
         let levels_of = |ty: &str| -> BTreeSet<i64> {
             bodies
                 .iter()
-                .filter(|b| !b.passive && b.type_name == ty)
+                .filter(|b| !b.passive && b.id.type_name() == ty)
                 .map(|b| (b.pose0.position[2] * 1000.0).round() as i64)
                 .collect()
         };
@@ -225,14 +225,11 @@ pub fn final_ground_level(run: &RunFolder) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::body::BodyId;
 
     fn body(ty: &str, z: f64, passive: bool) -> BodyInfo {
         BodyInfo {
-            name: format!("{ty}:1:{z}"),
-            group: "g".into(),
-            type_name: ty.into(),
-            material: "1".into(),
-            element: "1".into(),
+            id: BodyId::element(ty.into(), "1", (z * 1e4).round().abs() as u32),
             passive,
             pose0: Pose::at([0.0, 0.0, z]),
             half_extents: [0.5, 0.25, 0.1],

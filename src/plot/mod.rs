@@ -38,7 +38,7 @@ use std::path::{Path, PathBuf};
 
 /// Which files to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Format {
+pub enum ImageFormat {
     /// PNG only.
     Png,
     /// SVG only.
@@ -47,12 +47,12 @@ pub enum Format {
     Both,
 }
 
-impl Format {
+impl ImageFormat {
     fn png(self) -> bool {
-        matches!(self, Format::Png | Format::Both)
+        matches!(self, ImageFormat::Png | ImageFormat::Both)
     }
     fn svg(self) -> bool {
-        matches!(self, Format::Svg | Format::Both)
+        matches!(self, ImageFormat::Svg | ImageFormat::Both)
     }
 }
 
@@ -104,7 +104,7 @@ pub fn svg_string<F: Figure>(fig: &F) -> Result<String> {
     Ok(s)
 }
 
-fn write_figure<F: Figure>(fig: &F, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+fn write_figure<F: Figure>(fig: &F, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     if format.png() {
         let p = out.join(format!("{}.png", fig.name()));
@@ -121,7 +121,7 @@ fn write_figure<F: Figure>(fig: &F, out: &Path, format: Format) -> Result<Vec<Pa
 }
 
 /// Writes the debris-density map of the ensemble folder `dir` into `out` (created).
-pub fn write_ensemble(dir: &Path, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+pub fn write_ensemble(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let fig = density::DensityFigure::load(dir)?;
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
@@ -129,7 +129,7 @@ pub fn write_ensemble(dir: &Path, out: &Path, format: Format) -> Result<Vec<Path
 }
 
 /// Writes every figure of `run` into `out` (created) and returns the files written.
-pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)
         .with_context(|| format!("cannot create the plot folder {}", out.display()))?;
     let mut files = Vec::new();
@@ -163,17 +163,17 @@ pub fn write_all(run: &RunFolder, out: &Path, format: Format) -> Result<Vec<Path
 /// The run's mode and collapse moment for titles, from `summary.json`:
 /// `mode physics, no Tc (physics_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
 pub fn run_label(run: &RunFolder) -> String {
-    let mode = run.summary["mode"].as_str().unwrap_or("?");
-    let reason = run.summary["tc_reason"].as_str().unwrap_or("?");
+    let mode = run.summary.mode.name();
+    let reason = run.summary.tc_reason.name();
     match tc_s(run) {
         Some(tc) => format!("mode {mode}, Tc = {tc:.3} s ({reason})"),
         None => format!("mode {mode}, no Tc ({reason})"),
     }
 }
 
-/// Tc from `summary.json` (`tc_s`), s; None when null or absent.
+/// Tc from `summary.json` (`tc_s`), s; None without collapse.
 pub fn tc_s(run: &RunFolder) -> Option<f64> {
-    run.summary["tc_s"].as_f64()
+    run.summary.tc_s
 }
 
 /// The run folder's name for titles (its last path component).

@@ -57,7 +57,7 @@ impl<'a> RuinFigure<'a> {
     pub fn fill(&self, i: usize) -> RGBColor {
         let b = &self.run.bodies[i];
         style::body_fill(
-            &b.type_name,
+            b.id.type_name(),
             self.stories.of(b.pose0.position[2]),
             self.stories.count(),
         )
@@ -355,12 +355,12 @@ impl<'a> RuinFigure<'a> {
             bodies
                 .iter()
                 .filter(|b| !b.passive)
-                .map(|b| b.type_name.as_str()),
+                .map(|b| b.id.type_name()),
         );
         for t in types {
             let n = bodies
                 .iter()
-                .filter(|b| !b.passive && b.type_name == t)
+                .filter(|b| !b.passive && b.id.type_name() == t)
                 .count();
             e.push((Swatch::Fill(style::type_colour(&t)), format!("{t} ({n})")));
         }

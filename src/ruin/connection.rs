@@ -302,7 +302,7 @@ impl RuinSettings {
 
 /// Which Bullet constraint class a spec stands for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum ConstraintKind {
+pub enum ConstraintClass {
     /// `btGeneric6DofConstraint(A, B, frame_a, frame_b, useLinearReferenceFrameA = true)`.
     Generic6Dof,
     /// `btGeneric6DofSpring2Constraint(A, B, frame_a, frame_b)` (rotation order XYZ).
@@ -335,7 +335,7 @@ pub struct ConstraintSpec {
     /// Its role in the connection.
     pub role: ConstraintRole,
     /// The Bullet class.
-    pub kind: ConstraintKind,
+    pub kind: ConstraintClass,
     /// Constraint frame in body A's local frame.
     pub frame_a: Isometry3<f64>,
     /// Constraint frame in body B's local frame.
@@ -939,7 +939,7 @@ fn constraint_specs(
         }
         ConstraintSpec {
             role,
-            kind: ConstraintKind::Generic6Dof,
+            kind: ConstraintClass::Generic6Dof,
             frame_a: fa,
             frame_b: fb,
             lower,
@@ -989,7 +989,7 @@ fn constraint_specs(
         let (fsa, fsb) = frames_at_start(&p0s, &a0, &b0, a_start, b_start);
         v.push(ConstraintSpec {
             role: ConstraintRole::PlasticSpring,
-            kind: ConstraintKind::Spring2,
+            kind: ConstraintClass::Spring2,
             frame_a: fsa,
             frame_b: fsb,
             lower: [FREE.0; 6],

@@ -27,8 +27,8 @@ use crate::model::{ElementKind, Model};
 use anyhow::{anyhow, bail, Result};
 use std::collections::BTreeMap;
 
-/// Group name of the passive foundation blocks.
-pub const FOUNDATION_GROUP: &str = "foundation";
+use crate::body::BodyType;
+pub use crate::body::FOUNDATION_GROUP;
 
 /// The Formula Assistant inputs of one group (module docs). Errors name the group,
 /// section or material that does not fit the rule.
@@ -48,7 +48,7 @@ pub fn group_inputs(model: &Model) -> Result<BTreeMap<String, FormulaInputs>> {
         if !matches!(s.kind, SectionKind::RcRect(_)) {
             continue;
         }
-        let is_col = e.type_name == "Column";
+        let is_col = BodyType::from(e.type_name.as_str()) == BodyType::Column;
         let entry = chosen.entry(e.group.0.clone()).or_insert((is_col, sec));
         if is_col && !entry.0 {
             *entry = (true, sec);

@@ -45,7 +45,7 @@
 
 use super::connection::{
     build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
-    ConstraintKind as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
+    ConstraintClass as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
 };
 use super::energy::{mechanical, substep_balance, EnergyFrame, MassProps};
 use super::ground::GroundSpec;
@@ -54,8 +54,8 @@ use super::rest::{body_energy_speed, RestBody, RestTest};
 use super::search::{find_contacts, Contact};
 use super::{BodyGeom, RuinError};
 use crate::physics::{
-    BodyHandle, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, PhysicsError, Pose,
-    SolverSettings, Spring, Velocity, World, WorldSettings,
+    BodyHandle, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, ConstraintParam,
+    PhysicsError, Pose, SolverSettings, Spring, Velocity, World, WorldSettings,
 };
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 use std::collections::BTreeMap;
@@ -145,9 +145,60 @@ pub struct StageSettings {
     /// stretched by the elastic stage's deformation (up to tol1D = 10 % of the centre
     /// distance) and releases that energy into the debris (docs/ruin-numerics.md).
     pub spring_rest_at_plastic_onset: bool,
+    /// A ductile bending row ([`ConnectionSpec::ductile`]) that yielded in a substep is
+    /// locked again at its present rotation before it is re-enabled
+    /// ([`crate::physics::World::relock_constraint`]): the hinge keeps its plastic
+    /// rotation, as a rigid–plastic hinge does. `false` (the first FE-derived version):
+    /// the row keeps its lock at the start pose, so after yielding it drives the hinge
+    /// back with the velocity bias ERP·θ/h up to its full moment — a motor that feeds
+    /// energy into the frame (docs/ruin-numerics.md).
+    pub hinge_keeps_rotation: bool,
+    /// How the connections' locked rows correct their error ([`JointRows`]).
+    pub joint_rows: JointRows,
+    /// Cap every plastic spring's stiffness and damping for the explicit stability of the
+    /// lighter body it acts on, counting all springs on that body ([`body_spring_cap`]).
+    /// `false` (BCB/Blender): only Bullet's per-spring `limitIfNeeded` cap, which takes
+    /// each spring alone and the pair's mass at the centre, so a light column piece held
+    /// by four plastic springs (up to 24 explicit spring rows) at lever arms is beyond
+    /// explicit stability and never comes to rest (docs/ruin-numerics.md).
+    pub spring_cap_per_body: bool,
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
+}
+
+/// The error correction of the connections' locked (generic) rows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JointRows {
+    /// BCB/Blender: every row uses the world's joint ERP (`m_erp`, 0.2) and CFM 0 — a rigid
+    /// lock whose error is pulled back by the velocity bias ERP·e/h.
+    Locked,
+    /// Each locked axis of a connection is an implicit spring–damper of the members'
+    /// stiffness, given to Bullet through the row's ERP and CFM (the ODE/Bullet mapping,
+    /// ERP = h·k/(h·k + c), CFM = 1/(h·k + c) for an absolute compliance): with the row's
+    /// effective inverse mass K (1/m_a + 1/m_b along a linear axis, 1/I_a + 1/I_b about an
+    /// angular one, passive partners 0), ω = √(k·K), x = ω·h and c = 2·ζ·√(k/K),
+    /// ERP = x/(x + 2ζ) and, since Bullet's joint rows take CFM relative to K
+    /// ([`crate::physics::World::set_constraint_param`]), CFM = 1/(x·(x + 2ζ)).
+    /// k along the normal E·A/L, across it G·A/L, about the cross axes E·I/L, about the
+    /// normal G·J/L (A = h·w the contact area, I = w·h³/12 or h·w³/12, J ≈ h·w·(h² + w²)/12,
+    /// L the centre distance, G = E/(2(1 + ν)), ν = 0.2). An implicit spring–damper is
+    /// stable for any k, so no cap is needed.
+    Member {
+        /// Young's modulus E, Pa.
+        modulus_pa: f64,
+        /// Damping ratio ζ of each row (dimensionless).
+        damping_ratio: f64,
+    },
+}
+
+/// ERP and CFM (relative to the row's effective mass, Bullet's joint convention) of an
+/// implicit spring–damper of stiffness `k` (N/m or N·m/rad) on a row of effective inverse
+/// mass `inv_mass` (1/kg or 1/(kg·m²)) at the substep `h` (s) with damping ratio `zeta`
+/// ([`JointRows::Member`]). Returns (ERP, CFM).
+pub fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64) {
+    let x = (k * inv_mass).sqrt() * h;
+    (x / (x + 2.0 * zeta), 1.0 / (x * (x + 2.0 * zeta)))
 }
 
 impl Default for StageSettings {
@@ -172,6 +223,9 @@ impl Default for StageSettings {
             warmup_s: 0.0,
             connect: true,
             spring_rest_at_plastic_onset: false,
+            hinge_keeps_rotation: true,
+            joint_rows: JointRows::Locked,
+            spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
         }
     }
@@ -243,13 +297,24 @@ pub struct Frame {
     pub energy: EnergyFrame,
 }
 
-/// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StopReason {
+/// Why a ruin stage ended (`summary.json`: `at_rest`, `time_limit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RuinStop {
     /// The rest test held for its hold time.
     AtRest,
     /// The time limit.
     TimeLimit,
+}
+
+impl RuinStop {
+    /// The name written in `summary.json` (`at_rest`, `time_limit`).
+    pub fn name(self) -> &'static str {
+        match self {
+            RuinStop::AtRest => "at_rest",
+            RuinStop::TimeLimit => "time_limit",
+        }
+    }
 }
 
 /// Final state of one connection.
@@ -311,7 +376,7 @@ pub struct RuinResult {
     /// Deepest penetration at the end of any frame, m.
     pub max_penetration_m: f64,
     /// Why it ended.
-    pub stop: StopReason,
+    pub stop: RuinStop,
     /// End time, s.
     pub end_time_s: f64,
     /// Wall time.
@@ -642,6 +707,15 @@ impl RuinStage {
             c.set_state(s);
             start_states.push(s);
         }
+        // Plastic springs per body (for the per-body stability cap).
+        let mut springs_on = vec![0usize; n];
+        for c in connections.iter().filter(|c| c.has_spring()) {
+            for b in [c.a, c.b] {
+                if !input.bodies[b].passive {
+                    springs_on[b] += 1;
+                }
+            }
+        }
         let mut constraint_handles = Vec::with_capacity(connections.len());
         for c in &connections {
             let mut hs = Vec::with_capacity(c.constraints.len());
@@ -654,9 +728,25 @@ impl RuinStage {
                         let mut springs = [None; 6];
                         for (k, s) in springs.iter_mut().enumerate() {
                             if spec.spring[k] {
+                                let (mut stiffness, mut damping) =
+                                    (spec.stiffness[k], spec.damping[k]);
+                                if settings.spring_cap_per_body {
+                                    let (kc, dc) = body_spring_cap(
+                                        &world,
+                                        c,
+                                        spec,
+                                        k,
+                                        &handles,
+                                        input,
+                                        h,
+                                        springs_on[c.a].max(springs_on[c.b]),
+                                    )?;
+                                    stiffness = stiffness.min(kc);
+                                    damping = damping.min(dc);
+                                }
                                 *s = Some(Spring {
-                                    stiffness: spec.stiffness[k],
-                                    damping: spec.damping[k],
+                                    stiffness,
+                                    damping,
                                     limit_if_needed: settings.ruin.spring_limit_if_needed,
                                 });
                             }
@@ -680,7 +770,32 @@ impl RuinStage {
                 desc.breaking_impulse_threshold = spec.breaking_impulse;
                 desc.disable_collisions_between = c.disable_collisions;
                 desc.enabled = spec.enabled;
-                hs.push(world.add_constraint(&desc)?);
+                let hnd = world.add_constraint(&desc)?;
+                if let (
+                    JointRows::Member {
+                        modulus_pa,
+                        damping_ratio,
+                    },
+                    SpecKind::Generic6Dof,
+                ) = (settings.joint_rows, spec.kind)
+                {
+                    for axis in (0..6).filter(|&a| spec.lower[a] <= spec.upper[a]) {
+                        let (k, inv_m) = member_row(
+                            &world,
+                            c,
+                            spec,
+                            axis,
+                            &handles,
+                            input,
+                            modulus_pa,
+                            passive_of(input, c),
+                        )?;
+                        let (erp, cfm) = member_row_erp_cfm(k, inv_m, h, damping_ratio);
+                        world.set_constraint_param(hnd, ConstraintParam::StopErp, axis, erp)?;
+                        world.set_constraint_param(hnd, ConstraintParam::StopCfm, axis, cfm)?;
+                    }
+                }
+                hs.push(hnd);
             }
             constraint_handles.push(hs);
         }
@@ -943,6 +1058,13 @@ impl RuinStage {
             for k in BENDING_ROWS {
                 if let Some(&h) = self.constraint_handles[i].get(k) {
                     if !enabled[h.index()] {
+                        if self.settings.hinge_keeps_rotation {
+                            let spec = &c.constraints[k];
+                            let mask = (0..6)
+                                .filter(|&a| spec.lower[a] == spec.upper[a])
+                                .fold(0u8, |m, a| m | (1 << a));
+                            self.world.relock_constraint(h, mask)?;
+                        }
                         self.world.set_constraint_enabled(h, true)?;
                     }
                 }
@@ -1091,7 +1213,7 @@ impl RuinStage {
             energy: self.energy()?,
         }];
         let mut quiet = 0u64;
-        let mut reason = StopReason::TimeLimit;
+        let mut reason = RuinStop::TimeLimit;
         let mut first_pen: Option<f64> = None;
         let mut max_pen = 0.0_f64;
         while self.time_s() < stop.max_time_s - 1e-9 * frame_dt {
@@ -1124,7 +1246,7 @@ impl RuinStage {
                     quiet = 0;
                 }
                 if quiet >= hf {
-                    reason = StopReason::AtRest;
+                    reason = RuinStop::AtRest;
                     break;
                 }
             }
@@ -1169,6 +1291,124 @@ impl RuinStage {
             sleeping_at_end: self.world.num_sleeping()?,
         })
     }
+}
+
+/// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular;
+/// the spring frame is world-aligned on the undeformed bodies) of connection `c`, on which
+/// `n` springs at most act per body ([`StageSettings::spring_cap_per_body`]). Bullet
+/// integrates each spring explicitly (`btGeneric6DofSpring2Constraint`: the force k·e·h
+/// from the error at the substep's start), stable for ω·h < 2 and sampled well for
+/// ω·h ≤ 1/4 (Bullet's `limitIfNeeded`: k ≤ m/(16·h²), c ≤ m/h, m the pair's mass at the
+/// centres). Here the effective inverse mass of the axis at the pivot is taken with the
+/// lever arm, w = Σ_bodies 1/m + (r × e)·I⁻¹(r × e) (linear, r = pivot − centre) or
+/// e·I⁻¹e (angular), and the n springs on the same body share the budget:
+/// k ≤ 1/(16·h²·w·n), c ≤ 1/(h·w·n). Returns (k cap, c cap).
+#[allow(clippy::too_many_arguments)]
+fn body_spring_cap(
+    world: &World,
+    c: &ConnectionSpec,
+    spec: &super::connection::ConstraintSpec,
+    axis: usize,
+    handles: &[BodyHandle],
+    input: &StageInput,
+    h: f64,
+    n: usize,
+) -> Result<(f64, f64), StageError> {
+    let a0 = input.bodies[c.a].pose();
+    let pivot = (a0 * spec.frame_a).translation.vector;
+    let e = nalgebra::Vector3::ith(axis % 3, 1.0);
+    let mut w = 0.0;
+    for b in [c.a, c.b] {
+        if input.bodies[b].passive {
+            continue;
+        }
+        let (m, i) = world.mass_inertia(handles[b])?;
+        let pose = input.bodies[b].pose();
+        let rot_inv = pose.rotation.inverse();
+        let inv_i = |v: nalgebra::Vector3<f64>| {
+            let l = rot_inv * v;
+            l.x * l.x / i[0] + l.y * l.y / i[1] + l.z * l.z / i[2]
+        };
+        if axis < 3 {
+            let r = pivot - pose.translation.vector;
+            w += 1.0 / m + inv_i(r.cross(&e));
+        } else {
+            w += inv_i(e);
+        }
+    }
+    if w <= 0.0 {
+        return Ok((f64::INFINITY, f64::INFINITY));
+    }
+    let n = n.max(1) as f64;
+    Ok((1.0 / (16.0 * h * h * w * n), 1.0 / (h * w * n)))
+}
+
+fn passive_of(input: &StageInput, c: &ConnectionSpec) -> (bool, bool) {
+    (input.bodies[c.a].passive, input.bodies[c.b].passive)
+}
+
+/// The member stiffness k and the effective inverse mass K of locked axis `axis` (0..2
+/// linear, 3..5 angular, constraint frame: X = the contact normal) of a generic row of
+/// connection `c` ([`JointRows::Member`]).
+#[allow(clippy::too_many_arguments)]
+fn member_row(
+    world: &World,
+    c: &ConnectionSpec,
+    spec: &super::connection::ConstraintSpec,
+    axis: usize,
+    handles: &[BodyHandle],
+    input: &StageInput,
+    modulus_pa: f64,
+    passive: (bool, bool),
+) -> Result<(f64, f64), StageError> {
+    let ct = &c.contact;
+    let (hh, ww) = (ct.h.max(1e-6), ct.w.max(1e-6));
+    let l = ct.centre_distance.max(1e-3);
+    let g = modulus_pa / 2.4;
+    // The constraint frame's axis `axis % 3` in world (undeformed: frames from BCB's rotN).
+    let a0 = input.bodies[c.a].pose();
+    let r = (a0 * spec.frame_a).rotation;
+    let e = r * nalgebra::Vector3::ith(axis % 3, 1.0);
+    // Which contact direction (normal, h or w) that axis runs along.
+    let comp = |i: usize| e[i].abs();
+    let along = if comp(ct.normal_axis) >= comp(ct.h_axis).max(comp(ct.w_axis)) {
+        0
+    } else if comp(ct.h_axis) >= comp(ct.w_axis) {
+        1
+    } else {
+        2
+    };
+    let area = hh * ww;
+    let k = if axis < 3 {
+        if along == 0 {
+            modulus_pa * area / l
+        } else {
+            g * area / l
+        }
+    } else {
+        match along {
+            0 => g * hh * ww * (hh * hh + ww * ww) / 12.0 / l,
+            // About the h axis: the section's depth across it is w.
+            1 => modulus_pa * hh * ww.powi(3) / 12.0 / l,
+            _ => modulus_pa * ww * hh.powi(3) / 12.0 / l,
+        }
+    };
+    let mut inv = 0.0;
+    for (b, is_passive) in [(c.a, passive.0), (c.b, passive.1)] {
+        if is_passive {
+            continue;
+        }
+        let (m, i) = world.mass_inertia(handles[b])?;
+        if axis < 3 {
+            inv += 1.0 / m;
+        } else {
+            let rb = input.bodies[b].pose().rotation;
+            let el = rb.inverse() * e;
+            let ie = i[0] * el.x * el.x + i[1] * el.y * el.y + i[2] * el.z * el.z;
+            inv += 1.0 / ie;
+        }
+    }
+    Ok((k, inv))
 }
 
 /// `pose` translated by `d`.

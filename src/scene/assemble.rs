@@ -285,11 +285,10 @@ fn solver_settings(preset: &SolverSettings, s: &SolverSpec) -> SolverSettings {
 
 fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
     // World: preset, then overrides.
-    let preset = f.world.preset.as_deref().unwrap_or("bullet");
-    let (mut world, default_margin) = match preset {
+    let (mut world, default_margin) = match f.world.preset.unwrap_or_default() {
         // Bullet's defaults; the process-globals are set to Bullet's values explicitly so a
         // scene never depends on what ran before it in the same process.
-        "bullet" => (
+        Preset::Bullet => (
             WorldSettings {
                 dbvt_margin: Some(0.05),
                 contact_breaking_threshold: Some(0.02),
@@ -297,8 +296,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
             },
             0.04,
         ),
-        "pybullet" => (WorldSettings::pybullet(), 0.001),
-        other => bail!("world.preset \"{other}\" is unknown (expected \"bullet\" or \"pybullet\")"),
+        Preset::Pybullet => (WorldSettings::pybullet(), 0.001),
     };
     let world_item = || "world".to_string();
     if let Some(g) = f.world.gravity {
@@ -502,11 +500,11 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
                 }
             }
         }
-        let kind = match c.kind.as_str() {
-            "generic6dof" => ConstraintKind::Generic6Dof {
+        let kind = match c.kind {
+            ConstraintType::Generic6dof => ConstraintKind::Generic6Dof {
                 use_linear_reference_frame_a: c.use_linear_reference_frame_a.unwrap_or(true),
             },
-            "spring2" => {
+            ConstraintType::Spring2 => {
                 let mut springs = [None; 6];
                 if let Some(ss) = &c.springs {
                     for (axis, s) in ss.iter().enumerate() {
@@ -529,22 +527,18 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
                     set_equilibrium_point: c.set_equilibrium_point.unwrap_or(true),
                 }
             }
-            "fixed" => ConstraintKind::Fixed,
-            other => bail!(
-                "{}: unknown kind \"{other}\" (expected \"generic6dof\", \"spring2\" or \"fixed\")",
-                item()
-            ),
+            ConstraintType::Fixed => ConstraintKind::Fixed,
         };
-        if c.springs.is_some() && c.kind != "spring2" {
+        if c.springs.is_some() && c.kind != ConstraintType::Spring2 {
             bail!("{}: springs are only allowed on kind \"spring2\"", item());
         }
-        if c.limits.is_some() && c.kind == "fixed" {
+        if c.limits.is_some() && c.kind == ConstraintType::Fixed {
             bail!(
                 "{}: limits are not allowed on kind \"fixed\" (all axes are locked)",
                 item()
             );
         }
-        if c.use_linear_reference_frame_a.is_some() && c.kind != "generic6dof" {
+        if c.use_linear_reference_frame_a.is_some() && c.kind != ConstraintType::Generic6dof {
             bail!(
                 "{}: use_linear_reference_frame_a is only for kind \"generic6dof\"",
                 item()

@@ -21,7 +21,7 @@ pub struct SceneFile {
     pub bodies: Vec<BodySpec>,
     /// Constraints, created in this order after the bodies.
     #[serde(default)]
-    pub constraints: Vec<ConstraintSpec>,
+    pub constraints: Vec<ConstraintEntry>,
 }
 
 /// `"world"`: a preset plus overrides.
@@ -30,7 +30,7 @@ pub struct SceneFile {
 pub struct WorldSpec {
     /// `"bullet"` (default) or `"pybullet"`.
     #[serde(default)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// Gravity [m/s²]; default (0, 0, −9.81).
     #[serde(default)]
     pub gravity: Option<[f64; 3]>,
@@ -183,12 +183,62 @@ pub struct SpringSpec {
     pub limit_if_needed: bool,
 }
 
+/// The constraint classes a scene can name (`kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintType {
+    /// `"generic6dof"`: btGeneric6DofConstraint.
+    Generic6dof,
+    /// `"spring2"`: btGeneric6DofSpring2Constraint.
+    Spring2,
+    /// `"fixed"`: btFixedConstraint.
+    Fixed,
+}
+
+impl<'de> Deserialize<'de> for ConstraintType {
+    /// One of the three names; anything else is an error naming it and the choices.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        match s.as_str() {
+            "generic6dof" => Ok(ConstraintType::Generic6dof),
+            "spring2" => Ok(ConstraintType::Spring2),
+            "fixed" => Ok(ConstraintType::Fixed),
+            other => Err(serde::de::Error::custom(format!(
+                "unknown kind \"{other}\" (expected \"generic6dof\", \"spring2\" or \"fixed\")"
+            ))),
+        }
+    }
+}
+
+/// The world presets (`world.preset`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Preset {
+    /// `"bullet"`: Bullet's own defaults (default).
+    #[default]
+    Bullet,
+    /// `"pybullet"`: pybullet's defaults.
+    Pybullet,
+}
+
+impl<'de> Deserialize<'de> for Preset {
+    /// `bullet` or `pybullet`; anything else is an error naming it and the choices.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        match s.as_str() {
+            "bullet" => Ok(Preset::Bullet),
+            "pybullet" => Ok(Preset::Pybullet),
+            other => Err(serde::de::Error::custom(format!(
+                "world.preset \"{other}\" is unknown (expected \"bullet\" or \"pybullet\")"
+            ))),
+        }
+    }
+}
+
 /// One constraint.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ConstraintSpec {
+pub struct ConstraintEntry {
     /// `"generic6dof"`, `"spring2"` or `"fixed"`.
-    pub kind: String,
+    pub kind: ConstraintType,
     /// Body names.
     pub body_a: String,
     /// Name of the second body (not `body_a`).

@@ -19,7 +19,7 @@
 //! bytes. Written atomically.
 use super::format::{Intensity, Study, MILLI_G};
 use super::fragility::{fit_ida, fit_stripes};
-use super::plan::{read_json, Outcome, Plan, SequenceState, Store};
+use super::plan::{read_summary, Outcome, Plan, SequenceState, Store};
 use crate::output::run_folder::parse_history;
 use crate::output::write_atomic;
 use anyhow::{bail, Context, Result};
@@ -100,11 +100,11 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
         return Ok(r);
     }
     let dir = store.run_dir(&e.id);
-    let s = read_json(&dir.join("summary.json"))?;
-    r.tc_s = s["tc_s"].as_f64();
+    let s = read_summary(&dir.join("summary.json"))?;
+    r.tc_s = s.tc_s;
     r.collapse = r.tc_s.is_some();
-    r.tc_reason = s["tc_reason"].as_str().unwrap_or("").to_string();
-    r.fe_end_s = s["fe_end_s"].as_f64();
+    r.tc_reason = s.tc_reason.name().to_string();
+    r.fe_end_s = s.fe_end_s;
     let hp = dir.join("history.csv");
     let text =
         std::fs::read_to_string(&hp).with_context(|| format!("cannot read {}", hp.display()))?;
@@ -116,17 +116,19 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
         .filter_map(|h| h.roof_drift)
         .map(f64::abs)
         .reduce(f64::max);
-    if !s["ruin_stage"].is_null() {
-        r.ruin_stop = s["ruin_stage"]["stop"].as_str().map(str::to_owned);
-        r.broken = s["connections"]["broken"].as_u64();
-        r.extent_max_m = s["ruins"]["extent_beyond_footprint_m"]["max"].as_f64();
-        r.debris_area_m2 = s["ruins"]["debris_footprint_area_m2"].as_f64();
-        r.debris_height_m = s["ruins"]["max_debris_height_m"].as_f64();
-        r.min_slab_overlap = s["ruins"]["slab_overlap"].as_array().and_then(|a| {
-            a.iter()
-                .filter_map(|o| o["overlap_ratio"].as_f64())
-                .reduce(f64::min)
-        });
+    if let Some(stage) = &s.ruin_stage {
+        let finite = |x: f64| Some(x).filter(|x| x.is_finite());
+        r.ruin_stop = Some(stage.stop.name().to_owned());
+        r.broken = s.connections.map(|c| c.broken as u64);
+        r.extent_max_m = finite(s.ruins.extent_beyond_footprint_m.max);
+        r.debris_area_m2 = finite(s.ruins.debris_footprint_area_m2);
+        r.debris_height_m = finite(s.ruins.max_debris_height_m);
+        r.min_slab_overlap = s
+            .ruins
+            .slab_overlap
+            .iter()
+            .map(|o| o.overlap_ratio)
+            .reduce(f64::min);
     }
     Ok(r)
 }

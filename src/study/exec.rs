@@ -44,7 +44,7 @@ pub fn scenario_for(study: &Study, entry: &Entry, out: &Path) -> Scenario {
     sc.components = [0, 1, 2].map(|axis| {
         rec.files[axis].as_ref().map(|file| ComponentSpec {
             file: file.clone(),
-            direction: ["X", "Y", "Z"][axis].into(),
+            direction: crate::motion::Direction::ALL[axis],
             pga_g: rec.pga_g[axis].map(|p| p * f),
             time_scale: study.time_scale,
         })

@@ -23,6 +23,7 @@
 //! null: the criterion was met or the FE diverged first — non-convergence counts as
 //! collapse, as usual in IDA practice).
 use super::format::{IdaRule, Intensity, Study, MILLI_G};
+use crate::output::summary::RunSummary;
 use crate::pipeline::Mode;
 use anyhow::{Context, Result};
 use serde_json::Value;
@@ -311,11 +312,9 @@ impl Store {
         let status = read_json(&dir.join(STATUS_FILE)).ok()?;
         match status["status"].as_str()? {
             "ok" => {
-                let s = read_json(&dir.join("summary.json")).ok()?;
-                s["mode"].as_str()?;
-                s["tc_reason"].as_str()?;
+                let s = read_summary(&dir.join("summary.json")).ok()?;
                 Some(Outcome::Ok {
-                    collapse: !s["tc_s"].is_null(),
+                    collapse: s.tc_s.is_some(),
                 })
             }
             "failed" => Some(Outcome::Failed(
@@ -331,7 +330,13 @@ impl Store {
     }
 }
 
-/// Reads a JSON file.
+/// Reads a run's `summary.json` ([`RunSummary`]).
+pub fn read_summary(path: &Path) -> Result<RunSummary> {
+    let v = read_json(path)?;
+    serde_json::from_value(v).with_context(|| format!("{}: not a run summary", path.display()))
+}
+
+/// Reads a JSON file; errors name it.
 pub fn read_json(path: &Path) -> Result<Value> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;

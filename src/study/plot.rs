@@ -13,7 +13,7 @@
 use crate::output::write_atomic;
 use crate::plot::font::FAMILY;
 use crate::plot::style;
-use crate::plot::{png_bytes, svg_string, Figure, Format};
+use crate::plot::{png_bytes, svg_string, Figure, ImageFormat};
 use anyhow::{bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -223,14 +223,19 @@ impl Figure for FragilityFigure {
     }
 }
 
-fn write_fig<F: Figure>(fig: &F, stem: &str, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+fn write_fig<F: Figure>(
+    fig: &F,
+    stem: &str,
+    out: &Path,
+    format: ImageFormat,
+) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    if matches!(format, Format::Png | Format::Both) {
+    if matches!(format, ImageFormat::Png | ImageFormat::Both) {
         let p = out.join(format!("{stem}.png"));
         write_atomic(&p, &png_bytes(fig)?)?;
         files.push(p);
     }
-    if matches!(format, Format::Svg | Format::Both) {
+    if matches!(format, ImageFormat::Svg | ImageFormat::Both) {
         let p = out.join(format!("{stem}.svg"));
         write_atomic(&p, svg_string(fig)?.as_bytes())?;
         files.push(p);
@@ -244,7 +249,7 @@ pub fn is_study_folder(dir: &Path) -> bool {
 }
 
 /// Writes the figures of the collected study `dir` into `out` (created).
-pub fn write_all(dir: &Path, out: &Path, format: Format) -> Result<Vec<PathBuf>> {
+pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let results = dir.join("results");
     let sj = super::plan::read_json(&results.join("study.json"))?;
     let ida_path = results.join("ida.csv");

@@ -27,8 +27,9 @@ pub use speed::{
     set_global_deactivation_time, IslandStats, ProfileZone,
 };
 pub use types::{
-    BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, ContactPair,
-    ContactSummary, JointFeedback, PhysicsError, Pose, Spring, Velocity,
+    BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind,
+    ConstraintParam, ContactPair, ContactSummary, JointFeedback, PhysicsError, Pose, Spring,
+    Velocity,
 };
 pub use world::{
     abi_self_check, bullet_default_solver_settings, bullet_version,

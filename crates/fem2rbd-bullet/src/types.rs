@@ -194,6 +194,18 @@ pub enum ConstraintKind {
     Fixed,
 }
 
+/// A per-axis constraint parameter (`btConstraintParams`) for
+/// [`crate::World::set_constraint_param`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintParam {
+    /// `BT_CONSTRAINT_STOP_ERP`: the fraction of a limit row's error corrected per substep
+    /// by the velocity bias ERP·e/h (dimensionless, default the world's `m_erp`).
+    StopErp,
+    /// `BT_CONSTRAINT_STOP_CFM`: the limit row's constraint force mixing (dimensionless in
+    /// Bullet's joint rows, relative to the row's effective mass; default `m_globalCfm`).
+    StopCfm,
+}
+
 /// A constraint to create between two bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConstraintDesc {

@@ -678,6 +678,54 @@ impl World {
         })
     }
 
+    /// Generic6Dof / Spring2: the error reduction (`STOP_ERP`) and constraint force mixing
+    /// (`STOP_CFM`) of axis `axis`'s limit row (0..2 linear, 3..5 angular),
+    /// `btTypedConstraint::setParam`. Unset, a row uses the world's `m_erp` and
+    /// `m_globalCfm`. Bullet's sequential-impulse solver applies a joint row's CFM
+    /// relative to the row's effective mass (`btSequentialImpulseConstraintSolver::
+    /// convertJoint` keeps `m_cfm` = CFM unscaled while contact rows use CFM·m_jacDiagABInv):
+    /// a converged row satisfies J·v⁺ = ERP·e/h − CFM·(J M⁻¹ Jᵀ)·λ (λ the row's impulse).
+    pub fn set_constraint_param(
+        &mut self,
+        c: ConstraintHandle,
+        param: ConstraintParam,
+        axis: usize,
+        value: f64,
+    ) -> Result<(), PhysicsError> {
+        let i = self.constraint(c)?;
+        if axis > 5 {
+            return Err(PhysicsError::Invalid(format!(
+                "constraint axis {axis} is not 0..5"
+            )));
+        }
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(PhysicsError::Invalid(format!(
+                "constraint {param:?} = {value} must be finite and >= 0"
+            )));
+        }
+        let num = match param {
+            ConstraintParam::StopErp => 2,
+            ConstraintParam::StopCfm => 4,
+        };
+        // SAFETY: live world, checked index; the shim checks kind, num, axis and value.
+        check("set_param", unsafe {
+            sys::bs_constraint_set_param(self.w(), i, num, value, axis as i32)
+        })
+    }
+
+    /// Generic6Dof: every axis in `mask` (bit i = axis i, 0..2 linear, 3..5 angular) whose
+    /// limits are locked (lower = upper) is locked again at its present value (Bullet's
+    /// `getRelativePivotPosition` / `getAngle` after `calculateTransforms`), so the row holds
+    /// the joint where it is instead of driving it back to the old lock with the velocity
+    /// bias ERP·e/h (a rigid–plastic hinge keeps its plastic rotation).
+    pub fn relock_constraint(&mut self, c: ConstraintHandle, mask: u8) -> Result<(), PhysicsError> {
+        let i = self.constraint(c)?;
+        // SAFETY: live world, checked index; the shim checks the kind.
+        check("relock", unsafe {
+            sys::bs_constraint_relock(self.w(), i, i32::from(mask))
+        })
+    }
+
     /// The poses of all bodies in creation order (one call into Bullet).
     pub fn poses(&self) -> Result<Vec<Pose>, PhysicsError> {
         let n = self.kinds.len();

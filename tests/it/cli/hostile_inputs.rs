@@ -687,19 +687,22 @@ fn every_bad_input_is_refused_cleanly() {
 /// (defect 3: "bodies.csv:2: 19 fields, expected 17").
 #[test]
 fn names_with_commas_quotes_and_newlines_round_trip_through_the_run_folder() {
+    use fem2rbd::body::BodyId;
     use fem2rbd::output::history::{bodies_csv, BodyRow};
     use fem2rbd::output::keyframes::keyframes_csv;
     use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
     use fem2rbd::physics::Pose;
-    let names = ["Col,umn:1:2", "a \"b\":3:4", "two\nlines:5:6"];
-    let groups = ["a,b", "\"", "x\r\ny"];
+    // Type names and material groups with a comma, a quote, a newline.
+    let ids = [
+        BodyId::element("Col,umn".into(), "a,b", 2),
+        BodyId::element("a \"b\"".into(), "\"", 4),
+        BodyId::element("two\nlines".into(), "x\r\ny", 6),
+    ];
+    let names: Vec<String> = ids.iter().map(BodyId::name).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let rows: Vec<BodyRow> = (0..3)
         .map(|i| BodyRow {
-            name: names[i],
-            group: groups[i],
-            type_name: "Col,umn",
-            material: "m,1",
-            element: "7",
+            id: &ids[i],
             passive: false,
             pose0: Pose::at([i as f64, 0.5, 1.25]),
             half_extents: [0.1, 0.2, 0.3],
@@ -709,9 +712,8 @@ fn names_with_commas_quotes_and_newlines_round_trip_through_the_run_folder() {
     let text = bodies_csv(&rows);
     let back = parse_bodies(&text, "bodies.csv").unwrap();
     for (r, b) in rows.iter().zip(&back) {
-        assert_eq!((b.name.as_str(), b.group.as_str()), (r.name, r.group));
-        assert_eq!(b.type_name, "Col,umn");
-        assert_eq!(b.material, "m,1");
+        assert_eq!(&b.id, r.id);
+        assert_eq!(b.id.group(), r.id.material());
         assert_eq!(b.pose0.position, r.pose0.position);
     }
     let poses: Vec<Pose> = rows.iter().map(|r| r.pose0).collect();
@@ -816,9 +818,10 @@ proptest! {
         use fem2rbd::output::history::{bodies_csv, BodyRow};
         use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
         use fem2rbd::physics::Pose;
+        let ids: Vec<fem2rbd::body::BodyId> =
+            (0..3).map(|i| fem2rbd::body::BodyId::element("Column".into(), "1", i)).collect();
         let rows: Vec<BodyRow> = (0..3).map(|i| BodyRow {
-            name: ["a", "b", "c"][i], group: "g", type_name: "Column", material: "1",
-            element: "1", passive: false, pose0: Pose::at([0.0, 0.0, i as f64]),
+            id: &ids[i], passive: false, pose0: Pose::at([0.0, 0.0, i as f64]),
             half_extents: [0.1; 3], mass_kg: 1.0,
         }).collect();
         let text = bodies_csv(&rows);

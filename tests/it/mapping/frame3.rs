@@ -6,7 +6,7 @@
 //! centre 1/4). Checks box sizes and positions, overlap removal and mass mapping.
 use fem2rbd::mapping::overlap::{max_pairwise_overlap, overlap_volume};
 use fem2rbd::mapping::{
-    groups, map_to_boxes, BodyKind, LineMember, MapOptions, MappingInput, NodalMass, Quad,
+    groups, map_to_boxes, LineMember, MapOptions, MappingInput, PointMass, Quad, Role,
 };
 
 const L: f64 = 1.5;
@@ -24,7 +24,7 @@ fn frame3() -> MappingInput {
                 tag += 1;
                 inp.members.push(LineMember {
                     element: tag,
-                    type_name: "Column".into(),
+                    body_type: "Column".into(),
                     material: s.to_string(),
                     node_i: [x, y, z0 + 0.5 * k as f64],
                     node_j: [x, y, z0 + 0.5 * (k + 1) as f64],
@@ -51,7 +51,7 @@ fn frame3() -> MappingInput {
                 tag += 1;
                 inp.members.push(LineMember {
                     element: tag,
-                    type_name: "Beam".into(),
+                    body_type: "Beam".into(),
                     material: f.to_string(),
                     node_i: [p[0], p[1], z],
                     node_j: [q[0], q[1], z],
@@ -70,7 +70,7 @@ fn frame3() -> MappingInput {
             tag += 1;
             inp.quads.push(Quad {
                 element: 1000 + tag,
-                type_name: "Slab".into(),
+                body_type: "Slab".into(),
                 material: f.to_string(),
                 nodes: [
                     [x0, y0, z],
@@ -85,7 +85,7 @@ fn frame3() -> MappingInput {
         for i in 0..3 {
             for j in 0..3 {
                 let w = [0.25, 0.5, 0.25][i] * [0.25, 0.5, 0.25][j];
-                inp.nodal_masses.push(NodalMass {
+                inp.nodal_masses.push(PointMass {
                     position: [0.75 * i as f64, 0.75 * j as f64, z],
                     mass_kg: BALLAST * w,
                 });
@@ -114,29 +114,29 @@ fn untrimmed_boxes_names_and_groups() {
     .unwrap();
     let b = &m.bodies;
     assert_eq!(b.len(), 24 + 24 + 12);
-    assert_eq!(b[0].name, "Column:1:1");
-    assert_eq!(b[24].name, "Beam:1:25");
-    assert_eq!(b[48].name, "Slab:1:1049");
-    assert_eq!(b[59].name, "Slab:3:1060");
+    assert_eq!(b[0].id.name(), "Column:1:1");
+    assert_eq!(b[24].id.name(), "Beam:1:25");
+    assert_eq!(b[48].id.name(), "Slab:1:1049");
+    assert_eq!(b[59].id.name(), "Slab:3:1060");
     let g = groups(b);
     assert_eq!(g.keys().collect::<Vec<_>>(), ["1", "2", "3"]);
     for (mat, idx) in &g {
         assert_eq!(idx.len(), 8 + 8 + 4, "group {mat}");
         assert!(idx
             .iter()
-            .all(|&i| b[i].material == *mat && b[i].name.contains(mat)));
+            .all(|&i| b[i].id.material() == *mat && b[i].id.name().contains(mat)));
     }
     // Column 1: base (0, 0, 0) → (0, 0, 0.5).
-    assert_eq!(b[0].kind, BodyKind::Column);
+    assert_eq!(b[0].kind, Role::Column);
     assert_eq!(b[0].centre, [0.0, 0.0, 0.25]);
     assert_eq!(b[0].half_extents, [0.25, 0.05, 0.05]);
     // Beam 25: (0, 0, 1) → (0.75, 0, 1), depth vertical.
-    assert_eq!(b[24].kind, BodyKind::Beam);
+    assert_eq!(b[24].kind, Role::Beam);
     assert_eq!(b[24].centre, [0.375, 0.0, 1.0]);
     assert_eq!(b[24].half_extents, [0.375, 0.0375, 0.075]);
     assert!((b[24].matrix()[2][2] - 1.0).abs() < 1e-15);
     // Slab 1049: (0..0.75)² at z = 1.
-    assert_eq!(b[48].kind, BodyKind::Slab);
+    assert_eq!(b[48].kind, Role::Slab);
     assert_eq!(b[48].centre, [0.375, 0.375, 1.0]);
     assert_eq!(b[48].half_extents, [0.375, 0.375, 0.015]);
     // Before trimming, a beam end sits inside the column: 0.05 × 0.075 × 0.075 m³ with the
@@ -156,24 +156,24 @@ fn overlap_removal_on_frame3() {
     let (worst, pair) = max_pairwise_overlap(b);
     eprintln!(
         "after trimming: largest overlap {worst:.3e} m³ ({:?}); {} cuts on {} bodies, {:.6} m³ removed",
-        pair.map(|(i, j)| (&b[i].name, &b[j].name)),
+        pair.map(|(i, j)| (b[i].id.name(), b[j].id.name())),
         m.trim.cuts,
         m.trim.trimmed_boxes,
         m.trim.removed_volume_m3
     );
     assert!(worst <= 1e-9, "{worst}");
     // Columns run through the joints: untouched.
-    for c in b.iter().filter(|b| b.kind == BodyKind::Column) {
-        assert_eq!(c.centre, c.untrimmed_centre, "{}", c.name);
-        assert_eq!(c.half_extents, c.untrimmed_half_extents, "{}", c.name);
+    for c in b.iter().filter(|b| b.kind == Role::Column) {
+        assert_eq!(c.centre, c.untrimmed_centre, "{}", c.id.name());
+        assert_eq!(c.half_extents, c.untrimmed_half_extents, "{}", c.id.name());
     }
     // Beams stop at the column faces: every beam element loses 0.05 m at its corner end,
     // keeps its section, and is 0.70 m long.
-    for be in b.iter().filter(|b| b.kind == BodyKind::Beam) {
+    for be in b.iter().filter(|b| b.kind == Role::Beam) {
         assert!(
             (2.0 * be.half_extents[0] - 0.70).abs() < 1e-12,
             "{}",
-            be.name
+            be.id.name()
         );
         assert_eq!(be.half_extents[1..], [0.0375, 0.075]);
         // Its centre moved 0.025 m away from the corner, towards the mid-span node.
@@ -181,25 +181,25 @@ fn overlap_removal_on_frame3() {
             .map(|k| (be.centre[k] - be.untrimmed_centre[k]).powi(2))
             .sum::<f64>()
             .sqrt();
-        assert!((shift - 0.025).abs() < 1e-12, "{}", be.name);
+        assert!((shift - 0.025).abs() < 1e-12, "{}", be.id.name());
         let mid_dist = |c: [f64; 3]| ((c[0] - 0.75).abs()).min((c[1] - 0.75).abs());
         assert!(mid_dist(be.centre) < mid_dist(be.untrimmed_centre));
     }
     // Beam 25 runs from the corner (0, 0, 1) to mid-span: cut at its node-i end, so its
     // centre moved +0.025 m along its own axis.
-    let b25 = b.iter().find(|x| x.name == "Beam:1:25").unwrap();
+    let b25 = b.iter().find(|x| x.id.name() == "Beam:1:25").unwrap();
     let off = b25.trim_offset_local();
     assert!((off[0] - 0.025).abs() < 1e-12 && off[1].abs() < 1e-12 && off[2].abs() < 1e-12);
     // Slabs: reduced to the clear area inside the beams' faces (0.0375 m strip along each
     // edge on a beam line), plus the column corner: one in-plane side is cut back to the
     // column face (0.05 m) instead. Each quad keeps 0.7125 × 0.70 × 0.03 m.
-    for s in b.iter().filter(|b| b.kind == BodyKind::Slab) {
+    for s in b.iter().filter(|b| b.kind == Role::Slab) {
         let mut h = [2.0 * s.half_extents[0], 2.0 * s.half_extents[1]];
         h.sort_by(f64::total_cmp);
         assert!(
             (h[0] - 0.70).abs() < 1e-12 && (h[1] - 0.7125).abs() < 1e-12,
             "{}: {h:?}",
-            s.name
+            s.id.name()
         );
         assert_eq!(s.half_extents[2], 0.015);
         assert!((s.volume_m3() - 0.7125 * 0.70 * 0.03).abs() < 1e-15);
@@ -218,7 +218,7 @@ fn overlap_removal_on_frame3() {
             } else {
                 lo[k]
             };
-            assert!((interior - 0.75).abs() < 1e-12, "{}", s.name);
+            assert!((interior - 0.75).abs() < 1e-12, "{}", s.id.name());
         }
     }
     // Removed volume: 24 beams × 0.05 × 0.075 × 0.15 + 12 slabs × (0.5625 − 0.49875) × 0.03.
@@ -245,15 +245,15 @@ fn mass_mapping_on_frame3() {
     // corner 1/16 + two edge halves 2 × 1/16 + a quarter of the centre 1/16.
     for x in b {
         let expect = match x.kind {
-            BodyKind::Column => 12.5,
-            BodyKind::Beam => RHO * 0.075 * 0.15 * 0.75,
-            BodyKind::Slab => RHO * 0.03 * 0.5625 + BALLAST / 4.0,
-            BodyKind::Wall => unreachable!(),
+            Role::Column => 12.5,
+            Role::Beam => RHO * 0.075 * 0.15 * 0.75,
+            Role::Slab => RHO * 0.03 * 0.5625 + BALLAST / 4.0,
+            Role::Wall => unreachable!(),
         };
         assert!(
             (x.mass_kg - expect).abs() < 1e-9,
             "{}: {}",
-            x.name,
+            x.id.name(),
             x.mass_kg
         );
     }
@@ -263,7 +263,7 @@ fn mass_mapping_on_frame3() {
         let z = f as f64;
         let on_floor: Vec<_> = b
             .iter()
-            .filter(|x| x.kind != BodyKind::Column && (x.centre[2] - z).abs() < 1e-9)
+            .filter(|x| x.kind != Role::Column && (x.centre[2] - z).abs() < 1e-9)
             .collect();
         let mass: f64 = on_floor.iter().map(|x| x.mass_kg).sum();
         let cx = on_floor
@@ -293,12 +293,20 @@ fn mass_mapping_on_frame3() {
         .nodal_masses
         .retain(|n| n.position[0] != 0.75 || n.position[1] != 0.75);
     let m2 = map_to_boxes(&no_slab, &MapOptions::default()).unwrap();
-    let beam = m2.bodies.iter().find(|x| x.name == "Beam:1:25").unwrap();
+    let beam = m2
+        .bodies
+        .iter()
+        .find(|x| x.id.name() == "Beam:1:25")
+        .unwrap();
     // Node (0,0,1): corner ballast 1/16 shared by beams 25 and 29; node (0.75,0,1): edge
     // ballast 1/8 shared by beams 25 and 26.
     let expect = RHO * 0.075 * 0.15 * 0.75 + BALLAST / 32.0 + BALLAST / 16.0;
     assert!((beam.mass_kg - expect).abs() < 1e-9, "{}", beam.mass_kg);
-    let col = m2.bodies.iter().find(|x| x.name == "Column:1:2").unwrap();
+    let col = m2
+        .bodies
+        .iter()
+        .find(|x| x.id.name() == "Column:1:2")
+        .unwrap();
     assert_eq!(col.mass_kg, 12.5);
 }
 
@@ -319,7 +327,7 @@ fn body_table() {
     for (line, b) in lines[1..].iter().zip(&m.bodies) {
         let f: Vec<&str> = line.split(',').collect();
         assert_eq!(f.len(), 20);
-        assert_eq!(f[0], b.name);
+        assert_eq!(f[0], b.id.name().as_str());
         let x: Vec<f64> = f[6..].iter().map(|s| s.parse().unwrap()).collect();
         assert_eq!(x[..3], b.centre);
         assert!((x[3..7].iter().map(|q| q * q).sum::<f64>() - 1.0).abs() < 1e-15);

@@ -4,7 +4,7 @@ use fem2rbd::mapping::geometry::{
     member_box, opensees_frame, paper_angles, paper_rotation, quad_box,
 };
 use fem2rbd::mapping::overlap::overlap_volume;
-use fem2rbd::mapping::{BodyKind, LineMember, Quad, RigidBox};
+use fem2rbd::mapping::{LineMember, Quad, RigidBox, Role};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// xorshift64*: a small deterministic generator for test inputs.
@@ -24,10 +24,10 @@ impl Rng {
     }
 }
 
-fn member(el: i64, i: [f64; 3], j: [f64; 3], vecxz: [f64; 3]) -> LineMember {
+fn member(el: u32, i: [f64; 3], j: [f64; 3], vecxz: [f64; 3]) -> LineMember {
     LineMember {
         element: el,
-        type_name: "Beam".into(),
+        body_type: "Beam".into(),
         material: "1".into(),
         node_i: i,
         node_j: j,
@@ -101,9 +101,9 @@ fn member_box_name_size_and_position() {
         ..member(0, [0.0, 0.75, 1.0], [0.0, 1.5, 1.0], [0.0, 0.0, 1.0])
     };
     let b = member_box(&m).unwrap();
-    assert_eq!(b.name, "Beam:1:234");
-    assert_eq!(b.group, "1");
-    assert_eq!(b.kind, BodyKind::Beam);
+    assert_eq!(b.id.name(), "Beam:1:234");
+    assert_eq!(b.id.group(), "1");
+    assert_eq!(b.kind, Role::Beam);
     assert_eq!(b.half_extents, [0.375, 0.0375, 0.075]);
     assert_eq!(b.centre, [0.0, 1.125, 1.0]);
     assert_eq!(b.mass_kg, 21.09375);
@@ -117,15 +117,15 @@ fn member_box_name_size_and_position() {
     assert!((i[0] - 21.09375 * (0.0375f64.powi(2) + 0.075f64.powi(2)) / 3.0).abs() < 1e-15);
     // Inclined: a 45° brace is a beam; a 60° one is a column.
     let brace = member_box(&member(7, [0.0; 3], [1.0, 1.0, 1.0], [0.0, 0.0, 1.0])).unwrap();
-    assert_eq!(brace.kind, BodyKind::Beam);
+    assert_eq!(brace.kind, Role::Beam);
     let steep = member_box(&member(8, [0.0; 3], [0.0, 1.0, 1.8], [1.0, 0.0, 0.0])).unwrap();
-    assert_eq!(steep.kind, BodyKind::Column);
+    assert_eq!(steep.kind, Role::Column);
 }
 
 fn quad(nodes: [[f64; 3]; 4]) -> Quad {
     Quad {
         element: 501,
-        type_name: "Slab".into(),
+        body_type: "Slab".into(),
         material: "2".into(),
         nodes,
         thickness_m: 0.03,
@@ -151,8 +151,8 @@ fn quad_boxes() {
         ],
     ] {
         let b = quad_box(&quad(nodes)).unwrap();
-        assert_eq!(b.name, "Slab:2:501");
-        assert_eq!(b.kind, BodyKind::Slab);
+        assert_eq!(b.id.name(), "Slab:2:501");
+        assert_eq!(b.kind, Role::Slab);
         assert_eq!(b.centre, [0.375, 0.25, 2.0]);
         let mut h = b.half_extents;
         h[..2].sort_by(f64::total_cmp);
@@ -168,7 +168,7 @@ fn quad_boxes() {
         [0.0, 0.0, 3.0],
     ]))
     .unwrap();
-    assert_eq!(w.kind, BodyKind::Wall);
+    assert_eq!(w.kind, Role::Wall);
     assert!((w.volume_m3() - 2.0 * 3.0 * 0.03).abs() < 1e-15);
     // Parallelogram (base 1, height 0.6, shear 0.3) and trapezoid (bases 1, 0.5, height
     // 0.4): the box keeps the quad's area.

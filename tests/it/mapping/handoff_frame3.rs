@@ -67,22 +67,22 @@ fn check_rigid(
     assert_eq!(states.len(), 60);
     let uq = UnitQuaternion::from_rotation_matrix(&rot);
     for (s, b) in states.iter().zip(&m.bodies) {
-        assert_eq!(s.name, b.name);
+        assert_eq!(s.id.name(), b.id.name());
         let c = o + rot * (v3(b.centre) - o) + t + ug;
-        close(v3(s.centre), c, 1e-12, &format!("{} centre", b.name));
-        rot_close(&s.rotation, &(uq * b.rotation), 1e-12, &b.name);
+        close(v3(s.centre), c, 1e-12, &format!("{} centre", b.id.name()));
+        rot_close(&s.rotation, &(uq * b.rotation), 1e-12, &b.id.name());
         let want_v = v3(g.velocity) + v0 + w.cross(&(c - ug - o - t));
         close(
             v3(s.linear_velocity),
             want_v,
             1e-12,
-            &format!("{} velocity", b.name),
+            &format!("{} velocity", b.id.name()),
         );
         close(
             v3(s.angular_velocity),
             w,
             1e-12,
-            &format!("{} angular velocity", b.name),
+            &format!("{} angular velocity", b.id.name()),
         );
     }
 }
@@ -97,8 +97,8 @@ fn undeformed_state_reproduces_the_mapping() {
         )
         .unwrap();
     for (s, b) in states.iter().zip(&m.bodies) {
-        close(v3(s.centre), v3(b.centre), 1e-15, &b.name);
-        rot_close(&s.rotation, &b.rotation, 1e-15, &b.name);
+        close(v3(s.centre), v3(b.centre), 1e-15, &b.id.name());
+        rot_close(&s.rotation, &b.rotation, 1e-15, &b.id.name());
         assert_eq!(s.linear_velocity, [0.0; 3]);
         assert_eq!(s.angular_velocity, [0.0; 3]);
     }
@@ -158,7 +158,7 @@ fn bent_and_twisted_column_follows_its_chord_and_mean_twist() {
     nodes[k51].theta = [0.0, bend, tw];
     nodes[k51].v = [1.0, 0.0, 0.0];
     let s = &h.states(&nodes, &GroundState::default()).unwrap()[0];
-    assert_eq!(s.name, "Column:1:1");
+    assert_eq!(s.id.name(), "Column:1:1");
     let b = &m.bodies[0];
     let r = s.rotation.to_rotation_matrix();
     let x: Vector3<f64> = r.matrix().column(0).into();
@@ -235,7 +235,7 @@ fn in_plane_stretch_of_a_floor_gives_panels_their_mean_velocity_and_no_spin() {
     let states = h.states(&nodes, &GroundState::default()).unwrap();
     let mut seen = 0;
     for (s, b) in states.iter().zip(&m.bodies) {
-        if b.name.starts_with("Slab:1:") {
+        if b.id.name().starts_with("Slab:1:") {
             // least-squares rigid fit: mean node velocity, no spin (Σ r × εr = 0)
             let mean = b
                 .nodes
@@ -243,9 +243,14 @@ fn in_plane_stretch_of_a_floor_gives_panels_their_mean_velocity_and_no_spin() {
                 .map(|p| (v3(*p) - c) * eps)
                 .sum::<Vector3<f64>>()
                 / 4.0;
-            close(v3(s.angular_velocity), Vector3::zeros(), 1e-15, &b.name);
+            close(
+                v3(s.angular_velocity),
+                Vector3::zeros(),
+                1e-15,
+                &b.id.name(),
+            );
             // the trimmed centre moves with the fitted rigid motion: v̄ + 0 × r
-            close(v3(s.linear_velocity), mean, 1e-15, &b.name);
+            close(v3(s.linear_velocity), mean, 1e-15, &b.id.name());
             assert!(mean.norm() > 0.1);
             seen += 1;
         }

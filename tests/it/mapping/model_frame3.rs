@@ -1,5 +1,5 @@
 //! `mapping::from_model` and `fem2rbd map` on the shipped frame3 model.
-use fem2rbd::mapping::{self, overlap::max_pairwise_overlap, BodyKind, MapOptions};
+use fem2rbd::mapping::{self, overlap::max_pairwise_overlap, MapOptions, Role};
 use fem2rbd::model::{ElementKind, Model, SectionKind};
 use std::collections::BTreeSet;
 
@@ -25,21 +25,17 @@ fn frame3_maps_to_60_bodies_named_by_type_story_and_element() {
     let m = mapping::map_to_boxes(&input, &MapOptions::default()).unwrap();
     let b = &m.bodies;
     assert_eq!(b.len(), 60);
-    let count = |k: BodyKind| b.iter().filter(|x| x.kind == k).count();
+    let count = |k: Role| b.iter().filter(|x| x.kind == k).count();
     assert_eq!(
-        (
-            count(BodyKind::Column),
-            count(BodyKind::Beam),
-            count(BodyKind::Slab)
-        ),
+        (count(Role::Column), count(Role::Beam), count(Role::Slab)),
         (24, 24, 12)
     );
-    assert_eq!(b[0].name, "Column:1:1");
-    assert_eq!(b[4].name, "Column:1:5");
-    assert_eq!(b[8].name, "Column:2:9");
-    assert_eq!(b[24].name, "Beam:1:25");
-    assert_eq!(b[48].name, "Slab:1:61");
-    assert_eq!(b[59].name, "Slab:3:72");
+    assert_eq!(b[0].id.name(), "Column:1:1");
+    assert_eq!(b[4].id.name(), "Column:1:5");
+    assert_eq!(b[8].id.name(), "Column:2:9");
+    assert_eq!(b[24].id.name(), "Beam:1:25");
+    assert_eq!(b[48].id.name(), "Slab:1:61");
+    assert_eq!(b[59].id.name(), "Slab:3:72");
     // groups are the stories (one per material group)
     let groups: Vec<String> = mapping::groups(b).into_keys().collect();
     assert_eq!(groups, ["1", "2", "3"]);
@@ -47,10 +43,10 @@ fn frame3_maps_to_60_bodies_named_by_type_story_and_element() {
         let e = model
             .elements
             .iter()
-            .find(|e| i64::from(e.tag) == x.element)
+            .find(|e| Some(e.tag) == x.id.element_tag())
             .unwrap();
-        assert_eq!(x.name, e.body_name());
-        assert_eq!(x.group, e.group.0);
+        assert_eq!(x.id.name(), e.body_name());
+        assert_eq!(x.id.group(), e.group.0);
         assert!(e.rigid_body);
     }
     // section outlines: columns 0.1 x 0.1, beams 0.075 x 0.15 (untrimmed), slabs 0.03 thick
@@ -88,7 +84,7 @@ fn frame3_rigid_mass_equals_model_mass_and_overlaps_are_trimmed() {
     let slabs: f64 = m
         .bodies
         .iter()
-        .filter(|b| b.kind == BodyKind::Slab)
+        .filter(|b| b.kind == Role::Slab)
         .map(|b| b.mass_kg)
         .sum();
     let nodal: f64 = model.masses.iter().map(|x| x.m).sum();

@@ -3,9 +3,10 @@
 use fem2rbd::collapse::{CollapseMonitor, Criterion, Trigger};
 use fem2rbd::export::{opensees_script, OpenSeesOptions};
 use fem2rbd::fe::build::{build_domain, BuildOptions};
-use fem2rbd::mapping::handoff::{node_states, translations, GroundState, Handoff};
+use fem2rbd::mapping::handoff::{translations, GroundState, Handoff};
 use fem2rbd::mapping::{self, MapOptions};
 use fem2rbd::model::{ElementKind, Model};
+use fem2rbd::pipeline::node_states;
 
 const TOML: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -135,12 +136,16 @@ fn handoff_and_collapse_read_a_built_domain() {
     };
     let bs = h.states(&states, &g).unwrap();
     for (s, b) in bs.iter().zip(&mapped.bodies).skip(56) {
-        assert_eq!(s.name, b.name);
+        assert_eq!(s.id.name(), b.id.name());
         for k in 0..3 {
             let want = b.centre[k] + [0.01, 0.0, -0.3][k];
-            assert!((s.centre[k] - want).abs() < 1e-12, "{} {k}", s.name);
+            assert!((s.centre[k] - want).abs() < 1e-12, "{} {k}", s.id.name());
             let wv = [0.25, 0.0, 0.0][k];
-            assert!((s.linear_velocity[k] - wv).abs() < 1e-12, "{} v{k}", s.name);
+            assert!(
+                (s.linear_velocity[k] - wv).abs() < 1e-12,
+                "{} v{k}",
+                s.id.name()
+            );
         }
         assert!(s.rotation.angle_to(&b.rotation) < 1e-12);
     }

@@ -1,12 +1,12 @@
 //! Overlap removal beyond the regular frame: inclined braces through joints, random
 //! inclined members meeting at a node, and a body that would vanish.
 use fem2rbd::mapping::overlap::max_pairwise_overlap;
-use fem2rbd::mapping::{map_to_boxes, BodyKind, LineMember, MapOptions, MappingInput, Quad};
+use fem2rbd::mapping::{map_to_boxes, LineMember, MapOptions, MappingInput, Quad, Role};
 
-fn member(el: i64, ty: &str, i: [f64; 3], j: [f64; 3], v: [f64; 3], w: f64, d: f64) -> LineMember {
+fn member(el: u32, ty: &str, i: [f64; 3], j: [f64; 3], v: [f64; 3], w: f64, d: f64) -> LineMember {
     LineMember {
         element: el,
-        type_name: ty.into(),
+        body_type: ty.into(),
         material: "1".into(),
         node_i: i,
         node_j: j,
@@ -76,7 +76,7 @@ fn brace_through_two_joints() {
     );
     assert!(v0 > 1e-5);
     assert!(v1 <= 1e-9);
-    assert_eq!(brace.kind, BodyKind::Beam);
+    assert_eq!(brace.kind, Role::Beam);
     // The brace keeps its section and is shortened only along its axis, by at least the
     // part inside the two column halves (0.05 m horizontally each → 0.05/cos θ).
     assert_eq!(brace.half_extents[1..], brace.untrimmed_half_extents[1..]);
@@ -127,7 +127,7 @@ fn random_members_at_a_joint() {
         }
         let quads = vec![Quad {
             element: 99,
-            type_name: "Slab".into(),
+            body_type: "Slab".into(),
             material: "1".into(),
             nodes: [
                 [0.4, 0.4, 1.0],
@@ -196,7 +196,7 @@ fn a_body_inside_another_is_an_error() {
         )],
         quads: vec![Quad {
             element: 7,
-            type_name: "Slab".into(),
+            body_type: "Slab".into(),
             material: "2".into(),
             nodes: [
                 [-0.1, -0.1, 0.5],
@@ -300,7 +300,7 @@ fn seven_story_frame_scales() {
                 let d = 0.5 * span;
                 inp.quads.push(Quad {
                     element: next(),
-                    type_name: "Slab".into(),
+                    body_type: "Slab".into(),
                     material: "1".into(),
                     nodes: [
                         [x0, y0, z],
@@ -311,7 +311,7 @@ fn seven_story_frame_scales() {
                     thickness_m: 0.1,
                     mass_kg: 2500.0 * 0.1 * d * d,
                 });
-                inp.nodal_masses.push(fem2rbd::mapping::NodalMass {
+                inp.nodal_masses.push(fem2rbd::mapping::PointMass {
                     position: [x0, y0, z],
                     mass_kg: 500.0,
                 });
@@ -325,18 +325,22 @@ fn seven_story_frame_scales() {
     assert!(v <= 1e-9, "{v} {pair:?}");
     for b in &m.bodies {
         match b.kind {
-            BodyKind::Column => assert_eq!(b.half_extents, b.untrimmed_half_extents),
-            BodyKind::Beam => assert!((2.0 * b.half_extents[0] - 1.35).abs() < 1e-12, "{}", b.name),
-            BodyKind::Slab => {
+            Role::Column => assert_eq!(b.half_extents, b.untrimmed_half_extents),
+            Role::Beam => assert!(
+                (2.0 * b.half_extents[0] - 1.35).abs() < 1e-12,
+                "{}",
+                b.id.name()
+            ),
+            Role::Slab => {
                 let mut s = [2.0 * b.half_extents[0], 2.0 * b.half_extents[1]];
                 s.sort_by(f64::total_cmp);
                 assert!(
                     (s[0] - 1.35).abs() < 1e-12 && (s[1] - 1.4).abs() < 1e-12,
                     "{}: {s:?}",
-                    b.name
+                    b.id.name()
                 );
             }
-            BodyKind::Wall => unreachable!(),
+            Role::Wall => unreachable!(),
         }
     }
     let fe: f64 = inp.members.iter().map(|m| m.mass_kg).sum::<f64>()

@@ -17,7 +17,7 @@ fn layered_wall_elements_map_to_boxes_of_the_section_thickness() {
     assert_eq!(mapped.bodies.len(), 24);
     let thick = 4.0 * 0.05 + 2.0 * 0.002 + 2.0 * 0.0005;
     for (k, b) in mapped.bodies.iter().enumerate() {
-        assert_eq!(b.name, format!("Wall:1:{}", k + 1));
+        assert_eq!(b.id.name(), format!("Wall:1:{}", k + 1));
         let mut h = b.half_extents;
         h.sort_by(f64::total_cmp);
         assert!((h[0] - thick / 2.0).abs() < 1e-12, "{:?}", b.half_extents);

@@ -77,7 +77,10 @@ pub fn times(n: usize, duration_s: f64) -> Vec<f64> {
 /// Ground motion of the moving ground (m): `x(t) = 0.1 sin(2π · 1.5 t)`, top face at z = 0.
 pub fn ground_pose(t: f64) -> Pose {
     let x = 0.1 * (2.0 * std::f64::consts::PI * 1.5 * t).sin();
-    ([x, 0.0, -0.25], [1.0, 0.0, 0.0, 0.0])
+    Pose {
+        position: [x, 0.0, -0.25],
+        orientation: [1.0, 0.0, 0.0, 0.0],
+    }
 }
 
 pub const TYPES: [&str; 3] = ["Column", "Beam", "Slab"];
@@ -95,7 +98,10 @@ pub fn falling_scene(n_bodies: usize, n_keys: usize, moving_ground: bool) -> Ani
                 half_extents: [0.15 + 0.01 * i as f64, 0.2, 0.4 + 0.02 * i as f64],
                 poses: times_s
                     .iter()
-                    .map(|&t| (throw.position(t), throw.reported_quaternion(t)))
+                    .map(|&t| Pose {
+                        position: throw.position(t),
+                        orientation: throw.reported_quaternion(t),
+                    })
                     .collect(),
             }
         })

@@ -138,7 +138,7 @@ fn nodes_meshes_materials_and_accessor_counts() {
             assert!(same_f64(scale, body.half_extents[c]), "{scale}");
             // The node's rest pose is the first keyframe, in full precision.
             let x = node["translation"][c].as_f64().unwrap();
-            assert!(same_f64(x, body.poses[0].0[c]), "{x}");
+            assert!(same_f64(x, body.poses[0].position[c]), "{x}");
         }
     }
 
@@ -188,7 +188,7 @@ fn keyframe_positions_equal_the_closed_form_trajectories() {
     let ground = glb.node_named("ground");
     let (_, out) = glb.channel(ground, "translation").unwrap();
     for (k, p) in glb.f32s(out).iter().enumerate() {
-        let exact = ground_pose(scene.times_s[k]).0;
+        let exact = ground_pose(scene.times_s[k]).position;
         assert_eq!(p, &exact.map(|c| c as f32).to_vec(), "ground key {k}");
     }
 }
@@ -220,7 +220,7 @@ fn rotations_are_unit_sign_continuous_and_interpolate_the_short_way() {
                 continue;
             }
             assert!(dot(&q[k - 1], qk) >= 0.0, "body {i}: sign jump at key {k}");
-            let raw = |kk: usize| body.poses[kk].1;
+            let raw = |kk: usize| body.poses[kk].orientation;
             if dot(&raw(k - 1), &raw(k)) < 0.0 {
                 input_flips += 1;
             }
@@ -346,7 +346,7 @@ fn bad_input_is_a_clear_error_and_no_file() {
     assert!(error_of(&s).contains("times_s[0] = -0.1 s must be finite and >= 0"));
 
     let mut s = good.clone();
-    s.bodies[2].poses[4].1 = [0.0; 4];
+    s.bodies[2].poses[4].orientation = [0.0; 4];
     let e = error_of(&s);
     assert!(
         e.contains("body 'E102' (#2) at keyframe 4 (t = 2 s)") && e.contains("zero"),
@@ -354,7 +354,7 @@ fn bad_input_is_a_clear_error_and_no_file() {
     );
 
     let mut s = good.clone();
-    s.bodies[0].poses[1].0[2] = f64::NAN;
+    s.bodies[0].poses[1].position[2] = f64::NAN;
     assert!(error_of(&s).contains("body 'E100' (#0) at keyframe 1"));
 
     let mut s = good.clone();

@@ -117,7 +117,7 @@ fn three_js_plays_the_closed_form_motion() {
     let ground = scene.ground.as_ref().unwrap();
     check("ground", &|t| {
         let p = lerp_keys(&scene.times_s, t, |tk| {
-            ground_pose(tk).0.map(|c| f64::from(c as f32))
+            ground_pose(tk).position.map(|c| f64::from(c as f32))
         });
         world(p, [1.0, 0.0, 0.0, 0.0], ground.half_extents)
     });

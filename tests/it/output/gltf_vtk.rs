@@ -116,7 +116,8 @@ fn paraview_series_matches_the_closed_form_motion() {
         }
         assert_eq!(body_id[30], -1);
         assert_eq!(element_type[30], 2);
-        let (gp, gq) = ground_pose(t);
+        let g0 = ground_pose(t);
+        let (gp, gq) = (g0.position, g0.orientation);
         let g = scene.ground.as_ref().unwrap();
         for (c, id) in conn[30].as_array().unwrap().iter().enumerate() {
             let (got, want) = (point(id), corner(gp, gq, g.half_extents, c));
@@ -141,7 +142,7 @@ fn paraview_series_matches_the_closed_form_motion() {
 #[test]
 fn bad_input_names_the_item_and_writes_no_collection() {
     let mut scene = falling_scene(3, 4, false);
-    scene.bodies[2].poses[1].1 = [0.0; 4];
+    scene.bodies[2].poses[1].orientation = [0.0; 4];
     let dir = tempfile::tempdir().unwrap();
     let pvd = dir.path().join("bad.pvd");
     let err = format!("{:#}", write_pvd(&scene, &pvd).unwrap_err());

@@ -124,7 +124,7 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     let written = fem2rbd::plot::write_ensemble(
         &tmp.path().join("t1"),
         &tmp.path().join("plots"),
-        fem2rbd::plot::Format::Both,
+        fem2rbd::plot::ImageFormat::Both,
     )
     .unwrap();
     assert_eq!(written.len(), 2);

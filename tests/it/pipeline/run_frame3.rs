@@ -17,6 +17,7 @@
 //! body faster than twice the free-fall speed from the roof plus the ground's. The cause
 //! was the plastic springs (Bullet's stiffness cap off, and BCB's angular stiffness k read
 //! as N·m/rad; docs/ruin-model.md "Plastic-spring stability").
+use fem2rbd::output::summary::RunSummary;
 use fem2rbd::pipeline::{self, write, Scenario, Silent};
 use std::path::{Path, PathBuf};
 
@@ -107,11 +108,10 @@ fn round_json(v: &mut serde_json::Value) {
 /// moves faster than twice the free-fall speed from the roof plus the ground's peak speed
 /// (frame-to-frame speeds at 25 fps). The exploding ruin stage of session 1 broke all three
 /// (124 m, 20 m high, 20–78 m/s).
-fn assert_debris_physical(summary: &serde_json::Value, rec: &pipeline::RunRecord) {
+fn assert_debris_physical(summary: &RunSummary, rec: &pipeline::RunRecord) {
     const H: f64 = 3.0;
-    let r = &summary["ruins"];
-    let extent = r["extent_beyond_footprint_m"]["max"].as_f64().unwrap();
-    let height = r["max_debris_height_m"].as_f64().unwrap();
+    let extent = summary.ruins.extent_beyond_footprint_m.max;
+    let height = summary.ruins.max_debris_height_m;
     let ruin = rec.ruin.as_ref().unwrap();
     let g = rec.ground.ground_state_at(ruin.end_time_s).0;
     let shift = g[0].hypot(g[1]);
@@ -147,7 +147,7 @@ fn assert_debris_physical(summary: &serde_json::Value, rec: &pipeline::RunRecord
 
 fn run_snapshot(sc: &Scenario) -> (serde_json::Value, String, pipeline::RunRecord) {
     let rec = pipeline::run(sc, &Silent).unwrap();
-    let mut summary = fem2rbd::output::summary::summary(&rec, false);
+    let mut summary = serde_json::to_value(write::run_summary(&rec, false)).unwrap();
     round_json(&mut summary);
     let files = write::contents(&rec, false).unwrap();
     let ruins = String::from_utf8(files[0].1.clone()).unwrap();
@@ -176,7 +176,7 @@ fn physics_mode_lc5_ruin_distribution() {
         "physics: Bullet share of the ruin stage's run loop {:.4}",
         r.wall.bullet_share()
     );
-    assert_debris_physical(&summary, &rec);
+    assert_debris_physical(&write::run_summary(&rec, false), &rec);
     insta::assert_json_snapshot!("physics_lc5_summary", summary);
     insta::assert_snapshot!("physics_lc5_ruins", ruins);
 }
@@ -206,7 +206,7 @@ fn hybrid_mode_lc5_ruin_distribution() {
     assert!((r.frames[0].time_s - tc).abs() < 1e-9);
     // The ruin stage starts where the FE stage ended: body poses at Tc equal the last
     // keyframe's when Tc is on a frame, else lie within one frame's motion of it.
-    assert_debris_physical(&summary, &rec);
+    assert_debris_physical(&write::run_summary(&rec, false), &rec);
     insta::assert_json_snapshot!("hybrid_lc5_summary", summary);
     insta::assert_snapshot!("hybrid_lc5_ruins", ruins);
 }
@@ -304,7 +304,11 @@ fn bad_scenarios_name_the_file_line_and_item_and_write_nothing() {
         dir.path(),
         &good.replace("direction = \"Y\"", "direction = \"W\""),
     );
-    assert!(e.contains("ground_motion[1]") && e.contains("\"W\""), "{e}");
+    let l = good.lines().position(|l| l == "direction = \"Y\"").unwrap() + 1;
+    assert!(
+        e.contains(&format!("bad.toml:{l}:")) && e.contains("\"W\""),
+        "{e}"
+    );
     let e = cli_error(dir.path(), &good.replace("ELC270.AT2", "ELC999.AT2"));
     assert!(
         e.contains("ground_motion[1]") && e.contains("ELC999.AT2"),

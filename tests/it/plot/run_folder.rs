@@ -11,6 +11,7 @@
 //! final state (exact numbers below): column 1 lies along x at (−1.5, 3.0), column 3
 //! along y at (−1.0, −1.5), slab 4 lies on slab 2 near (1.2, 1.1), beam 5 lies along y
 //! at (3.5, −1.0). Timeline: FE keyframes 0 … 1.0 s (Tc), ruin-stage frames to 2.0 s.
+use fem2rbd::body::BodyId;
 use fem2rbd::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use fem2rbd::output::keyframes::keyframes_csv;
 use fem2rbd::output::ruins::{ruins_csv, RuinRow};
@@ -109,14 +110,15 @@ const GROUND_Z_END: f64 = 0.02;
 
 /// Writes the run folder of `bodies` into `dir` with the project's writers.
 fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
+    let ids: Vec<BodyId> = bodies.iter().map(|b| b.name.parse().unwrap()).collect();
+    for (b, id) in bodies.iter().zip(&ids) {
+        assert_eq!(id.type_name(), b.ty);
+    }
     let rows: Vec<BodyRow> = bodies
         .iter()
-        .map(|b| BodyRow {
-            name: b.name,
-            group: "1",
-            type_name: b.ty,
-            material: "1",
-            element: "1",
+        .zip(&ids)
+        .map(|(b, id)| BodyRow {
+            id,
             passive: b.passive,
             pose0: b.pose0,
             half_extents: b.he,
@@ -168,12 +170,9 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
         .collect();
     let ruins: Vec<RuinRow> = bodies
         .iter()
-        .map(|b| RuinRow {
-            name: b.name,
-            group: "1",
-            type_name: b.ty,
-            material: "1",
-            element: "1",
+        .zip(&ids)
+        .map(|(b, id)| RuinRow {
+            id,
             pose: b.fin,
             at_rest: Some(true),
         })
@@ -195,7 +194,12 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
     std::fs::write(
         dir.join("summary.json"),
         format!(
-            "{{\n  \"mode\": \"{mode}\",\n  \"tc_s\": {tc},\n  \"tc_reason\": \"{reason}\"\n}}\n"
+            "{{\"mode\": \"{mode}\", \"tc_s\": {tc}, \"tc_reason\": \"{reason}\", \"tc_detail\": \"\", \
+             \"fe_end_s\": {tc}, \"bodies\": 5, \"foundation_blocks\": 1, \"keyframes_fe\": 26, \
+             \"ruins\": {{\"original_footprint_m\": {{\"x\": [-0.2, 2.2], \"y\": [-0.2, 2.2]}}, \
+             \"extent_beyond_footprint_m\": {{\"x_minus\": 0, \"x_plus\": 0, \"y_minus\": 0, \"y_plus\": 0, \"max\": 0}}, \
+             \"debris_footprint_area_m2\": 0, \"original_footprint_area_m2\": 0, \"max_debris_height_m\": 0, \
+             \"floors\": [], \"slab_overlap\": []}}}}\n"
         ),
     )
     .unwrap();

@@ -9,7 +9,7 @@ use fem2rbd::ruin::connection::{GroupStrength, RuinSettings, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::rest::RestTest;
 use fem2rbd::ruin::stage::{
-    BodySettings, RuinStage, StageInput, StageSettings, StopReason, StopRule,
+    BodySettings, RuinStage, RuinStop, StageInput, StageSettings, StopRule,
 };
 use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 use fem2rbd::ruin::BodyGeom;
@@ -240,7 +240,7 @@ fn a_dropped_box_is_at_rest_one_hold_time_after_it_lands() {
         "landed at {t_land:.4} s (free fall), at rest at {} s",
         res.end_time_s
     );
-    assert_eq!(res.stop, StopReason::AtRest);
+    assert_eq!(res.stop, RuinStop::AtRest);
     // The box lands at t_land; its contact pushes it out of the penetration of the 4.4 m/s
     // impact for a few frames (contact ERP), then it is quiet and the rest test holds
     // 1 s (25 frames). Measured: at rest at 1.64 s = t_land + 1 s + 0.19 s.
@@ -293,7 +293,7 @@ fn a_dropped_pile_stops_when_it_is_at_rest_and_stays_there() {
         })
         .unwrap();
     eprintln!("pile at rest at {} s", res.end_time_s);
-    assert_eq!(res.stop, StopReason::AtRest);
+    assert_eq!(res.stop, RuinStop::AtRest);
     assert!(res.at_rest.iter().all(|r| *r));
     // The top box needs √(2·6.7/g) ≈ 1.17 s to fall; nothing is at rest before that.
     assert!(res.end_time_s > 1.17 + 1.0);

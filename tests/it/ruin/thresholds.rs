@@ -3,8 +3,8 @@
 //! 200 steps/s, time scale 1, L = 3 m, tol2 = 0.12), plus the scaling rules.
 
 use fem2rbd::ruin::connection::{
-    build_connections, ConnectionSpec, ConstraintKind, ConstraintRole, GroupStrength, RuinSettings,
-    BCB_UNLIMITED,
+    build_connections, ConnectionSpec, ConstraintClass, ConstraintRole, GroupStrength,
+    RuinSettings, BCB_UNLIMITED,
 };
 use fem2rbd::ruin::search::find_contacts;
 use fem2rbd::ruin::strength::{FormulaInputs, StrengthPerArea, StrengthSource};
@@ -151,7 +151,7 @@ fn generic_rows_lock_the_right_axes() {
     assert_eq!(free(4), vec![3, 5]); // torsion + rotation about the w-axis (local Z)
     assert_eq!(free(5), vec![3, 4]); // torsion + rotation about the h-axis (local Y)
     for k in 0..6 {
-        assert_eq!(c.constraints[k].kind, ConstraintKind::Generic6Dof);
+        assert_eq!(c.constraints[k].kind, ConstraintClass::Generic6Dof);
         assert!(c.constraints[k].enabled);
         for i in 0..6 {
             if !c.constraints[k].is_free(i) && k > 1 {
@@ -162,7 +162,7 @@ fn generic_rows_lock_the_right_axes() {
             }
         }
     }
-    assert_eq!(c.constraints[6].kind, ConstraintKind::Spring2);
+    assert_eq!(c.constraints[6].kind, ConstraintClass::Spring2);
     // Frames: the pivot (0.2, 0.1, 3.0) in each body, local X on +Z.
     let pa = bodies[0].pose() * c.constraints[0].frame_a;
     let pb = bodies[1].pose() * c.constraints[0].frame_b;

@@ -17,16 +17,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-/// Element variant of the export.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Variant {
-    /// Every beam-column force-based (Lobatto unless the element names a rule).
-    Force,
-    /// Every beam-column displacement-based (Legendre unless the element names a rule).
-    Disp,
-    /// Every beam-column elastic with its section's initial stiffnesses (EA, EIy, EIz, GJ).
-    Elastic,
-}
+/// Element variant of the export: the FE stage's own [`Variant`]. Force-based exports use
+/// Lobatto and displacement-based Legendre integration unless the element names a rule;
+/// elastic exports use each section's initial stiffnesses (EA, EIy, EIz, GJ).
+pub use crate::fe::build::Variant;
 
 /// One ground-motion component: direction 1 = X, 2 = Y, 3 = Z; AT2 file; target PGA (g).
 #[derive(Debug, Clone, PartialEq)]
@@ -50,8 +44,8 @@ pub struct OpenSeesOptions {
     pub dt: f64,
     /// Analysis duration (s); default the shortest record.
     pub duration: Option<f64>,
-    /// Element variant; `None` = as each element says.
-    pub variant: Option<Variant>,
+    /// Element variant ([`Variant::AsModel`]: as each element says).
+    pub variant: Variant,
     /// Stop when a free node's uz < −stop_uz (m); default 1 m × model scale.
     pub stop_uz: Option<f64>,
 }
@@ -63,7 +57,7 @@ impl Default for OpenSeesOptions {
             time_scale: 1.0,
             dt: 0.005,
             duration: None,
-            variant: None,
+            variant: Variant::AsModel,
             stop_uz: None,
         }
     }
@@ -179,10 +173,10 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     writeln!(w, "import ctypes\nimport importlib.util\nimport json\nimport math\nimport os\nimport re\nimport sys")?;
     w.push_str(PRELOAD);
     let variant_name = match opts.variant {
-        None => "as-model",
-        Some(Variant::Force) => "force",
-        Some(Variant::Disp) => "disp",
-        Some(Variant::Elastic) => "elastic",
+        Variant::AsModel => "as-model",
+        Variant::Force => "force",
+        Variant::Disp => "disp",
+        Variant::Elastic => "elastic",
     };
     writeln!(w, "\nVARIANT = {}", s(variant_name))?;
     writeln!(w, "G = {}  # m/s^2", f(model.gravity.g))?;
@@ -303,7 +297,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
             f(t.vecxz[2])
         )?;
     }
-    let elastic_all = opts.variant == Some(Variant::Elastic);
+    let elastic_all = opts.variant == Variant::Elastic;
     // materials and sections used by nonlinear beam-columns and shells
     let mut used_secs = std::collections::BTreeSet::new();
     for e in &model.elements {
@@ -474,8 +468,8 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
             continue;
         }
         let form = match opts.variant {
-            Some(Variant::Force) => Formulation::Force,
-            Some(Variant::Disp) => Formulation::Disp,
+            Variant::Force => Formulation::Force,
+            Variant::Disp => Formulation::Disp,
             _ => *formulation,
         };
         let rule = match (integration, form) {

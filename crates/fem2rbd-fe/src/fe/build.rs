@@ -53,6 +53,15 @@ impl std::str::FromStr for Variant {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for Variant {
+    /// The names of [`FromStr`](std::str::FromStr) (`model`, `force`, `disp`, `elastic`);
+    /// an unknown name is an error naming it and the choices.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 /// Options of the domain builder.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuildOptions {

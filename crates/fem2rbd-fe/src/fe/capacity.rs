@@ -415,9 +415,19 @@ pub fn gravity_capacities(
     st: &PushSettings,
 ) -> Result<(AxialLoads, BTreeMap<u32, MemberCapacity>)> {
     let prepared = crate::fe::run::prepare(model, build, 1).context("gravity analysis")?;
-    let loads = axial_loads(&prepared.built);
+    gravity_capacities_of(model, &prepared.built, st)
+}
+
+/// As [`gravity_capacities`] on a domain already in its gravity state (`built` from
+/// [`crate::fe::run::prepare`]), so that the caller builds the domain once.
+pub fn gravity_capacities_of(
+    model: &Model,
+    built: &BuiltDomain,
+    st: &PushSettings,
+) -> Result<(AxialLoads, BTreeMap<u32, MemberCapacity>)> {
+    let loads = axial_loads(built);
     // The gravity state is the undamaged building: it is its own reference.
-    let caps = capacities_impl(model, &prepared.built, &loads, st, Reference::Same)?;
+    let caps = capacities_impl(model, built, &loads, st, Reference::Same)?;
     Ok((loads, caps))
 }
 

@@ -142,6 +142,14 @@ pub fn run_ground_motion(
     options: &RunOptions,
     observer: &mut dyn FnMut(&StepInfo, &Domain) -> StepControl,
 ) -> Result<RunResult> {
+    check_run(model, motion, options)?;
+    let prepared = prepare(model, &options.build, options.modes)?;
+    run_prepared(model, prepared, motion, options, observer)
+}
+
+/// The checks of a run's options and resource bounds (docs/reliability.md), before any
+/// domain is built; returns the end time, s.
+fn check_run(model: &Model, motion: &GroundMotion, options: &RunOptions) -> Result<f64> {
     if !(options.dt > 0.0 && options.dt.is_finite()) {
         bail!("time step must be positive, got {}", options.dt);
     }
@@ -177,7 +185,21 @@ pub fn run_ground_motion(
         (steps / options.every as u64 + 2).saturating_mul(6 * recorded_nodes),
         limits::MAX_RECORDED_VALUES,
     )?;
-    let prepared = prepare(model, &options.build, options.modes)?;
+    Ok(t_end)
+}
+
+/// As [`run_ground_motion`] on a domain the caller prepared ([`prepare`]: built, modal,
+/// gravity applied and held), so that one domain serves the gravity-state queries (e.g.
+/// the section capacities at the gravity loads) and the time history. `options.build`
+/// and `options.modes` are those of `prepared` and not used here.
+pub fn run_prepared(
+    model: &Model,
+    prepared: Prepared,
+    motion: &GroundMotion,
+    options: &RunOptions,
+    observer: &mut dyn FnMut(&StepInfo, &Domain) -> StepControl,
+) -> Result<RunResult> {
+    let t_end = check_run(model, motion, options)?;
     let Prepared {
         mut built, modal, ..
     } = prepared;

@@ -4,6 +4,7 @@
 //! Load a file with [`Model::load`]; it parses, then validates (unknown references,
 //! duplicate tags, zero-length elements, non-positive sizes, non-finite numbers) and
 //! reports the file, line and item of the first error.
+pub mod building;
 pub mod element;
 pub mod generate;
 pub mod limits;

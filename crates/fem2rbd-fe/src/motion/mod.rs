@@ -247,3 +247,51 @@ impl GroundMotion {
 
 /// Axis names for messages.
 pub(crate) const AXES: [&str; 3] = ["X", "Y", "Z"];
+
+/// A ground-motion direction: global X, Y or Z (files and `--gm` write `X`, `Y`, `Z`,
+/// in either case).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Direction {
+    /// Global X (index 0).
+    X,
+    /// Global Y (index 1).
+    Y,
+    /// Global Z, vertical (index 2).
+    Z,
+}
+
+impl Direction {
+    /// The three directions in axis order.
+    pub const ALL: [Direction; 3] = [Direction::X, Direction::Y, Direction::Z];
+
+    /// Axis index: 0 = X, 1 = Y, 2 = Z.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+impl std::fmt::Display for Direction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(AXES[self.index()])
+    }
+}
+
+impl std::str::FromStr for Direction {
+    type Err = String;
+    /// `X`, `Y` or `Z`, in either case, surrounding blanks ignored.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_uppercase().as_str() {
+            "X" => Ok(Direction::X),
+            "Y" => Ok(Direction::Y),
+            "Z" => Ok(Direction::Z),
+            _ => Err(format!("direction {:?} is not X, Y or Z", s.trim())),
+        }
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Direction {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        s.parse().map_err(serde::de::Error::custom)
+    }
+}

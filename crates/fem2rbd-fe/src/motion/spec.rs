@@ -44,12 +44,15 @@ pub fn parse_component(s: &str) -> Result<ComponentArg, GmArgError> {
     let (dir, rest) = s
         .split_once('=')
         .ok_or_else(|| err("expected DIR=PATH[,pga=G]".into()))?;
-    let axis = match dir.trim().to_ascii_uppercase().as_str() {
-        "X" => 0,
-        "Y" => 1,
-        "Z" => 2,
-        o => return Err(err(format!("unknown direction {o:?} (use X, Y or Z)"))),
-    };
+    let axis = dir
+        .parse::<super::Direction>()
+        .map_err(|_| {
+            err(format!(
+                "unknown direction {:?} (use X, Y or Z)",
+                dir.trim().to_ascii_uppercase()
+            ))
+        })?
+        .index();
     let mut parts = rest.split(',');
     let path = parts.next().unwrap_or("").trim();
     if path.is_empty() {

@@ -25,6 +25,7 @@ mod fe {
         mod frame3;
         mod lanczos;
         mod modal;
+        mod solver;
         mod static_analysis;
         mod support;
         mod threads;
@@ -61,6 +62,7 @@ mod fe {
     }
 }
 mod model {
+    mod building;
     mod errors;
     mod frame3;
     mod generate;

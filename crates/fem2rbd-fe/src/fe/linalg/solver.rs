@@ -5,6 +5,9 @@
 //! refinement, falling back to [`SparseLu`]. Singular or non-finite systems are errors,
 //! not panics.
 
+// `!(x <= y)` is used on purpose: NaN counts as a failure.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -368,9 +371,10 @@ impl SparseSolver {
             } else {
                 f64::INFINITY
             };
-            if !(e <= omega) {
-                omega = e; // NaN propagates as a failure
+            if e.is_nan() {
+                return f64::INFINITY;
             }
+            omega = omega.max(e);
         }
         omega
     }
@@ -398,7 +402,7 @@ impl SparseSolver {
                 self.d = d;
                 steps += 1;
                 let w = self.residual(pattern, &b, &next);
-                if !(w < omega) {
+                if w.is_nan() || w >= omega {
                     break;
                 }
                 rhs.copy_from_slice(&next);
