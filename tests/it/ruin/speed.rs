@@ -47,7 +47,7 @@ fn towers() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
     }];
     let n = 3000;
     let a: Vec<f64> = (0..n)
-        .map(|i| 1.0 * (2.0 * std::f64::consts::PI * 2.0 * i as f64 * DT).sin())
+        .map(|i| (2.0 * std::f64::consts::PI * 2.0 * i as f64 * DT).sin())
         .collect();
     let rec = Record::new("sine", DT, 0.0, a).unwrap();
     let hist = GroundMotion::new(Some(rec), None, None)
