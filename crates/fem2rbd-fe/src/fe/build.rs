@@ -18,8 +18,12 @@ use crate::fe::material::{self, UniaxialMaterial};
 use crate::fe::section::elastic::ElasticSection;
 use crate::fe::section::fiber::FiberSection;
 use crate::fe::section::Section;
+use crate::fe::shell::element::ShellElement;
+use crate::fe::shell::layers::{
+    DamageConcreteFiber, ElasticFiber, LayeredSection, PlateFiber, RebarFiber,
+};
 use crate::fe::transform::TransformKind;
-use crate::model::{self, ElementKind, Model, SectionKind, TransfKind};
+use crate::model::{self, ElementKind, Model, SectionKind, ShellLayer, TransfKind};
 use anyhow::{anyhow, bail, Context, Result};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
@@ -187,9 +191,53 @@ fn transform_kind(k: TransfKind) -> TransformKind {
     }
 }
 
+/// The layered section of a shell element for the domain, and whether all its layers are
+/// linear (elastic layers, bars of an `Elastic` material).
+fn shell_section(
+    tag: u32,
+    s: &model::Section,
+    mats: &BTreeMap<u32, &model::Material>,
+) -> Result<(LayeredSection, bool)> {
+    let SectionKind::LayeredShell { layers, .. } = &s.kind else {
+        bail!(
+            "element {tag}: section {} is a `plate` section; the FE solver's shell \
+             (ASDShellQ4) takes a `layered_shell` section (write the plate as elastic layers)",
+            s.tag
+        );
+    };
+    let mut linear = true;
+    let mut list: Vec<(f64, Box<dyn PlateFiber>)> = Vec::with_capacity(layers.len());
+    for l in layers {
+        let fiber: Box<dyn PlateFiber> = match l {
+            ShellLayer::Elastic { e, nu, .. } => Box::new(ElasticFiber::new(*e, *nu)),
+            ShellLayer::Concrete { e, nu, fc, ft, .. } => {
+                linear = false;
+                Box::new(DamageConcreteFiber::new(*e, *nu, *ft, *fc))
+            }
+            ShellLayer::Rebar {
+                material, angle, ..
+            } => {
+                let m = mats.get(material).ok_or_else(|| {
+                    anyhow!(
+                        "element {tag}: section {}: unknown material {material}",
+                        s.tag
+                    )
+                })?;
+                if m.type_name() != "Elastic" {
+                    linear = false;
+                }
+                Box::new(RebarFiber::new(uniaxial(m)?, *angle))
+            }
+        };
+        list.push((l.thickness(), fiber));
+    }
+    Ok((LayeredSection::new(list), linear))
+}
+
 /// Builds the domain of `model` (which must have passed validation, as
-/// [`Model::load`] guarantees). Shell elements are refused: the FE solver has no shell
-/// element yet.
+/// [`Model::load`] guarantees). Shells are `ASDShellQ4` elements
+/// ([`crate::fe::shell::element::ShellElement`]) on `layered_shell` sections; `plate`
+/// sections and corotational shells are refused, naming the element.
 pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain> {
     if !model
         .elements
@@ -232,6 +280,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
     let secs = model.section_map();
     let transfs = model.transformation_map();
     let mut element_index = BTreeMap::new();
+    let node_map = model.node_map();
     for e in &model.elements {
         let tag = i64::from(e.tag);
         let (nodes, transf) = match &e.kind {
@@ -239,11 +288,45 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             | ElementKind::ElasticBeamColumn { nodes, transf, .. }
             | ElementKind::ElasticStrip { nodes, transf, .. } => (*nodes, *transf),
             ElementKind::Panel { .. } => continue, // rigid-body model only
-            ElementKind::Shell { .. } => bail!(
-                "element {}: shell elements are not supported by the FE solver yet \
-                 (model slabs as elastic strips, as data/frame3 does)",
-                e.tag
-            ),
+            ElementKind::Shell {
+                nodes,
+                section,
+                local_x,
+                corotational,
+            } => {
+                if *corotational {
+                    bail!(
+                        "element {}: corotational shells are not supported by the FE solver \
+                         (small-displacement ASDShellQ4 only); set corotational = false",
+                        e.tag
+                    );
+                }
+                let s = secs
+                    .get(section)
+                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
+                let (sec, linear) = shell_section(e.tag, s, &mats)?;
+                let mut coords = [[0.0; 3]; 4];
+                let mut idxs = [0; 4];
+                for ((c, i), n) in coords.iter_mut().zip(&mut idxs).zip(nodes) {
+                    *c = node_map
+                        .get(n)
+                        .ok_or_else(|| anyhow!("element {}: unknown node {n}", e.tag))?
+                        .xyz();
+                    *i = idx(*n)?;
+                }
+                let lx = local_x.unwrap_or([
+                    coords[1][0] - coords[0][0],
+                    coords[1][1] - coords[0][1],
+                    coords[1][2] - coords[0][2],
+                ]);
+                let el = ShellElement::new(tag, idxs, &coords, lx, &sec, linear)
+                    .map_err(|err| anyhow!("element {}: {err}", e.tag))?;
+                let i = domain
+                    .add_element(Box::new(el))
+                    .with_context(|| format!("element {}", e.tag))?;
+                element_index.insert(e.tag, i);
+                continue;
+            }
         };
         let t = transfs
             .get(&transf)

@@ -10,13 +10,14 @@
 //! - Loads: a *constant* part (held after [`Domain::load_const`], like OpenSees'
 //!   `loadConst -time 0.0`) plus one reference pattern scaled by the load factor λ.
 //!
-//! Element end nodes are addressed by their index in the node array
-//! ([`Element::nodes`]); [`Domain::node_index`] maps a node tag to that index.
+//! Element nodes (two for beam-columns, four for shells) are addressed by their index in
+//! the node array ([`Element::nodes`]); [`Domain::node_index`] maps a node tag to that
+//! index.
 
 use std::collections::BTreeMap;
 
 use crate::fe::element::Element;
-use crate::fe::element::{ElementError, EndDisplacements, Vec12};
+use crate::fe::element::{ElementError, EndDisplacements, MAX_ELEMENT_NODES};
 
 /// Degrees of freedom per node.
 pub const NDF: usize = 6;
@@ -75,13 +76,14 @@ pub enum DomainError {
     /// A node index is out of range.
     #[error("node index {0} out of range")]
     NodeIndex(usize),
-    /// An element refers to a node that does not exist, or twice to the same node.
-    #[error("element {tag}: bad end nodes {nodes:?}")]
+    /// An element refers to a node that does not exist, twice to the same node, or to
+    /// fewer than 2 or more than [`MAX_ELEMENT_NODES`] nodes.
+    #[error("element {tag}: bad nodes {nodes:?}")]
     ElementNodes {
         /// The element's tag.
         tag: i64,
-        /// Its end-node indices.
-        nodes: [usize; 2],
+        /// Its node indices.
+        nodes: Vec<usize>,
     },
     /// Two elements share a tag.
     #[error("element {0}: duplicate element tag")]
@@ -215,12 +217,19 @@ impl Domain {
         self.mass[node]
     }
 
-    /// Adds an element; its end nodes must exist. Returns its index.
+    /// Adds an element; its nodes must exist and be distinct. Returns its index.
     pub fn add_element(&mut self, element: Box<dyn Element>) -> Result<usize, DomainError> {
         let tag = element.tag();
         let nodes = element.nodes();
-        if nodes[0] == nodes[1] || nodes.iter().any(|&n| n >= self.nodes.len()) {
-            return Err(DomainError::ElementNodes { tag, nodes });
+        let repeated = (1..nodes.len()).any(|i| nodes[..i].contains(&nodes[i]));
+        if repeated
+            || !(2..=MAX_ELEMENT_NODES).contains(&nodes.len())
+            || nodes.iter().any(|&n| n >= self.nodes.len())
+        {
+            return Err(DomainError::ElementNodes {
+                tag,
+                nodes: nodes.to_vec(),
+            });
         }
         if self.element_by_tag.contains_key(&tag) {
             return Err(DomainError::DuplicateElement(tag));
@@ -297,9 +306,10 @@ impl Domain {
         let n = self.nodes.len();
         let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n];
         for e in &self.elements {
-            let [a, b] = e.nodes();
-            adj[a].push(b);
-            adj[b].push(a);
+            let nodes = e.nodes();
+            for &a in nodes {
+                adj[a].extend(nodes.iter().copied().filter(|&b| b != a));
+            }
         }
         for a in &mut adj {
             a.sort_unstable();
@@ -356,15 +366,14 @@ impl Domain {
         (e != FIXED).then_some(e)
     }
 
-    /// Equation numbers of an element's 12 end DOFs (`None` for fixed DOFs).
-    pub fn element_equations(&self, element: usize) -> [Option<usize>; 12] {
-        let [a, b] = self.elements[element].nodes();
-        let mut out = [None; 12];
-        for k in 0..NDF {
-            out[k] = self.equation(a, k);
-            out[NDF + k] = self.equation(b, k);
-        }
-        out
+    /// Equation numbers of an element's `6 n` DOFs, node by node (`None` for fixed DOFs).
+    pub fn element_equations(&self, element: usize) -> Vec<Option<usize>> {
+        self.elements[element]
+            .nodes()
+            .iter()
+            .flat_map(|&a| (0..NDF).map(move |k| (a, k)))
+            .map(|(a, k)| self.equation(a, k))
+            .collect()
     }
 
     /// Diagonal of the lumped mass matrix over the equations (kg, kg·m²).
@@ -423,10 +432,12 @@ impl Domain {
     pub fn resisting_force(&self, out: &mut [f64]) {
         out.iter_mut().for_each(|x| *x = 0.0);
         let forces = self.map_elements(|_, el| el.resisting_force());
-        for (i, f) in forces.iter().enumerate() {
-            for (k, e) in self.element_equations(i).iter().enumerate() {
-                if let Some(e) = e {
-                    out[*e] += f[k];
+        for (el, f) in self.elements.iter().zip(&forces) {
+            for (a, &node) in el.nodes().iter().enumerate() {
+                for k in 0..NDF {
+                    if let Some(e) = self.equation(node, k) {
+                        out[e] += f[NDF * a + k];
+                    }
                 }
             }
         }
@@ -493,16 +504,19 @@ impl Domain {
     fn update_elements(&mut self) -> Result<(), ElementError> {
         let (disp, seen) = (&self.disp, &self.disp_seen);
         let update = |el: &mut Box<dyn Element>| -> Result<(), ElementError> {
-            let [a, b] = el.nodes();
-            let mut total = Vec12::zeros();
-            let mut delta = Vec12::zeros();
-            for k in 0..NDF {
-                total[k] = disp[a][k];
-                total[NDF + k] = disp[b][k];
-                delta[k] = disp[a][k] - seen[a][k];
-                delta[NDF + k] = disp[b][k] - seen[b][k];
+            let mut total = [0.0; NDF * MAX_ELEMENT_NODES];
+            let mut delta = [0.0; NDF * MAX_ELEMENT_NODES];
+            let n = el.nodes().len();
+            for (i, &a) in el.nodes().iter().enumerate() {
+                for k in 0..NDF {
+                    total[NDF * i + k] = disp[a][k];
+                    delta[NDF * i + k] = disp[a][k] - seen[a][k];
+                }
             }
-            el.set_trial(&EndDisplacements { total, delta })
+            el.set_trial(&EndDisplacements {
+                total: &total[..NDF * n],
+                delta: &delta[..NDF * n],
+            })
         };
         // Every element is updated even after an error; the first error in order wins.
         let first_error = |chunk: &mut [Box<dyn Element>]| first_err(chunk.iter_mut().map(update));

@@ -3,9 +3,10 @@
 //! a `LayeredShell` section (Huang & Lu), reproduced term by term so that the element
 //! matrix equals OpenSees' to round-off.
 //!
-//! **Status:** element stiffness only (initial, elastic tangents of the layers). The shell
-//! is not yet an [`crate::fe::element::Element`] of the domain (which holds two-node
-//! elements); corotational kinematics and the nonlinear layer laws are not implemented.
+//! **Status:** small displacements. [`element::ShellElement`] is the element of the FE
+//! domain (gravity, modal, pushover, transient), with the nonlinear layer laws of
+//! [`layers`]; [`asd_shell_q4_stiffness`] is its linear stiffness on its own. Corotational
+//! kinematics (`-corotational`) are not implemented: the domain refuses such shells.
 //!
 //! Formulation (all in the element's local frame, 2 × 2 Gauss points, 24 DOFs
 //! `[u v w θx θy θz]` per node):
@@ -35,6 +36,9 @@
 
 use std::collections::BTreeMap;
 
+pub mod element;
+pub mod layers;
+
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
 
 use crate::model::{Material, ShellLayer};
@@ -45,9 +49,9 @@ pub type Mat8 = SMatrix<f64, 8, 8>;
 pub type Mat5 = SMatrix<f64, 5, 5>;
 /// 24 × 24 element matrix, DOFs `[ux uy uz rx ry rz]` per node, nodes 1..4.
 pub type Mat24 = SMatrix<f64, 24, 24>;
-type Mat8x24 = SMatrix<f64, 8, 24>;
-type Mat8x4 = SMatrix<f64, 8, 4>;
-type Vec24 = SVector<f64, 24>;
+pub(crate) type Mat8x24 = SMatrix<f64, 8, 24>;
+pub(crate) type Mat8x4 = SMatrix<f64, 8, 4>;
+pub(crate) type Vec24 = SVector<f64, 24>;
 
 /// Failure to build a shell's stiffness.
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
@@ -417,6 +421,172 @@ fn stress_rotation(radians: f64) -> Mat8 {
 /// Drilling stabilisation s of OpenSees' default `ASDShellQ4` (`-drillingStab 0.01`).
 pub const DRILLING_STAB: f64 = 0.01;
 
+/// Element kinematics at one Gauss point (local axes): strain operators and area weight.
+#[derive(Debug, Clone)]
+pub(crate) struct GaussKinematics {
+    /// Generalized strains `[ε11 ε22 γ12 κ11 κ22 κ12 γ23 γ31]` from the 24 local DOFs.
+    pub b: Mat8x24,
+    /// `b` with the θx/θy columns of the bending rows negated (OpenSees' sections return
+    /// moments with the sign of ε = e − zκ): internal forces are ∫ b1ᵀ σ dA.
+    pub b1: Mat8x24,
+    /// Drilling strain operator (s-weighted point value plus centroid value).
+    pub bd: Vec24,
+    /// Enhanced (AGQI) strains of the 4 internal DOFs, element mean removed.
+    pub bq: Mat8x4,
+    /// Jacobian determinant × Gauss weight (m²).
+    pub da: f64,
+}
+
+/// Precomputed kinematics of an `ASDShellQ4` element in its undeformed configuration:
+/// the global → local transformation (with the warpage offsets), the rotation of the
+/// generalized stresses into the section axes, and the four Gauss points.
+#[derive(Debug, Clone)]
+pub(crate) struct ShellKinematics {
+    /// Local DOFs = `t` · global DOFs.
+    pub t: Mat24,
+    /// σ_element = `rs` σ_section, ε_section = `rsᵀ` ε_element (`None` when the section
+    /// axes are the element's).
+    pub rs: Option<Mat8>,
+    /// The 2 × 2 Gauss points.
+    pub gauss: [GaussKinematics; 4],
+}
+
+impl ShellKinematics {
+    /// Kinematics of the quadrilateral `coords` (m, counter-clockwise) with the user's
+    /// local x axis `local_x` (`-local`).
+    pub fn new(coords: &[[f64; 3]; 4], local_x: [f64; 3]) -> Result<Self, ShellError> {
+        let g = coords.map(Vector3::from);
+        let lf = LocalFrame::new(&g)?;
+        // Section angle: the user's x projected on the plane, signed about e3.
+        let e1_local = lf.r.row(0).transpose();
+        let e3 = lf.r.row(2).transpose();
+        let ux = Vector3::from(local_x);
+        let e2u = e3.cross(&ux);
+        let n2 = e2u.norm();
+        if !(n2 > 0.0 && n2.is_finite()) {
+            return Err(ShellError::Invalid(
+                "the local x axis is normal to the shell".into(),
+            ));
+        }
+        let e1u = (e2u / n2).cross(&e3).normalize();
+        let mut angle = e1u.dot(&e1_local).clamp(-1.0, 1.0).acos();
+        if angle != 0.0 && e1u.dot(&lf.r.row(1).transpose()) < 0.0 {
+            angle = -angle;
+        }
+        let rs = (angle != 0.0).then(|| stress_rotation(angle));
+        let mitc = Mitc4::new(&lf);
+        let agq = Agqi::new(&lf);
+        // Mean of the internal strain matrix over the element (strict patch test).
+        let mut bq_mean = Mat8x4::zeros();
+        let mut atot = 0.0;
+        for gp in 0..4 {
+            let da = det_j(&lf, &shape_derivs(XI[gp], ETA[gp]));
+            atot += da;
+            bq_mean += agq.bq(XI[gp], ETA[gp]) * da;
+        }
+        bq_mean /= atot;
+        let drilling_b = |xi: f64, eta: f64| {
+            let n = shape(xi, eta);
+            let dn = agq.gradients(xi, eta);
+            let mut bd = Vec24::zeros();
+            for i in 0..4 {
+                bd[6 * i] = -0.5 * dn[i][1];
+                bd[6 * i + 1] = 0.5 * dn[i][0];
+                bd[6 * i + 5] = -n[i];
+            }
+            bd
+        };
+        let bd0 = drilling_b(0.0, 0.0);
+        let (alpha, beta) = (DRILLING_STAB.sqrt(), (1.0 - DRILLING_STAB).sqrt());
+        let gauss = [0, 1, 2, 3].map(|gp| {
+            let (xi, eta) = (XI[gp], ETA[gp]);
+            let da = det_j(&lf, &shape_derivs(xi, eta));
+            let dn = agq.gradients(xi, eta);
+            let mut b = Mat8x24::zeros();
+            for (i, [dx, dy]) in dn.iter().copied().enumerate() {
+                let c = 6 * i;
+                // membrane
+                b[(0, c)] = dx;
+                b[(1, c + 1)] = dy;
+                b[(2, c)] = dy;
+                b[(2, c + 1)] = dx;
+                // bending
+                b[(3, c + 4)] = -dx;
+                b[(4, c + 3)] = dy;
+                b[(5, c + 3)] = dx;
+                b[(5, c + 4)] = -dy;
+            }
+            // MITC4 transverse shear.
+            let mut msf = SMatrix::<f64, 2, 4>::zeros();
+            msf[(1, 0)] = 1.0 - xi;
+            msf[(0, 1)] = 1.0 - eta;
+            msf[(1, 2)] = 1.0 + xi;
+            msf[(0, 3)] = 1.0 + eta;
+            let mut bn = msf * mitc.shear_strains;
+            let t1 = ((mitc.cx + xi * mitc.bx).powi(2) + (mitc.cy + xi * mitc.by).powi(2)).sqrt()
+                / (8.0 * da);
+            let t2 = ((mitc.ax + eta * mitc.bx).powi(2) + (mitc.ay + eta * mitc.by).powi(2)).sqrt()
+                / (8.0 * da);
+            for c in 0..24 {
+                bn[(0, c)] *= t1;
+                bn[(1, c)] *= t2;
+            }
+            let tbn = mitc.transformation * bn;
+            for c in 0..24 {
+                b[(6, c)] = tbn[(0, c)];
+                b[(7, c)] = tbn[(1, c)];
+            }
+            let mut b1 = b;
+            for r in 3..6 {
+                for i in 0..4 {
+                    b1[(r, 6 * i + 3)] *= -1.0;
+                    b1[(r, 6 * i + 4)] *= -1.0;
+                }
+            }
+            GaussKinematics {
+                b,
+                b1,
+                bd: drilling_b(xi, eta) * alpha + bd0 * beta,
+                bq: agq.bq(xi, eta) - bq_mean,
+                da,
+            }
+        });
+        // Global → local: T = W R (W only for warped elements).
+        let mut t = Mat24::zeros();
+        for blk in 0..8 {
+            t.fixed_view_mut::<3, 3>(3 * blk, 3 * blk).copy_from(&lf.r);
+        }
+        let wf = lf.p[0][2];
+        if wf.abs() > 0.0 {
+            let mut w = Mat24::identity();
+            w[(0, 4)] = -wf;
+            w[(1, 3)] = wf;
+            w[(6, 10)] = wf;
+            w[(7, 9)] = -wf;
+            w[(12, 16)] = -wf;
+            w[(13, 15)] = wf;
+            w[(18, 22)] = wf;
+            w[(19, 21)] = -wf;
+            t = w * t;
+        }
+        Ok(Self { t, rs, gauss })
+    }
+
+    /// A section tangent (section axes) in the element's axes: `rs d rsᵀ`.
+    pub fn to_element(&self, d: &Mat8) -> Mat8 {
+        match &self.rs {
+            Some(rs) => rs * d * rs.transpose(),
+            None => *d,
+        }
+    }
+}
+
+/// Drilling penalty of `ASDShellQ4`: k_d = 0.233 · D₃₃ of the section's initial tangent
+/// (N/m), OpenSees' `-drillingStab` default elastic drilling.
+pub fn drilling_stiffness(d0: &Mat8) -> f64 {
+    0.233 * d0[(2, 2)]
+}
+
 /// Linear stiffness (24 × 24, global axes) of an `ASDShellQ4` element (EAS on, elastic
 /// drilling, small displacements) with nodes `coords` (m, counter-clockwise), the user's
 /// local x axis `local_x` (`-local`; rebar angles are measured from it) and the section
@@ -426,137 +596,26 @@ pub fn asd_shell_q4_stiffness(
     local_x: [f64; 3],
     d: &Mat8,
 ) -> Result<Mat24, ShellError> {
-    let g = coords.map(Vector3::from);
-    let lf = LocalFrame::new(&g)?;
-    // Section angle: the user's x projected on the plane, signed about e3.
-    let e1_local = lf.r.row(0).transpose();
-    let e3 = lf.r.row(2).transpose();
-    let ux = Vector3::from(local_x);
-    let e2u = e3.cross(&ux);
-    let n2 = e2u.norm();
-    if !(n2 > 0.0 && n2.is_finite()) {
-        return Err(ShellError::Invalid(
-            "the local x axis is normal to the shell".into(),
-        ));
-    }
-    let e1u = (e2u / n2).cross(&e3).normalize();
-    let mut angle = e1u.dot(&e1_local).clamp(-1.0, 1.0).acos();
-    if angle != 0.0 && e1u.dot(&lf.r.row(1).transpose()) < 0.0 {
-        angle = -angle;
-    }
-    let dl = if angle != 0.0 {
-        let rs = stress_rotation(angle);
-        rs * d * rs.transpose()
-    } else {
-        *d
-    };
-    let k_drill = 0.233 * d[(2, 2)];
-    let mitc = Mitc4::new(&lf);
-    let agq = Agqi::new(&lf);
-    // Mean of the internal strain matrix over the element (strict patch test).
-    let mut bq_mean = Mat8x4::zeros();
-    let mut atot = 0.0;
-    for gp in 0..4 {
-        let da = det_j(&lf, &shape_derivs(XI[gp], ETA[gp]));
-        atot += da;
-        bq_mean += agq.bq(XI[gp], ETA[gp]) * da;
-    }
-    bq_mean /= atot;
-    let drilling_b = |xi: f64, eta: f64| {
-        let n = shape(xi, eta);
-        let dn = agq.gradients(xi, eta);
-        let mut bd = Vec24::zeros();
-        for i in 0..4 {
-            bd[6 * i] = -0.5 * dn[i][1];
-            bd[6 * i + 1] = 0.5 * dn[i][0];
-            bd[6 * i + 5] = -n[i];
-        }
-        bd
-    };
-    let bd0 = drilling_b(0.0, 0.0);
-    let (alpha, beta) = (DRILLING_STAB.sqrt(), (1.0 - DRILLING_STAB).sqrt());
+    let kin = ShellKinematics::new(coords, local_x)?;
+    let dl = kin.to_element(d);
+    let k_drill = drilling_stiffness(d);
     let mut k = Mat24::zeros();
     let mut kqq = SMatrix::<f64, 4, 4>::zeros();
     let mut kqu = SMatrix::<f64, 4, 24>::zeros();
     let mut kuq = SMatrix::<f64, 24, 4>::zeros();
-    for gp in 0..4 {
-        let (xi, eta) = (XI[gp], ETA[gp]);
-        let da = det_j(&lf, &shape_derivs(xi, eta));
-        let dn = agq.gradients(xi, eta);
-        let mut b = Mat8x24::zeros();
-        for (i, [dx, dy]) in dn.iter().copied().enumerate() {
-            let c = 6 * i;
-            // membrane
-            b[(0, c)] = dx;
-            b[(1, c + 1)] = dy;
-            b[(2, c)] = dy;
-            b[(2, c + 1)] = dx;
-            // bending
-            b[(3, c + 4)] = -dx;
-            b[(4, c + 3)] = dy;
-            b[(5, c + 3)] = dx;
-            b[(5, c + 4)] = -dy;
-        }
-        // MITC4 transverse shear.
-        let mut msf = SMatrix::<f64, 2, 4>::zeros();
-        msf[(1, 0)] = 1.0 - xi;
-        msf[(0, 1)] = 1.0 - eta;
-        msf[(1, 2)] = 1.0 + xi;
-        msf[(0, 3)] = 1.0 + eta;
-        let mut bn = msf * mitc.shear_strains;
-        let t1 = ((mitc.cx + xi * mitc.bx).powi(2) + (mitc.cy + xi * mitc.by).powi(2)).sqrt()
-            / (8.0 * da);
-        let t2 = ((mitc.ax + eta * mitc.bx).powi(2) + (mitc.ay + eta * mitc.by).powi(2)).sqrt()
-            / (8.0 * da);
-        for c in 0..24 {
-            bn[(0, c)] *= t1;
-            bn[(1, c)] *= t2;
-        }
-        let tbn = mitc.transformation * bn;
-        for c in 0..24 {
-            b[(6, c)] = tbn[(0, c)];
-            b[(7, c)] = tbn[(1, c)];
-        }
-        let bq = agq.bq(xi, eta) - bq_mean;
-        let bd = drilling_b(xi, eta) * alpha + bd0 * beta;
-        let mut b1 = b;
-        for r in 3..6 {
-            for i in 0..4 {
-                b1[(r, 6 * i + 3)] *= -1.0;
-                b1[(r, 6 * i + 4)] *= -1.0;
-            }
-        }
-        k += b1.transpose() * dl * b * da;
-        k += bd * bd.transpose() * (k_drill * da);
-        kqq += bq.transpose() * dl * bq * da;
-        kqu += bq.transpose() * dl * b * da;
-        kuq += b1.transpose() * dl * bq * da;
+    for g in &kin.gauss {
+        k += g.b1.transpose() * dl * g.b * g.da;
+        k += g.bd * g.bd.transpose() * (k_drill * g.da);
+        kqq += g.bq.transpose() * dl * g.bq * g.da;
+        kqu += g.bq.transpose() * dl * g.b * g.da;
+        kuq += g.b1.transpose() * dl * g.bq * g.da;
     }
     let kqq_inv = kqq
         .try_inverse()
         .ok_or_else(|| ShellError::Invalid("singular enhanced-strain stiffness".into()))?;
     k -= kuq * kqq_inv * kqu;
-    // Global: T = W R (W only for warped elements).
-    let mut t = Mat24::zeros();
-    for blk in 0..8 {
-        t.fixed_view_mut::<3, 3>(3 * blk, 3 * blk).copy_from(&lf.r);
-    }
-    let wf = lf.p[0][2];
-    if wf.abs() > 0.0 {
-        let mut w = Mat24::identity();
-        w[(0, 4)] = -wf;
-        w[(1, 3)] = wf;
-        w[(6, 10)] = wf;
-        w[(7, 9)] = -wf;
-        w[(12, 16)] = -wf;
-        w[(13, 15)] = wf;
-        w[(18, 22)] = wf;
-        w[(19, 21)] = -wf;
-        t = w * t;
-    }
-    Ok(t.transpose() * k * t)
+    Ok(kin.t.transpose() * k * kin.t)
 }
-
 /// The linear stiffness (global axes) and node tags of a model's shell element with a
 /// `layered_shell` section: layer tangents from the section (rebar from its uniaxial
 /// material's initial tangent), local x from the element (`local_x`, default the edge

@@ -166,7 +166,7 @@ pub fn wall_layers(
     let (e, nu, fc, ft) = concrete;
     let (tv, th) = (rho_v * t / 2.0, rho_h * t / 2.0);
     let core = t - 2.0 * (cover + tv + th);
-    if !(core > 0.0) || core_layers == 0 {
+    if core.is_nan() || core <= 0.0 || core_layers == 0 {
         bail!(
             "wall of {t} m: cover {cover} m and rebar layers {tv:.5} + {th:.5} m per face \
              leave no core ({core:.4} m), or no core layers"

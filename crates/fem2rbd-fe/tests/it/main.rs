@@ -46,8 +46,10 @@ mod fe {
         mod protocol;
     }
     mod shell {
+        mod building;
         mod frame_modal;
         mod model;
+        mod nonlinear;
         mod stiffness;
         mod support;
         mod wall;

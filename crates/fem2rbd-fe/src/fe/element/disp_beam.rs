@@ -9,9 +9,10 @@
 
 use super::beam::{damage_of, section_states, transform_error, BeamColumn, SectionState};
 use super::quadrature::gauss_legendre;
-use super::{Element, ElementDamage, ElementError, EndDisplacements, Mat12, Vec12};
+use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements};
 use crate::fe::section::Section;
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
+use nalgebra::{DMatrix, DVector};
 use nalgebra::{SMatrix, Vector6};
 
 type Mat4x6 = SMatrix<f64, 4, 6>;
@@ -120,12 +121,12 @@ impl Element for DispBeam3d {
     fn tag(&self) -> i64 {
         self.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
         self.transf
-            .update(&disp.total)
+            .update(&disp.total12())
             .map_err(|e| transform_error(self.tag, e))?;
         self.v = self.transf.basic_deformations();
         self.state_determination();
@@ -137,17 +138,19 @@ impl Element for DispBeam3d {
         }
         Ok(())
     }
-    fn resisting_force(&self) -> Vec12 {
-        self.transf.global_resisting_force(&self.q)
+    fn resisting_force(&self) -> DVector<f64> {
+        dvec(&self.transf.global_resisting_force(&self.q))
     }
-    fn tangent_stiffness(&self) -> Mat12 {
-        self.transf.global_stiffness(&self.kb, &self.q)
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.global_stiffness(&self.kb, &self.q))
     }
-    fn initial_stiffness(&self) -> Mat12 {
-        self.transf.initial_global_stiffness(&self.kb0)
+    fn initial_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.initial_global_stiffness(&self.kb0))
     }
-    fn damping_stiffness(&self) -> Option<Mat12> {
-        self.transf.trial_initial_global_stiffness(&self.kb0)
+    fn damping_stiffness(&self) -> Option<DMatrix<f64>> {
+        self.transf
+            .trial_initial_global_stiffness(&self.kb0)
+            .map(|k| dmat(&k))
     }
     fn commit_state(&mut self) {
         self.transf.commit();

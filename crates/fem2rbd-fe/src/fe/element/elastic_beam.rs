@@ -5,9 +5,10 @@
 //! `T = GJ/L φ`.
 
 use super::beam::{transform_error, BeamColumn, SectionState};
-use super::{Element, ElementError, EndDisplacements, Mat12, Vec12};
+use super::{dmat, dvec, Element, ElementError, EndDisplacements};
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
 use nalgebra::Vector6;
+use nalgebra::{DMatrix, DVector};
 
 /// Properties of an elastic beam-column (SI).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,24 +95,24 @@ impl Element for ElasticBeam3d {
     fn tag(&self) -> i64 {
         self.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
         self.transf
-            .update(&disp.total)
+            .update(&disp.total12())
             .map_err(|e| transform_error(self.tag, e))?;
         self.v = self.transf.basic_deformations();
         Ok(())
     }
-    fn resisting_force(&self) -> Vec12 {
-        self.transf.global_resisting_force(&(self.kb * self.v))
+    fn resisting_force(&self) -> DVector<f64> {
+        dvec(&self.transf.global_resisting_force(&(self.kb * self.v)))
     }
-    fn tangent_stiffness(&self) -> Mat12 {
-        self.transf.global_stiffness(&self.kb, &(self.kb * self.v))
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.global_stiffness(&self.kb, &(self.kb * self.v)))
     }
-    fn initial_stiffness(&self) -> Mat12 {
-        self.transf.initial_global_stiffness(&self.kb)
+    fn initial_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.initial_global_stiffness(&self.kb))
     }
     fn commit_state(&mut self) {
         self.transf.commit();

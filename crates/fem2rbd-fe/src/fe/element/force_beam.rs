@@ -22,9 +22,10 @@
 
 use super::beam::{damage_of, section_states, transform_error, BeamColumn, SectionState};
 use super::quadrature::gauss_lobatto;
-use super::{Element, ElementDamage, ElementError, EndDisplacements, Mat12, Vec12};
+use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements};
 use crate::fe::section::{flexibility, Section};
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
+use nalgebra::{DMatrix, DVector};
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector6};
 
 type Mat4x6 = SMatrix<f64, 4, 6>;
@@ -281,24 +282,24 @@ impl Element for ForceBeam3d {
     fn tag(&self) -> i64 {
         self.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
         self.transf
-            .update(&disp.total)
+            .update(&disp.total12())
             .map_err(|e| transform_error(self.tag, e))?;
         let v = self.transf.basic_deformations();
         self.state_determination(v)
     }
-    fn resisting_force(&self) -> Vec12 {
-        self.transf.global_resisting_force(&self.trial.q)
+    fn resisting_force(&self) -> DVector<f64> {
+        dvec(&self.transf.global_resisting_force(&self.trial.q))
     }
-    fn tangent_stiffness(&self) -> Mat12 {
-        self.transf.global_stiffness(&self.trial.kv, &self.trial.q)
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.global_stiffness(&self.trial.kv, &self.trial.q))
     }
-    fn initial_stiffness(&self) -> Mat12 {
-        self.transf.initial_global_stiffness(&self.kv0)
+    fn initial_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.transf.initial_global_stiffness(&self.kv0))
     }
     fn commit_state(&mut self) {
         self.transf.commit();

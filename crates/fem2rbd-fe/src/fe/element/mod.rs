@@ -1,11 +1,13 @@
-//! Beam-column elements (3D, two nodes, 6 DOF per node): elastic, displacement-based
-//! fiber (Gauss-Legendre) and force-based fiber (Gauss-Lobatto).
+//! Structural elements (3D, 6 DOF per node): beam-columns with two nodes (elastic,
+//! displacement-based fiber with Gauss-Legendre, force-based fiber with Gauss-Lobatto
+//! points) and the four-node layered shell ([`crate::fe::shell::ShellElement`]).
 //!
 //! The contract between elements and the analysis layer is [`Element`]: the domain
-//! hands each element the trial displacements of its end nodes, and reads back the
-//! resisting force and tangent stiffness in global coordinates.
+//! hands each element the trial displacements of its nodes (6 per node, in the element's
+//! node order), and reads back the resisting force and tangent stiffness in global
+//! coordinates, `6 n` components for `n` nodes.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 /// 12-component vector of element end quantities, global axes:
 /// `[ux_i, uy_i, uz_i, rx_i, ry_i, rz_i, ux_j, uy_j, uz_j, rx_j, ry_j, rz_j]` (m, rad / N, N·m).
@@ -13,15 +15,36 @@ pub type Vec12 = SVector<f64, 12>;
 /// 12 × 12 matrix in the DOF order of [`Vec12`].
 pub type Mat12 = SMatrix<f64, 12, 12>;
 
-/// End-node kinematics handed to an element for one Newton iteration.
+/// Most nodes an element of the domain may have.
+pub const MAX_ELEMENT_NODES: usize = 4;
+
+/// Nodal kinematics handed to an element for one Newton iteration: `6 n` components,
+/// `[ux uy uz rx ry rz]` of each of the element's `n` nodes in its node order (global).
 #[derive(Debug, Clone, Copy)]
-pub struct EndDisplacements {
-    /// Total trial displacements and rotations of both end nodes since the start (global).
-    pub total: Vec12,
-    /// Increment since the previous iteration (global). Corotational transformations
+pub struct EndDisplacements<'a> {
+    /// Total trial displacements and rotations of the nodes since the start (global).
+    pub total: &'a [f64],
+    /// Increment since the previous iteration (global). Corotational formulations
     /// compound the rotational part onto their nodal triads, as OpenSees'
     /// `CorotCrdTransf3d` does with `getIncrDeltaDisp()`.
-    pub delta: Vec12,
+    pub delta: &'a [f64],
+}
+
+impl EndDisplacements<'_> {
+    /// The totals of a two-node element as a [`Vec12`] (panics on another length).
+    pub fn total12(&self) -> Vec12 {
+        Vec12::from_column_slice(self.total)
+    }
+}
+
+/// A fixed-size vector as a dynamic one (the [`Element`] interface).
+pub fn dvec<const N: usize>(v: &SVector<f64, N>) -> DVector<f64> {
+    DVector::from_column_slice(v.as_slice())
+}
+
+/// A fixed-size matrix as a dynamic one (the [`Element`] interface).
+pub fn dmat<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> DMatrix<f64> {
+    DMatrix::from_column_slice(R, C, m.as_slice())
 }
 
 /// Damage state of an element, for the collapse criteria and the hand-off.
@@ -45,30 +68,32 @@ pub struct ElementError {
     pub reason: String,
 }
 
-/// A two-node, 12-DOF structural element. `Sync` so that the analysis can read the
-/// elements' forces and stiffnesses on several threads at once
-/// ([`crate::fe::domain::Domain::map_elements`]).
+/// A structural element with `n` nodes of 6 DOFs (`n` = 2 for beam-columns, 4 for
+/// shells); vectors and matrices have `6 n` rows in the order of [`EndDisplacements`].
+/// `Sync` so that the analysis can read the elements' forces and stiffnesses on several
+/// threads at once ([`crate::fe::domain::Domain::map_elements`]).
 pub trait Element: std::fmt::Debug + Send + Sync {
     /// The element's tag (id in the model).
     fn tag(&self) -> i64;
-    /// Indices of the end nodes i and j in the domain's node arrays.
-    fn nodes(&self) -> [usize; 2];
-    /// Sets the trial state from the end-node displacements.
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError>;
-    /// Resisting force of the trial state, global axes (N, N·m).
-    fn resisting_force(&self) -> Vec12;
+    /// Indices of the nodes in the domain's node arrays (end nodes i, j of a beam-column;
+    /// the four corners of a shell), at most [`MAX_ELEMENT_NODES`].
+    fn nodes(&self) -> &[usize];
+    /// Sets the trial state from the nodal displacements.
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError>;
+    /// Resisting force of the trial state, global axes (N, N·m), `6 n` components.
+    fn resisting_force(&self) -> DVector<f64>;
     /// Tangent stiffness of the trial state, global axes (material + geometric).
-    fn tangent_stiffness(&self) -> Mat12;
+    fn tangent_stiffness(&self) -> DMatrix<f64>;
     /// Stiffness of the undeformed, undamaged element (for initial-stiffness Rayleigh
     /// damping and modified Newton with the initial tangent).
-    fn initial_stiffness(&self) -> Mat12;
+    fn initial_stiffness(&self) -> DMatrix<f64>;
     /// Stiffness for the stiffness-proportional part of initial-stiffness Rayleigh
     /// damping when it follows the trial configuration, `None` (the default) when it is
     /// [`Self::initial_stiffness`]. OpenSees's `DispBeamColumn3d` re-evaluates its
     /// initial stiffness with the corotational transformation's trial geometry each time
     /// the damping force is formed (`Element::getRayleighDampingForces` →
     /// `getInitialStiff`), whereas `ForceBeamColumn3d` caches it once.
-    fn damping_stiffness(&self) -> Option<Mat12> {
+    fn damping_stiffness(&self) -> Option<DMatrix<f64>> {
         None
     }
     /// Accepts the trial state.

@@ -22,11 +22,11 @@ const NONE: usize = usize::MAX;
 #[derive(Debug, Clone)]
 pub struct SparsePattern {
     symbolic: SymbolicSparseColMat<usize>,
-    /// Per element, 144 value positions (row-major over the 12×12 element matrix),
-    /// `NONE` where a row or column is a fixed DOF.
-    element_slots: Vec<[usize; 144]>,
-    /// Per element, the equation numbers of its 12 DOFs (`None` for fixed DOFs).
-    element_eqs: Vec<[Option<usize>; 12]>,
+    /// Per element with `m = 6 n` DOFs, `m²` value positions (row-major over the element
+    /// matrix), `NONE` where a row or column is a fixed DOF.
+    element_slots: Vec<Vec<usize>>,
+    /// Per element, the equation numbers of its `6 n` DOFs (`None` for fixed DOFs).
+    element_eqs: Vec<Vec<Option<usize>>>,
     /// Value position of each diagonal entry.
     diagonal_slots: Vec<usize>,
 }
@@ -39,7 +39,7 @@ impl SparsePattern {
         }
         let n = domain.num_equations();
         let mut cols: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
-        let eqs: Vec<[Option<usize>; 12]> = (0..domain.elements().len())
+        let eqs: Vec<Vec<Option<usize>>> = (0..domain.elements().len())
             .map(|e| domain.element_equations(e))
             .collect();
         for el in &eqs {
@@ -65,11 +65,12 @@ impl SparsePattern {
         let element_slots = eqs
             .iter()
             .map(|el| {
-                let mut s = [NONE; 144];
+                let m = el.len();
+                let mut s = vec![NONE; m * m];
                 for (i, r) in el.iter().enumerate() {
                     for (j, c) in el.iter().enumerate() {
                         if let (Some(r), Some(c)) = (r, c) {
-                            s[12 * i + j] = slot(*r, *c);
+                            s[m * i + j] = slot(*r, *c);
                         }
                     }
                 }
@@ -126,9 +127,10 @@ impl SparsePattern {
             StiffnessKind::Initial => el.initial_stiffness(),
         });
         for (k, slots) in ks.iter().zip(&self.element_slots) {
-            for i in 0..12 {
-                for j in 0..12 {
-                    let s = slots[12 * i + j];
+            let m = k.nrows();
+            for i in 0..m {
+                for j in 0..m {
+                    let s = slots[m * i + j];
                     if s != NONE {
                         values[s] += factor * k[(i, j)];
                     }
@@ -146,9 +148,10 @@ impl SparsePattern {
                 continue;
             }
             let k = el.initial_stiffness();
-            for i in 0..12 {
-                for j in 0..12 {
-                    let s = slots[12 * i + j];
+            let m = k.nrows();
+            for i in 0..m {
+                for j in 0..m {
+                    let s = slots[m * i + j];
                     if s != NONE {
                         values[s] += factor * k[(i, j)];
                     }
@@ -165,7 +168,7 @@ impl SparsePattern {
         let products = domain.map_elements(|e, el| {
             let k = el.damping_stiffness()?;
             let eqs = &self.element_eqs[e];
-            let mut out = [0.0; 12];
+            let mut out = vec![0.0; eqs.len()];
             for (i, ri) in eqs.iter().enumerate() {
                 if ri.is_none() {
                     continue;
@@ -200,9 +203,10 @@ impl SparsePattern {
             let Some(k) = k else {
                 continue;
             };
-            for i in 0..12 {
-                for j in 0..12 {
-                    let s = slots[12 * i + j];
+            let m = k.nrows();
+            for i in 0..m {
+                for j in 0..m {
+                    let s = slots[m * i + j];
                     if s != NONE {
                         values[s] += factor * k[(i, j)];
                     }

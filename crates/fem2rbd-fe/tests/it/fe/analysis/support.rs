@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use fem2rbd_fe::fe::domain::Domain;
-use fem2rbd_fe::fe::element::{Element, ElementError, EndDisplacements, Mat12, Vec12};
+use fem2rbd_fe::fe::element::{dmat, dvec, Element, ElementError, EndDisplacements, Mat12, Vec12};
+use nalgebra::{DMatrix, DVector};
 use nalgebra::{Matrix3, Vector3};
 
 /// Section properties (SI).
@@ -93,21 +94,21 @@ impl Element for ElasticFrame {
     fn tag(&self) -> i64 {
         self.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
-        self.u = disp.total;
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
+        self.u = Vec12::from_column_slice(disp.total);
         Ok(())
     }
-    fn resisting_force(&self) -> Vec12 {
-        self.k * self.u
+    fn resisting_force(&self) -> DVector<f64> {
+        dvec(&(self.k * self.u))
     }
-    fn tangent_stiffness(&self) -> Mat12 {
-        self.k
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.k)
     }
-    fn initial_stiffness(&self) -> Mat12 {
-        self.k
+    fn initial_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.k)
     }
     fn commit_state(&mut self) {}
     fn revert_to_last_commit(&mut self) {}
@@ -147,13 +148,13 @@ impl Element for Failing {
     fn tag(&self) -> i64 {
         self.inner.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.inner.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.inner.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
-        self.inner.u = disp.total;
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
+        self.inner.u = Vec12::from_column_slice(disp.total);
         if let FailMode::ErrorBeyond(lim) = self.mode {
-            if disp.total.amax() > lim {
+            if disp.total.iter().any(|x| x.abs() > lim) {
                 return Err(ElementError {
                     element: self.inner.tag,
                     reason: "limit".into(),
@@ -162,20 +163,20 @@ impl Element for Failing {
         }
         Ok(())
     }
-    fn resisting_force(&self) -> Vec12 {
+    fn resisting_force(&self) -> DVector<f64> {
         match self.mode {
-            FailMode::NanBeyond(lim) if self.inner.u.amax() > lim => Vec12::repeat(f64::NAN),
+            FailMode::NanBeyond(lim) if self.inner.u.amax() > lim => DVector::repeat(12, f64::NAN),
             _ => self.inner.resisting_force(),
         }
     }
-    fn tangent_stiffness(&self) -> Mat12 {
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
         match self.mode {
-            FailMode::NanTangent => Mat12::repeat(f64::NAN),
-            _ => self.inner.k,
+            FailMode::NanTangent => DMatrix::repeat(12, 12, f64::NAN),
+            _ => dmat(&self.inner.k),
         }
     }
-    fn initial_stiffness(&self) -> Mat12 {
-        self.inner.k
+    fn initial_stiffness(&self) -> DMatrix<f64> {
+        dmat(&self.inner.k)
     }
     fn commit_state(&mut self) {
         self.committed = self.inner.u;
@@ -283,36 +284,36 @@ impl Element for CubicSpring {
     fn tag(&self) -> i64 {
         self.tag
     }
-    fn nodes(&self) -> [usize; 2] {
-        self.nodes
+    fn nodes(&self) -> &[usize] {
+        &self.nodes
     }
-    fn set_trial(&mut self, disp: &EndDisplacements) -> Result<(), ElementError> {
+    fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
         self.delta = disp.total[6] - disp.total[0];
         Ok(())
     }
-    fn resisting_force(&self) -> Vec12 {
+    fn resisting_force(&self) -> DVector<f64> {
         let n = self.k * self.delta + self.k3 * self.delta.powi(3);
         let mut f = Vec12::zeros();
         f[0] = -n;
         f[6] = n;
-        f
+        dvec(&f)
     }
-    fn tangent_stiffness(&self) -> Mat12 {
+    fn tangent_stiffness(&self) -> DMatrix<f64> {
         let kt = self.k + 3.0 * self.k3 * self.delta * self.delta;
         let mut m = Mat12::zeros();
         m[(0, 0)] = kt;
         m[(6, 6)] = kt;
         m[(0, 6)] = -kt;
         m[(6, 0)] = -kt;
-        m
+        dmat(&m)
     }
-    fn initial_stiffness(&self) -> Mat12 {
+    fn initial_stiffness(&self) -> DMatrix<f64> {
         let mut m = Mat12::zeros();
         m[(0, 0)] = self.k;
         m[(6, 6)] = self.k;
         m[(0, 6)] = -self.k;
         m[(6, 0)] = -self.k;
-        m
+        dmat(&m)
     }
     fn commit_state(&mut self) {}
     fn revert_to_last_commit(&mut self) {}

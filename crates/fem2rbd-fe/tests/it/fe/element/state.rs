@@ -48,11 +48,20 @@ fn forms() -> Vec<Formulation> {
     ]
 }
 
-fn disp(total: Vec12, prev: Vec12) -> EndDisplacements {
-    EndDisplacements {
-        total,
-        delta: total - prev,
+/// Totals and increments of a two-node element, owned ([`EndDisplacements`] borrows).
+struct Disp(Vec12, Vec12);
+
+impl Disp {
+    fn view(&self) -> EndDisplacements<'_> {
+        EndDisplacements {
+            total: self.0.as_slice(),
+            delta: self.1.as_slice(),
+        }
     }
+}
+
+fn disp(total: Vec12, prev: Vec12) -> Disp {
+    Disp(total, total - prev)
 }
 
 #[test]
@@ -64,7 +73,7 @@ fn revert_restores_the_committed_state() {
             let mut u1 = Vec12::zeros();
             u1[6] = 0.02;
             u1[10] = 0.01;
-            el.set_trial(&disp(u1, Vec12::zeros())).unwrap();
+            el.set_trial(&disp(u1, Vec12::zeros()).view()).unwrap();
             el.commit_state();
             let f1 = el.resisting_force();
             let k1 = el.tangent_stiffness();
@@ -74,27 +83,27 @@ fn revert_restores_the_committed_state() {
             let mut u2 = u1;
             u2[6] = 0.05;
             u2[9] = 0.03;
-            el.set_trial(&disp(u2, u1)).unwrap();
-            assert!((el.resisting_force() - f1).norm() > 1e-3 * f1.norm());
+            el.set_trial(&disp(u2, u1).view()).unwrap();
+            assert!((el.resisting_force() - &f1).norm() > 1e-3 * f1.norm());
             el.revert_to_last_commit();
             let fr = el.resisting_force();
             assert!(
-                (fr - f1).norm() <= 1e-9 * f1.norm(),
+                (&fr - &f1).norm() <= 1e-9 * f1.norm(),
                 "{kind:?} {form:?}: after revert {fr} vs {f1}"
             );
             assert!(
-                (el.tangent_stiffness() - k1).norm() <= 1e-9 * k1.norm(),
+                (el.tangent_stiffness() - &k1).norm() <= 1e-9 * k1.norm(),
                 "{kind:?} {form:?}: tangent after revert"
             );
             // Setting the committed displacements again gives the committed forces.
-            el.set_trial(&disp(u1, u1)).unwrap();
-            assert!((el.resisting_force() - f1).norm() <= 1e-8 * f1.norm());
+            el.set_trial(&disp(u1, u1).view()).unwrap();
+            assert!((el.resisting_force() - &f1).norm() <= 1e-8 * f1.norm());
             // Unloading back to zero leaves a residual (plastic) force state for the
             // disp-based element's sections, but the initial stiffness is unchanged and
             // equals the tangent of a fresh element.
             let fresh = element(form, kind);
             assert!(
-                (el.initial_stiffness() - fresh.tangent_stiffness()).norm()
+                (el.initial_stiffness() - &fresh.tangent_stiffness()).norm()
                     <= 1e-9 * fresh.tangent_stiffness().norm()
             );
             // The section states report the extreme fiber strains of the trial state.
@@ -116,7 +125,7 @@ fn force_based_element_reports_failure_beyond_capacity() {
     let mut el = element(forms()[0], TransformKind::Linear);
     let mut u = Vec12::zeros();
     u[8] = -0.001; // top moves down 1 mm: ε = −5e-4, elastic
-    el.set_trial(&disp(u, Vec12::zeros())).unwrap();
+    el.set_trial(&disp(u, Vec12::zeros()).view()).unwrap();
     el.commit_state();
     let f = el.resisting_force();
     // Resisting force at the top node, global Z: N = −EA ε.
@@ -127,11 +136,11 @@ fn force_based_element_reports_failure_beyond_capacity() {
     );
     let mut u2 = u;
     u2[8] = -0.02; // ε = −1e-2 ≫ εy: all fibers yield, no tangent
-    let err = el.set_trial(&disp(u2, u)).unwrap_err();
+    let err = el.set_trial(&disp(u2, u).view()).unwrap_err();
     assert_eq!(err.element, 7);
     assert!(err.reason.contains("compatible"), "{}", err.reason);
     el.revert_to_last_commit();
-    assert!((el.resisting_force() - f).norm() < 1e-9 * f.norm());
+    assert!((el.resisting_force() - &f).norm() < 1e-9 * f.norm());
 }
 
 #[test]

@@ -276,7 +276,7 @@ impl Model {
         }
     }
 
-    fn gather(&self, u: &DVector<f64>, nodes: [usize; 2]) -> Vec12 {
+    fn gather(&self, u: &DVector<f64>, nodes: &[usize]) -> Vec12 {
         let mut v = Vec12::zeros();
         for (k, n) in nodes.iter().enumerate() {
             for d in 0..6 {
@@ -296,10 +296,11 @@ impl Model {
         let mut r = DVector::zeros(n);
         let mut k = DMatrix::zeros(n, n);
         for i in 0..self.elements.len() {
-            let nodes = self.elements[i].nodes();
+            let nodes: [usize; 2] = self.elements[i].nodes().try_into().unwrap();
+            let (total, delta) = (self.gather(u, &nodes), self.gather(du, &nodes));
             let disp = EndDisplacements {
-                total: self.gather(u, nodes),
-                delta: self.gather(du, nodes),
+                total: total.as_slice(),
+                delta: delta.as_slice(),
             };
             let e = &mut self.elements[i];
             e.set_trial(&disp).map_err(|e| e.to_string())?;
