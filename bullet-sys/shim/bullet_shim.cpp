@@ -7,9 +7,19 @@
 #include <BulletDynamics/ConstraintSolver/btFixedConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
 
+#include <LinearMath/btQuickprof.h>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <unordered_map>
 #include <memory>
 #include <new>
 #include <string>
@@ -18,6 +28,7 @@
 
 extern btScalar gDbvtMargin;
 extern btScalar gContactBreakingThreshold;
+extern btScalar gDeactivationTime;
 
 namespace {
 
@@ -94,6 +105,223 @@ void zero_feedback(btJointFeedback &fb) {
     fb.m_appliedTorqueBodyB.setZero();
 }
 
+
+// ---- island-parallel solving -------------------------------------------------------------
+//
+// btDiscreteDynamicsWorld::solveConstraints hands the solver one batch of islands at a time
+// (solveGroup: islands merged until they hold more than m_minimumSolverBatchSize constraints
+// and manifolds), between prepareSolve() and allSolved(). Batches share no dynamic body, no
+// manifold and no constraint; they share only static and kinematic bodies, which the solver
+// reads but never changes (infinite mass: their solver bodies take no impulse).
+//
+// In Debian's build (no BT_THREADSAFE) a kinematic body gets its solver-body index through
+// btCollisionObject::setCompanionId, which solveSingleIteration reads back on every iteration
+// (getOrInitSolverBody for each enabled joint). To give every batch the same index for the
+// same kinematic body, each batch's body list starts with all kinematic bodies of the world,
+// in world order: they become solver bodies 0..K-1 in every batch, and the companion id any
+// thread reads is the same number. The arithmetic is unchanged (a solver body's index enters
+// no sum; each row's impulses are computed in the same order).
+//
+// Phase order: setup of every batch (in batch order, calling thread), the iterations of the
+// batches on up to n threads (a batch is one task; the assignment does not matter, the
+// batches are independent), then the finish of every batch in batch order (write-back of
+// velocities, contact and joint impulses, joint feedback, breaking).
+class JobSolver : public btSequentialImpulseConstraintSolver {
+   public:
+    btScalar setup(btCollisionObject **b, int nb, btPersistentManifold **m, int nm, btTypedConstraint **c, int nc,
+                   const btContactSolverInfo &info, btIDebugDraw *dd) {
+        return solveGroupCacheFriendlySetup(b, nb, m, nm, c, nc, info, dd);
+    }
+    btScalar iterate(btCollisionObject **b, int nb, btPersistentManifold **m, int nm, btTypedConstraint **c, int nc,
+                     const btContactSolverInfo &info, btIDebugDraw *dd) {
+        return solveGroupCacheFriendlyIterations(b, nb, m, nm, c, nc, info, dd);
+    }
+    btScalar finish(btCollisionObject **b, int nb, const btContactSolverInfo &info) {
+        return solveGroupCacheFriendlyFinish(b, nb, info);
+    }
+    long long rows() const {
+        return static_cast<long long>(m_tmpSolverContactConstraintPool.size()) +
+               m_tmpSolverNonContactConstraintPool.size() + m_tmpSolverContactFrictionConstraintPool.size() +
+               m_tmpSolverContactRollingFrictionConstraintPool.size();
+    }
+};
+
+struct SolverJob {
+    std::vector<btCollisionObject *> bodies;
+    std::vector<btPersistentManifold *> manifolds;
+    std::vector<btTypedConstraint *> constraints;
+    long long rows = 0;
+};
+
+class ParallelIslandSolver : public btSequentialImpulseConstraintSolver {
+   public:
+    int threads = 1;
+    std::vector<btCollisionObject *> kinematic;  // set by the world before each step
+    bs_island_stats stats{};
+
+    void prepareSolve(int a, int b) override {
+        btSequentialImpulseConstraintSolver::prepareSolve(a, b);
+        njobs_ = 0;
+        largest_ = 0;
+    }
+
+    btScalar solveGroup(btCollisionObject **bodies, int numBodies, btPersistentManifold **manifolds, int numManifolds,
+                        btTypedConstraint **constraints, int numConstraints, const btContactSolverInfo &info,
+                        btIDebugDraw *dd, btDispatcher *dispatcher) override {
+        if (threads <= 1 || info.m_splitImpulse) {
+            // Bullet's own sequential path (btSequentialImpulseConstraintSolver::solveGroup).
+            BT_PROFILE("solveGroup");
+            solveGroupCacheFriendlySetup(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, dd);
+            long long rows = static_cast<long long>(m_tmpSolverContactConstraintPool.size()) +
+                             m_tmpSolverNonContactConstraintPool.size() +
+                             m_tmpSolverContactFrictionConstraintPool.size() +
+                             m_tmpSolverContactRollingFrictionConstraintPool.size();
+            count(rows, numBodies);
+            solveGroupCacheFriendlyIterations(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, dd);
+            solveGroupCacheFriendlyFinish(bodies, numBodies, info);
+            (void)dispatcher;
+            return 0;
+        }
+        if (jobs_.size() <= njobs_) jobs_.emplace_back();
+        SolverJob &j = jobs_[njobs_++];
+        j.bodies.assign(kinematic.begin(), kinematic.end());
+        j.bodies.insert(j.bodies.end(), bodies, bodies + numBodies);
+        j.manifolds.assign(manifolds, manifolds + numManifolds);
+        j.constraints.assign(constraints, constraints + numConstraints);
+        awake_ += numBodies;
+        return 0;
+    }
+
+    void allSolved(const btContactSolverInfo &info, btIDebugDraw *dd) override {
+        if (njobs_ > 0) run_jobs(info, dd);
+        stats.substeps += 1;
+        stats.rows_largest += largest_;
+        stats.bodies_awake += awake_;
+        awake_ = 0;
+        btSequentialImpulseConstraintSolver::allSolved(info, dd);
+    }
+
+   private:
+    std::vector<SolverJob> jobs_;
+    std::vector<std::unique_ptr<JobSolver>> solvers_;
+    size_t njobs_ = 0;
+    long long largest_ = 0;
+    long long awake_ = 0;
+
+    void count(long long rows, int bodies) {
+        stats.batches += 1;
+        stats.rows_total += rows;
+        largest_ = std::max(largest_, rows);
+        awake_ += bodies;
+    }
+
+    static btCollisionObject **ptr(std::vector<btCollisionObject *> &v) { return v.empty() ? nullptr : v.data(); }
+    static btPersistentManifold **ptr(std::vector<btPersistentManifold *> &v) { return v.empty() ? nullptr : v.data(); }
+    static btTypedConstraint **ptr(std::vector<btTypedConstraint *> &v) { return v.empty() ? nullptr : v.data(); }
+
+    void run_jobs(const btContactSolverInfo &info, btIDebugDraw *dd) {
+        const size_t n = njobs_;
+        while (solvers_.size() < n) solvers_.emplace_back(new JobSolver());
+        {
+            BT_PROFILE("parallelSolverSetup");
+            for (size_t i = 0; i < n; ++i) {
+                SolverJob &j = jobs_[i];
+                solvers_[i]->setup(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
+                                   static_cast<int>(j.manifolds.size()), ptr(j.constraints),
+                                   static_cast<int>(j.constraints.size()), info, dd);
+                j.rows = solvers_[i]->rows();
+                stats.batches += 1;
+                stats.rows_total += j.rows;
+                largest_ = std::max(largest_, j.rows);
+            }
+        }
+        {
+            BT_PROFILE("parallelSolverIterations");
+            // Largest batches first (longest-processing-time order); any order gives the same
+            // bytes.
+            std::vector<size_t> order(n);
+            for (size_t i = 0; i < n; ++i) order[i] = i;
+            std::stable_sort(order.begin(), order.end(),
+                             [&](size_t a, size_t b) { return jobs_[a].rows > jobs_[b].rows; });
+            std::atomic<size_t> next{0};
+            std::atomic<bool> failed{false};
+            std::string error;
+            std::mutex error_mutex;
+            auto work = [&]() {
+                for (;;) {
+                    size_t k = next.fetch_add(1);
+                    if (k >= n || failed.load()) return;
+                    SolverJob &j = jobs_[order[k]];
+                    try {
+                        solvers_[order[k]]->iterate(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
+                                                    static_cast<int>(j.manifolds.size()), ptr(j.constraints),
+                                                    static_cast<int>(j.constraints.size()), info, dd);
+                    } catch (const std::exception &e) {
+                        std::lock_guard<std::mutex> lock(error_mutex);
+                        error = e.what();
+                        failed.store(true);
+                    } catch (...) {
+                        std::lock_guard<std::mutex> lock(error_mutex);
+                        error = "unknown C++ exception";
+                        failed.store(true);
+                    }
+                }
+            };
+            size_t extra = std::min(n, static_cast<size_t>(threads)) - 1;
+            std::vector<std::thread> pool;
+            pool.reserve(extra);
+            for (size_t t = 0; t < extra; ++t) pool.emplace_back(work);
+            work();
+            for (auto &t : pool) t.join();
+            if (failed.load()) throw std::runtime_error("solver thread: " + error);
+        }
+        {
+            BT_PROFILE("parallelSolverFinish");
+            for (size_t i = 0; i < n; ++i) {
+                SolverJob &j = jobs_[i];
+                solvers_[i]->finish(ptr(j.bodies), static_cast<int>(j.bodies.size()), info);
+            }
+        }
+        njobs_ = 0;
+    }
+};
+
+// ---- phase timing through BT_PROFILE -----------------------------------------------------
+struct ZoneStat {
+    double seconds = 0;
+    long long calls = 0;
+    int depth = 0;
+    size_t first = 0;  // order of first appearance
+};
+struct ProfileRecord {
+    bool on = false;
+    std::vector<std::pair<const char *, std::chrono::steady_clock::time_point>> stack;
+    std::unordered_map<const char *, ZoneStat> zones;
+};
+thread_local ProfileRecord t_profile;
+
+void profile_enter(const char *name) {
+    ProfileRecord &p = t_profile;
+    if (!p.on) return;
+    p.stack.emplace_back(name, std::chrono::steady_clock::now());
+}
+void profile_leave() {
+    ProfileRecord &p = t_profile;
+    if (!p.on || p.stack.empty()) return;
+    auto top = p.stack.back();
+    p.stack.pop_back();
+    double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - top.second).count();
+    auto it = p.zones.find(top.first);
+    if (it == p.zones.end()) {
+        ZoneStat z;
+        z.depth = static_cast<int>(p.stack.size());
+        z.first = p.zones.size();
+        it = p.zones.emplace(top.first, z).first;
+    }
+    it->second.seconds += dt;
+    it->second.calls += 1;
+}
+
 }  // namespace
 
 struct bs_world {
@@ -102,7 +330,7 @@ struct bs_world {
     std::unique_ptr<btDefaultCollisionConfiguration> config;
     std::unique_ptr<btCollisionDispatcher> dispatcher;
     std::unique_ptr<btDbvtBroadphase> broadphase;
-    std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
+    std::unique_ptr<ParallelIslandSolver> solver;
     std::unique_ptr<btDiscreteDynamicsWorld> world;
     std::vector<Body> bodies;
     std::vector<std::unique_ptr<Constraint>> constraints;  // stable addresses for feedback
@@ -232,7 +460,7 @@ int bs_world_new(const double gravity[3], bs_world **out) {
         w->config.reset(new btDefaultCollisionConfiguration());
         w->dispatcher.reset(new btCollisionDispatcher(w->config.get()));
         w->broadphase.reset(new btDbvtBroadphase());
-        w->solver.reset(new btSequentialImpulseConstraintSolver());
+        w->solver.reset(new ParallelIslandSolver());
         w->world.reset(new btDiscreteDynamicsWorld(w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get()));
         w->world->setGravity(vec(gravity));
         w->world->setInternalTickCallback(pre_tick, w.get(), true);
@@ -461,6 +689,7 @@ int bs_body_add_box(bs_world *w, const bs_body_desc *d, int *out_index) {
             w->bodies.pop_back();
             throw;
         }
+        if (d->kind == BS_KINEMATIC) w->solver->kinematic.push_back(w->bodies.back().body.get());
         *out_index = index;
         return BS_OK;
     });
@@ -765,6 +994,125 @@ int bs_constraint_relock(bs_world *w, int c, int mask) {
                 g->setLimit(i, v, v);
             }
         }
+        return BS_OK;
+    });
+}
+
+int bs_world_set_solver_threads(bs_world *w, int n) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (n < 1 || n > 256) return fail(BS_ERR_BAD_ARG, "solver threads must be 1..256, got " + std::to_string(n));
+        w->solver->threads = n;
+        return BS_OK;
+    });
+}
+
+int bs_world_get_solver_threads(const bs_world *w, int *n) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!n) return fail(BS_ERR_NULL, "null output");
+        *n = w->solver->threads;
+        return BS_OK;
+    });
+}
+
+int bs_world_island_stats(const bs_world *w, bs_island_stats *out) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!out) return fail(BS_ERR_NULL, "null output");
+        *out = w->solver->stats;
+        return BS_OK;
+    });
+}
+
+int bs_world_reset_island_stats(bs_world *w) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        w->solver->stats = bs_island_stats{};
+        return BS_OK;
+    });
+}
+
+int bs_body_set_sleeping_thresholds(bs_world *w, int body, double linear, double angular) {
+    return guard([&]() -> int {
+        if (int e = check_body(w, body)) return e;
+        if (!(std::isfinite(linear) && linear >= 0 && std::isfinite(angular) && angular >= 0))
+            return fail(BS_ERR_BAD_ARG, "sleeping thresholds must be finite and >= 0");
+        w->bodies[body].body->setSleepingThresholds(linear, angular);
+        return BS_OK;
+    });
+}
+
+int bs_set_global_deactivation_time(double seconds) {
+    if (!(std::isfinite(seconds) && seconds >= 0)) return fail(BS_ERR_BAD_ARG, "deactivation time must be finite and >= 0");
+    gDeactivationTime = seconds;
+    return BS_OK;
+}
+double bs_get_global_deactivation_time(void) { return gDeactivationTime; }
+
+int bs_world_num_sleeping(const bs_world *w, int *count) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!count) return fail(BS_ERR_NULL, "null output");
+        int c = 0;
+        for (const Body &b : w->bodies)
+            if (b.kind == BS_DYNAMIC && b.body->getActivationState() == ISLAND_SLEEPING) ++c;
+        *count = c;
+        return BS_OK;
+    });
+}
+
+int bs_profile_start(void) {
+    return guard([&]() -> int {
+        static std::once_flag hooks;
+        std::call_once(hooks, [] {
+            btSetCustomEnterProfileZoneFunc(profile_enter);
+            btSetCustomLeaveProfileZoneFunc(profile_leave);
+        });
+        t_profile.stack.clear();
+        t_profile.zones.clear();
+        t_profile.on = true;
+        return BS_OK;
+    });
+}
+
+int bs_profile_stop(void) {
+    t_profile.on = false;
+    t_profile.stack.clear();
+    return BS_OK;
+}
+
+int bs_profile_read(bs_profile_entry *out, int capacity, int *total) {
+    return guard([&]() -> int {
+        if (!total || (capacity > 0 && !out)) return fail(BS_ERR_NULL, "null output");
+        // Merge zones of the same name (a literal may have several addresses), first-seen order.
+        std::map<std::string, ZoneStat> by_name;
+        for (const auto &kv : t_profile.zones) {
+            ZoneStat &z = by_name[kv.first];
+            if (z.calls == 0) {
+                z.depth = kv.second.depth;
+                z.first = kv.second.first;
+            } else {
+                z.first = std::min(z.first, kv.second.first);
+                z.depth = std::min(z.depth, kv.second.depth);
+            }
+            z.seconds += kv.second.seconds;
+            z.calls += kv.second.calls;
+        }
+        std::vector<std::pair<std::string, ZoneStat>> v(by_name.begin(), by_name.end());
+        std::stable_sort(v.begin(), v.end(), [](const std::pair<std::string, ZoneStat> &a, const std::pair<std::string, ZoneStat> &b) {
+            return a.second.first < b.second.first;
+        });
+        int n = static_cast<int>(v.size());
+        for (int i = 0; i < n && i < capacity; ++i) {
+            bs_profile_entry &e = out[i];
+            std::memset(e.name, 0, sizeof e.name);
+            std::strncpy(e.name, v[i].first.c_str(), sizeof e.name - 1);
+            e.seconds = v[i].second.seconds;
+            e.calls = v[i].second.calls;
+            e.depth = v[i].second.depth;
+        }
+        *total = n;
         return BS_OK;
     });
 }

@@ -172,6 +172,52 @@ int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis)
  * deformation instead of driving back to the old lock. */
 int bs_constraint_relock(bs_world *w, int c, int mask);
 
+/* ---- speed: island-parallel solving, sleeping, phase timing --------------------------- */
+/* Solver threads of this world (>= 1; 1 = Bullet's own sequential path). With n > 1 every
+ * batch of islands that btDiscreteDynamicsWorld hands the solver is set up in order on the
+ * calling thread, its Gauss-Seidel iterations run on up to n threads (one batch per thread
+ * at a time; batches share no dynamic body), and the batches are finished in order. Each
+ * batch does exactly the arithmetic of the sequential solver, so the results are the same
+ * bytes for every n. Split impulse on: always sequential (Bullet counts its recoveries in a
+ * global). */
+int bs_world_set_solver_threads(bs_world *w, int n);
+int bs_world_get_solver_threads(const bs_world *w, int *n);
+
+/* Island statistics of the last substep's solve: the number of solver batches (island
+ * groups passed to solveGroup), the solver rows of the largest batch and of all batches
+ * together (contact + joint rows after setup), summed since the last reset. */
+typedef struct bs_island_stats {
+    long long substeps;          /* substeps counted */
+    long long batches;           /* solveGroup calls */
+    long long rows_total;        /* solver rows over all batches */
+    long long rows_largest;      /* sum over substeps of the largest batch's rows */
+    long long bodies_awake;      /* sum over substeps of the dynamic bodies solved */
+} bs_island_stats;
+int bs_world_island_stats(const bs_world *w, bs_island_stats *out);
+int bs_world_reset_island_stats(bs_world *w);
+
+/* Sleeping: Bullet's per-body thresholds (btRigidBody::setSleepingThresholds, [m/s], [rad/s])
+ * and the process-global gDeactivationTime [s] (how long a body must stay below both before
+ * its island may sleep). */
+int bs_body_set_sleeping_thresholds(bs_world *w, int body, double linear, double angular);
+int bs_set_global_deactivation_time(double seconds);
+double bs_get_global_deactivation_time(void);
+/* Number of dynamic bodies whose activation state is ISLAND_SLEEPING (2). */
+int bs_world_num_sleeping(const bs_world *w, int *count);
+
+/* Phase timing through Bullet's BT_PROFILE zones (btSetCustomEnterProfileZoneFunc): per
+ * zone name the inclusive wall time and the number of entries, recorded for the calling
+ * thread only (other threads' zones are ignored). */
+typedef struct bs_profile_entry {
+    char name[64];
+    double seconds;
+    long long calls;
+    int depth;                   /* nesting depth at the first entry (0 = outermost) */
+} bs_profile_entry;
+int bs_profile_start(void);      /* installs the hooks (once) and clears this thread's record */
+int bs_profile_stop(void);       /* stops recording on this thread */
+int bs_profile_read(bs_profile_entry *out, int capacity, int *total);
+
 #ifdef __cplusplus
 }
 #endif

@@ -315,6 +315,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
             damping_ratio: p.joint_damping_ratio,
         },
     };
+    s.body.disable_deactivation = !p.sleeping;
     s
 }
 

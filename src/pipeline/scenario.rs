@@ -207,8 +207,8 @@ pub struct PhysicsSpec {
     /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
     pub spring_rest_at_plastic_onset: bool,
     /// A yielded ductile hinge (FE-derived connections) keeps its plastic rotation (true,
-    /// recommended) or drives back to its start pose (false, default until the snapshots
-    /// are re-accepted; the first FE-derived version):
+    /// the default: no energy fed in by a hinge driving itself back, docs/ruin-numerics.md
+    /// §8.1) or drives back to its start pose (false: the first FE-derived version):
     /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
     pub hinge_keeps_rotation: bool,
     /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
@@ -221,10 +221,13 @@ pub struct PhysicsSpec {
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
-    /// its springs together (true, recommended), or only per spring as Bullet/BCB (false,
-    /// default until the snapshots are re-accepted):
+    /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
+    /// spring as Bullet/BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
+    /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
+    /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
+    pub sleeping: bool,
     /// Absolute end time of the timeline, s; absent = end of the record + `settle_s`.
     pub time_limit_s: Option<f64>,
     /// Extra time after the record when `time_limit_s` is absent, s (5).
@@ -269,11 +272,12 @@ impl Default for PhysicsSpec {
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
-            hinge_keeps_rotation: false,
+            hinge_keeps_rotation: true,
             joint_rows: JointRowsSpec::Locked,
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,
-            spring_cap_per_body: false,
+            spring_cap_per_body: true,
+            sleeping: false,
             time_limit_s: None,
             settle_s: 5.0,
             stop_at_rest: true,

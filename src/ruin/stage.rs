@@ -90,8 +90,17 @@ pub struct BodySettings {
     /// with the margin's radius, so a 0.04 m margin makes a 0.1 m-thick member almost a
     /// cylinder, which rolls and rocks instead of coming to rest.
     pub margin_max_share: f64,
-    /// Never deactivate (sleep) bodies (BCB: deactivation off).
+    /// Never deactivate (sleep) bodies (BCB: deactivation off). `false`: Bullet may put an
+    /// island to sleep when every body in it has stayed below [`BodySettings::sleep_speed_mps`]
+    /// for Bullet's `gDeactivationTime` (2 s); it wakes when an awake body touches it. The
+    /// ground and the foundation blocks are put to sleep once the ground motion has ended
+    /// (a moving kinematic body keeps everything it touches awake).
     pub disable_deactivation: bool,
+    /// Sleeping threshold as a point speed, m/s: a body counts as still for Bullet when
+    /// |v| < s/2 and |ω|·r < s/2 (r = half diagonal), so a sleeping body always passes the
+    /// rest test's point-speed check (|v − v_g| + |ω|·r < v_tol, `super::rest`) for
+    /// s ≤ v_tol. Used only when `disable_deactivation` is false. Default 0.05 (= v_tol).
+    pub sleep_speed_mps: f64,
 }
 
 impl Default for BodySettings {
@@ -104,6 +113,7 @@ impl Default for BodySettings {
             margin: 0.04,
             margin_max_share: 1.0,
             disable_deactivation: true,
+            sleep_speed_mps: 0.05,
         }
     }
 }
@@ -152,6 +162,9 @@ pub struct StageSettings {
     /// by four plastic springs (up to 24 explicit spring rows) at lever arms is beyond
     /// explicit stability and never comes to rest (docs/ruin-numerics.md).
     pub spring_cap_per_body: bool,
+    /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
+    /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
+    pub solver_threads: usize,
 }
 
 /// The error correction of the connections' locked (generic) rows.
@@ -210,9 +223,10 @@ impl Default for StageSettings {
             warmup_s: 0.0,
             connect: true,
             spring_rest_at_plastic_onset: false,
-            hinge_keeps_rotation: false,
+            hinge_keeps_rotation: true,
             joint_rows: JointRows::Locked,
-            spring_cap_per_body: false,
+            spring_cap_per_body: true,
+            solver_threads: crate::fe::domain::default_threads(),
         }
     }
 }
@@ -369,6 +383,11 @@ pub struct RuinResult {
     pub wall: WallTime,
     /// Energy and speed figures of the whole run.
     pub ledger: LedgerSummary,
+    /// The solver's island batches over the run (how much of the work the largest island
+    /// holds, which bounds the island-parallel speed-up) and the bodies asleep at the end.
+    pub islands: crate::physics::IslandStats,
+    /// Dynamic bodies asleep at the end (0 unless sleeping is on).
+    pub sleeping_at_end: usize,
 }
 
 /// Energy and speed figures of a run ([`super::energy`]; the bounds of docs/ruin-numerics.md).
@@ -430,7 +449,11 @@ pub struct RuinStage {
     last_mechanical_j: Option<f64>,
     injected_j: f64,
     max_injection: (f64, f64),
+    kinematic_asleep: bool,
 }
+
+/// Bullet's activation state `ISLAND_SLEEPING`.
+const ISLAND_SLEEPING: i32 = 2;
 
 /// nalgebra isometry → physics pose.
 pub fn to_pose(p: &Isometry3<f64>) -> Pose {
@@ -550,6 +573,7 @@ impl RuinStage {
             ws.gravity = [0.0; 3];
         }
         let mut world = World::new(&ws)?;
+        world.set_solver_threads(settings.solver_threads.max(1))?;
 
         // 1. Ground.
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -622,6 +646,12 @@ impl RuinStage {
                     message: e.to_string(),
                 })
             })?;
+            if !b.passive && !bs.disable_deactivation {
+                let he = b.half_extents;
+                let r = (he[0] * he[0] + he[1] * he[1] + he[2] * he[2]).sqrt();
+                let s = 0.5 * bs.sleep_speed_mps;
+                world.set_sleeping_thresholds(hnd, s, s / r)?;
+            }
             handles.push(hnd);
             if b.passive {
                 rest_bodies.push(None);
@@ -836,6 +866,7 @@ impl RuinStage {
             last_mechanical_j: None,
             injected_j: 0.0,
             max_injection: (0.0, t0),
+            kinematic_asleep: false,
         })
     }
 
@@ -956,6 +987,22 @@ impl RuinStage {
                         self.world.set_kinematic_target(self.handles[i], p, None)?;
                     }
                 }
+            }
+            if !self.settings.body.disable_deactivation
+                && !self.kinematic_asleep
+                && t_cur >= self.ground_spec.motion_end_s() + h
+            {
+                // The ground has stopped (its velocity from the last substep is 0): let it
+                // and the foundations sleep so they stop waking what rests on them.
+                self.world
+                    .set_activation_state(self.ground, ISLAND_SLEEPING)?;
+                for i in 0..self.handles.len() {
+                    if self.passive[i] {
+                        self.world
+                            .set_activation_state(self.handles[i], ISLAND_SLEEPING)?;
+                    }
+                }
+                self.kinematic_asleep = true;
             }
             let t = Instant::now();
             self.world.step(h, 1)?;
@@ -1128,6 +1175,7 @@ impl RuinStage {
     ) -> Result<RuinResult, StageError> {
         let start = Instant::now();
         let bullet_before = self.in_bullet;
+        self.world.reset_island_stats()?;
         if !stop.max_time_s.is_finite() {
             return Err(bad(
                 "max_time_s",
@@ -1239,6 +1287,8 @@ impl RuinStage {
                 injected_j: self.injected_j,
                 max_injection: self.max_injection,
             },
+            islands: self.world.island_stats()?,
+            sleeping_at_end: self.world.num_sleeping()?,
         })
     }
 }

@@ -53,6 +53,7 @@ mod ruin {
     mod closed_form;
     mod contacts;
     mod monitor;
+    mod speed;
     mod stage_ground;
     mod stage_statics;
     mod thresholds;

@@ -14,12 +14,17 @@
 #![warn(missing_docs)]
 
 pub mod settings;
+pub mod speed;
 pub mod types;
 pub mod world;
 
 pub use settings::{
     SolverSettings, WorldSettings, SOLVER_SIMD, SOLVER_USE_2_FRICTION_DIRECTIONS,
     SOLVER_USE_WARMSTARTING,
+};
+pub use speed::{
+    global_deactivation_time, profile_read, profile_start, profile_stop,
+    set_global_deactivation_time, IslandStats, ProfileZone,
 };
 pub use types::{
     BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind,

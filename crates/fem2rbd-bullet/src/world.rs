@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 static NEXT_WORLD_ID: AtomicU32 = AtomicU32::new(1);
 
 /// Converts a shim status code into a `Result`, fetching the shim's message.
-fn check(call: &'static str, code: i32) -> Result<(), PhysicsError> {
+pub(crate) fn check(call: &'static str, code: i32) -> Result<(), PhysicsError> {
     if code == sys::BS_OK {
         return Ok(());
     }
@@ -219,6 +219,16 @@ impl World {
 
     fn w(&self) -> *mut sys::bs_world {
         self.raw.as_ptr()
+    }
+
+    /// The live world's pointer, for the crate's other modules (never leaves the crate).
+    pub(crate) fn raw_ptr(&self) -> *mut sys::bs_world {
+        self.raw.as_ptr()
+    }
+
+    /// The shim index of body `h` of this world.
+    pub(crate) fn body_index(&self, h: BodyHandle) -> Result<i32, PhysicsError> {
+        self.body(h)
     }
 
     fn body(&self, h: BodyHandle) -> Result<i32, PhysicsError> {

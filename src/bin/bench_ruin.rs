@@ -1,0 +1,222 @@
+//! Benchmark of the ruin stage: wall time per simulated second of a scenario's ruin stage
+//! under several speed settings, side by side in one process, runs alternated (A B A B …)
+//! so a drift of the machine's speed hits every setting alike; plus where Bullet spends the
+//! time (its `BT_PROFILE` zones) and the share of the solver rows in the largest island.
+//!
+//! ```text
+//! cargo run --release --bin bench_ruin -- SCENARIO [--time S] [--rounds N] [--configs LIST]
+//! ```
+//!
+//! `--time S`: simulated seconds of the ruin stage (the scenario's `time_limit_s` is set to
+//! start + S and `stop_at_rest` off); default 1. `--rounds N`: runs of each setting (default
+//! 3; the median is reported). `--configs`: comma-separated settings, each `tN` (N solver
+//! threads) optionally followed by `+sleep` (Bullet's sleeping on); default `t1,t2`. The
+//! first setting is the baseline of the ratios. Every setting's final poses are compared
+//! bit for bit with the baseline's ("same bits"), which holds for thread counts and is
+//! expected to fail for sleeping (a different model of rest).
+//!
+//! The 7-story building of docs/performance.md: `bash scripts/ruin-speed.sh`.
+use anyhow::{bail, Context, Result};
+use fem2rbd::physics::{profile_read, profile_start, profile_stop, ProfileZone};
+use fem2rbd::pipeline::{run, scenario::Scenario, Silent};
+
+struct Config {
+    name: String,
+    threads: usize,
+    sleeping: bool,
+}
+
+struct Sample {
+    wall_s: f64,
+    sim_s: f64,
+    bullet_s: f64,
+    largest_share: f64,
+    rows_per_substep: f64,
+    sleeping: usize,
+    bits: Vec<u64>,
+    profile: Vec<ProfileZone>,
+}
+
+fn parse_configs(s: &str) -> Result<Vec<Config>> {
+    s.split(',')
+        .map(|c| {
+            let c = c.trim();
+            let (t, rest) = c.split_once('+').unwrap_or((c, ""));
+            let threads: usize = t
+                .strip_prefix('t')
+                .and_then(|n| n.parse().ok())
+                .filter(|&n| n >= 1)
+                .with_context(|| format!("--configs: '{c}' must be tN[+sleep]"))?;
+            let sleeping = match rest {
+                "" => false,
+                "sleep" => true,
+                _ => bail!("--configs: '{c}': unknown option '{rest}' (only +sleep)"),
+            };
+            Ok(Config {
+                name: c.to_string(),
+                threads,
+                sleeping,
+            })
+        })
+        .collect()
+}
+
+fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
+    let mut sc = base.clone();
+    sc.physics.sleeping = cfg.sleeping;
+    sc.physics.stop_at_rest = false;
+    sc.physics.time_limit_s = Some(time_s);
+    // The stage reads its solver threads from FEM2RBD_THREADS (as the FE); this program
+    // is single-threaded here, so setting the variable is sound.
+    std::env::set_var("FEM2RBD_THREADS", cfg.threads.to_string());
+    profile_start()?;
+    let rec = run(&sc, &Silent)?;
+    profile_stop();
+    let profile = profile_read()?;
+    let r = rec.ruin.context("the scenario ran no ruin stage")?;
+    let sim_s = r.end_time_s - r.frames.first().map_or(0.0, |f| f.time_s);
+    let mut bits = Vec::new();
+    for p in &r.final_poses {
+        bits.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
+    }
+    let st = r.islands;
+    Ok(Sample {
+        wall_s: r.wall.total.as_secs_f64(),
+        sim_s,
+        bullet_s: r.wall.in_bullet.as_secs_f64(),
+        largest_share: st.largest_share(),
+        rows_per_substep: st.rows_total as f64 / st.substeps.max(1) as f64,
+        sleeping: r.sleeping_at_end,
+        bits,
+        profile,
+    })
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut path = None;
+    let mut time_s: f64 = 1.0;
+    let mut rounds = 3usize;
+    let mut configs = "t1,t2".to_string();
+    let mut i = 0;
+    while i < args.len() {
+        let value = |i: usize| {
+            args.get(i + 1)
+                .cloned()
+                .with_context(|| format!("{} needs a value", args[i]))
+        };
+        match args[i].as_str() {
+            "--time" => {
+                time_s = value(i)?.parse().context("--time")?;
+                i += 1;
+            }
+            "--rounds" => {
+                rounds = value(i)?.parse().context("--rounds")?;
+                i += 1;
+            }
+            "--configs" => {
+                configs = value(i)?;
+                i += 1;
+            }
+            a if a.starts_with("--") => bail!("unknown option {a}"),
+            a => path = Some(a.to_string()),
+        }
+        i += 1;
+    }
+    let path = path
+        .context("usage: bench_ruin SCENARIO [--time S] [--rounds N] [--configs t1,t2,t2+sleep]")?;
+    if !(time_s.is_finite() && time_s > 0.0) || rounds == 0 {
+        bail!("--time must be > 0 and --rounds >= 1");
+    }
+    let configs = parse_configs(&configs)?;
+    let sc = Scenario::load(&path).with_context(|| format!("scenario {path}"))?;
+    let start = match sc.mode {
+        fem2rbd::pipeline::scenario::Mode::Physics => 0.0,
+        _ => bail!("{path}: bench_ruin needs a physics-only scenario (mode = \"physics\")"),
+    };
+    let end = start + time_s;
+    println!(
+        "{path}: ruin stage 0 → {end} s simulated, {rounds} round(s), settings {}",
+        configs
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let mut samples: Vec<Vec<Sample>> = configs.iter().map(|_| Vec::new()).collect();
+    for round in 0..rounds {
+        for (k, cfg) in configs.iter().enumerate() {
+            let s = run_once(&sc, cfg, end)?;
+            println!(
+                "round {} {:>10}: {:8.2} s wall, {:6.3} s simulated, {:7.2} s/s",
+                round + 1,
+                cfg.name,
+                s.wall_s,
+                s.sim_s,
+                s.wall_s / s.sim_s
+            );
+            samples[k].push(s);
+        }
+    }
+    println!();
+    println!("| setting | wall s per simulated s (median) | ratio to {} (median of rounds) | in Bullet | largest island's share of rows | rows per substep | asleep at end | same bits as {} |", configs[0].name, configs[0].name);
+    println!("|---|---|---|---|---|---|---|---|");
+    for (k, cfg) in configs.iter().enumerate() {
+        let per = median(samples[k].iter().map(|s| s.wall_s / s.sim_s).collect());
+        let ratio = median(
+            (0..rounds)
+                .map(|r| samples[k][r].wall_s / samples[0][r].wall_s)
+                .collect(),
+        );
+        let share = median(samples[k].iter().map(|s| s.bullet_s / s.wall_s).collect());
+        let s0 = &samples[k][0];
+        let same = samples[k].iter().all(|s| s.bits == samples[0][0].bits);
+        println!(
+            "| {} | {per:.2} | {ratio:.3} | {:.1} % | {:.3} | {:.0} | {} | {} |",
+            cfg.name,
+            100.0 * share,
+            s0.largest_share,
+            s0.rows_per_substep,
+            s0.sleeping,
+            if same { "yes" } else { "no" }
+        );
+    }
+    for (k, cfg) in configs.iter().enumerate() {
+        let s = &samples[k][0];
+        let total = s
+            .profile
+            .iter()
+            .find(|z| z.name == "stepSimulation")
+            .map_or(s.bullet_s, |z| z.seconds);
+        println!();
+        println!(
+            "Bullet's zones, {} (round 1; share of stepSimulation):",
+            cfg.name
+        );
+        println!("| zone | s | share | calls |");
+        println!("|---|---|---|---|");
+        for z in &s.profile {
+            println!(
+                "| {}{} | {:.2} | {:.1} % | {} |",
+                "  ".repeat(z.depth as usize),
+                z.name,
+                z.seconds,
+                100.0 * z.seconds / total,
+                z.calls
+            );
+        }
+    }
+    Ok(())
+}

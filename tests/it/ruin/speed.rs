@@ -1,0 +1,177 @@
+//! Speed options of the ruin stage (docs/performance.md, "Ruin stage"): the island-parallel
+//! solver gives the same bytes for any thread count, and sleeping bodies wake when hit.
+
+use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
+use fem2rbd::physics::{BodyKind, BoxDesc, Pose, World, WorldSettings};
+use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
+use fem2rbd::ruin::ground::GroundSpec;
+use fem2rbd::ruin::stage::{RuinResult, RuinStage, StageInput, StageSettings, StopRule};
+use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
+use fem2rbd::ruin::BodyGeom;
+use nalgebra::UnitQuaternion;
+
+const DT: f64 = 0.001;
+
+/// Six towers of four 0.3 × 0.3 × 1 m boxes (CT 22 between neighbours, weak in bending),
+/// 1.2 m apart in a row, on a ground shaken in X at 1 g, 2 Hz: the towers are separate
+/// islands, break, topple and hit their neighbours (islands merge and split).
+fn towers() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
+    let mut bodies = Vec::new();
+    for t in 0..6 {
+        for k in 0..4 {
+            bodies.push(BodyGeom {
+                name: format!("t{t}b{k}"),
+                group: "rc".into(),
+                centre: [1.2 * t as f64, 0.0, 0.5 + k as f64],
+                rotation: UnitQuaternion::identity(),
+                half_extents: [0.15, 0.15, 0.5],
+                passive: false,
+            });
+        }
+    }
+    let masses = vec![225.0; bodies.len()];
+    let groups = vec![GroupStrength {
+        name: "rc".into(),
+        strength: StrengthSource::PerArea(StrengthPerArea {
+            c: 35.0,
+            t: 5.2,
+            s: 155.0,
+            s90: None,
+            b: 0.001,
+            b90: None,
+            p: Some(0.001),
+        }),
+        tolerances: Tolerances::default(),
+        plastic_length: 0.0,
+        threshold_multiplier: 1.0,
+    }];
+    let n = 3000;
+    let a: Vec<f64> = (0..n)
+        .map(|i| (2.0 * std::f64::consts::PI * 2.0 * i as f64 * DT).sin())
+        .collect();
+    let rec = Record::new("sine", DT, 0.0, a).unwrap();
+    let hist = GroundMotion::new(Some(rec), None, None)
+        .integrate(DT, Baseline::None)
+        .unwrap();
+    (bodies, masses, groups, hist)
+}
+
+fn run_towers(threads: usize, batch: u32) -> (RuinResult, fem2rbd::physics::IslandStats) {
+    let (bodies, masses, groups, hist) = towers();
+    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut settings = StageSettings {
+        solver_threads: threads,
+        ..StageSettings::default()
+    };
+    settings.world.solver.minimum_solver_batch_size = batch;
+    let mut stage = RuinStage::build(&input, GroundSpec::moving(hist), &settings).unwrap();
+    let r = stage
+        .run(&StopRule {
+            max_time_s: 2.0,
+            rest: None,
+        })
+        .unwrap();
+    (r, stage.world().island_stats().unwrap())
+}
+
+fn bits(r: &RuinResult) -> Vec<u64> {
+    let mut v = Vec::new();
+    for f in &r.frames {
+        for p in &f.poses {
+            v.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
+        }
+    }
+    for vel in &r.final_velocities {
+        v.extend(vel.linear.iter().chain(&vel.angular).map(|x| x.to_bits()));
+    }
+    for c in &r.connections {
+        v.push(c.broke_at_s.map_or(0, f64::to_bits));
+        v.push(c.plastic_at_s.map_or(0, f64::to_bits));
+    }
+    v.push(r.ledger.injected_j.to_bits());
+    v
+}
+
+/// Bullet's own sequential solver (1 thread) and the island-parallel one (2 and 3 threads)
+/// give the same bits for every frame's poses, the final velocities and every
+/// connection's history — with every island a batch of its own (batch size 1) and with
+/// Bullet's default batching (islands merged up to 128 constraints and manifolds).
+#[test]
+fn island_parallel_solver_gives_the_same_bits_for_any_thread_count() {
+    for batch in [1, 128] {
+        let (r1, s1) = run_towers(1, batch);
+        let broken = r1
+            .connections
+            .iter()
+            .filter(|c| c.state == ConnectionState::Broken)
+            .count();
+        eprintln!(
+            "batch size {batch}: {} batches in {} substeps, largest batch {:.2} of the rows, {broken} of {} connections broken",
+            s1.batches,
+            s1.substeps,
+            s1.largest_share(),
+            r1.connections.len()
+        );
+        // The scene exercises what matters: several batches per substep (the parallel
+        // path), breaking (done in the sequential finish), and motion.
+        if batch == 1 {
+            assert!(s1.batches >= 3 * s1.substeps, "{s1:?}");
+        }
+        assert!(broken > 0, "nothing broke");
+        for threads in [2, 3] {
+            let (rn, sn) = run_towers(threads, batch);
+            assert_eq!(s1, sn, "same islands and rows with {threads} threads");
+            assert!(
+                bits(&r1) == bits(&rn),
+                "{threads} threads differ from 1 (batch size {batch})"
+            );
+        }
+    }
+}
+
+/// A box at rest on a still ground falls asleep with sleeping on (its island is not solved
+/// any more); a second box dropped onto it wakes it, and it is pushed into the ground's
+/// contact as a box that was never asleep would be (the same rest height to 1 mm).
+#[test]
+fn sleeping_box_wakes_when_hit() {
+    let run = |sleep: bool| {
+        let mut w = World::new(&WorldSettings::default()).unwrap();
+        let g = w
+            .add_box(&BoxDesc::fixed([5.0, 5.0, 0.5], Pose::at([0.0, 0.0, -0.5])))
+            .unwrap();
+        assert_eq!(w.body_kind(g).unwrap(), BodyKind::Static);
+        let mut d = BoxDesc::dynamic([0.5; 3], 10.0, Pose::at([0.0, 0.0, 0.5]));
+        d.disable_deactivation = !sleep;
+        let a = w.add_box(&d).unwrap();
+        w.set_sleeping_thresholds(a, 0.025, 0.05).unwrap();
+        w.advance(3.0, 1.0 / 200.0).unwrap();
+        let asleep = w.num_sleeping().unwrap();
+        let mut d2 = BoxDesc::dynamic([0.5; 3], 10.0, Pose::at([0.0, 0.0, 2.5]));
+        d2.disable_deactivation = !sleep;
+        let b = w.add_box(&d2).unwrap();
+        let mut woke = false;
+        for _ in 0..400 {
+            w.step(1.0 / 200.0, 1).unwrap();
+            woke |= w.activation_state(a).unwrap() != 2;
+        }
+        (
+            asleep,
+            woke,
+            w.pose(a).unwrap().position[2],
+            w.pose(b).unwrap().position[2],
+        )
+    };
+    let (asleep, woke, za, zb) = run(true);
+    let (never, _, za0, zb0) = run(false);
+    eprintln!(
+        "sleeping: {asleep} asleep, woke {woke}, z {za:.6} {zb:.6}; never: z {za0:.6} {zb0:.6}"
+    );
+    assert_eq!(asleep, 1, "the resting box should sleep after 3 s");
+    assert_eq!(never, 0);
+    assert!(woke, "the hit did not wake the sleeping box");
+    assert!((za - za0).abs() < 1e-3 && (zb - zb0).abs() < 1e-3);
+    assert!(
+        (zb - 1.5).abs() < 0.01,
+        "the second box rests on the first: z = {zb}"
+    );
+}
