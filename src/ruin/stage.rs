@@ -196,7 +196,7 @@ pub enum JointRows {
 /// implicit spring–damper of stiffness `k` (N/m or N·m/rad) on a row of effective inverse
 /// mass `inv_mass` (1/kg or 1/(kg·m²)) at the substep `h` (s) with damping ratio `zeta`
 /// ([`JointRows::Member`]). Returns (ERP, CFM).
-pub(crate) fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64) {
+pub fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64) {
     let x = (k * inv_mass).sqrt() * h;
     (x / (x + 2.0 * zeta), 1.0 / (x * (x + 2.0 * zeta)))
 }

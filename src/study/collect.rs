@@ -469,9 +469,11 @@ pub fn collect(study: &Study, store: &Store, partial: bool) -> Result<Vec<PathBu
 /// per group and measure, groups in manifest order and measures by name).
 pub(crate) fn ensemble_stats(study: &Study, plan: &Plan, rows: &[RunRow]) -> (Value, String) {
     type Key = (usize, usize, usize, u32);
+    /// The members of a group and each ruin measure's values over them.
+    type Group = (Vec<u32>, BTreeMap<String, Vec<f64>>);
     let mode_index =
         |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
-    let mut groups: BTreeMap<Key, (Vec<u32>, BTreeMap<String, Vec<f64>>)> = BTreeMap::new();
+    let mut groups: BTreeMap<Key, Group> = BTreeMap::new();
     for (e, r) in plan.entries.iter().zip(rows) {
         let g = groups
             .entry((e.model, e.record, mode_index(e.mode), e.milli_g))

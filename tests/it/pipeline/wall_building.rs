@@ -58,10 +58,7 @@ fn connection_types(model: &fem2rbd::model::Model) -> BTreeMap<String, usize> {
     let contacts = find_contacts(&pipeline::geoms(&bodies), &SearchSettings::default()).unwrap();
     let mut out = BTreeMap::new();
     for c in contacts {
-        let mut t = [
-            bodies[c.a].id.type_name(),
-            bodies[c.b].id.type_name(),
-        ];
+        let mut t = [bodies[c.a].id.type_name(), bodies[c.b].id.type_name()];
         t.sort();
         *out.entry(t.join("-")).or_insert(0) += 1;
     }

@@ -334,9 +334,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                         e.tag
                     )));
                 }
-                let s = secs
-                    .get(section)
-                    .ok_or_else(|| {
+                let s = secs.get(section).ok_or_else(|| {
                     FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
                 })?;
                 let (sec, linear) = shell_section(e.tag, s, &mats)?;
