@@ -1,7 +1,7 @@
 //! A time and memory estimate of a run before it starts (issue 16 item 3; issue 15 item 3's
-//! Slurm requests), from the size of the work and per-unit costs. **The per-unit costs
-//! below are provisional placeholders, not yet measured**; `scripts/measure-estimate.sh`
-//! measures estimate against actual time and peak RSS (`docs/reliability.md`, "Time and
+//! Slurm requests), from the size of the work and per-unit costs. The time costs below were
+//! measured with `scripts/measure-estimate.sh` (release build, CPU time, session 4), which
+//! compares estimate against actual time and peak RSS (`docs/reliability.md`, "Time and
 //! memory estimate").
 //!
 //! **Time** (s), release build:
@@ -36,13 +36,12 @@ use crate::model::{ElementKind, Model, SectionKind};
 use std::collections::BTreeMap;
 use std::fmt;
 
-/// Process start, model and record reading, s (provisional; to be measured as `fem2rbd
-/// fe` of frame3 for one step minus one step's cost).
-pub const T0_S: f64 = 0.02;
+/// Process start, model and record reading, s (`fem2rbd fe` of frame3 for one step).
+pub const T0_S: f64 = 0.05;
 /// FE cost per fibre state per step, s.
-pub const K_FIB_S: f64 = 1.0e-7;
+pub const K_FIB_S: f64 = 3.0e-7;
 /// FE cost per shell layer point per step, s.
-pub const K_SHELL_S: f64 = 1.0e-7;
+pub const K_SHELL_S: f64 = 7.0e-7;
 /// FE cost per DOF per step, s.
 pub const K_DOF_S: f64 = 1.0e-7;
 /// A modal analysis counted as FE steps.
@@ -50,9 +49,9 @@ pub const MODAL_STEPS: f64 = 10.0;
 /// Capacity pushes: cost per end-section fibre per pass, s.
 pub const K_CAP_S: f64 = 1.0e-5;
 /// Bullet cost per body per substep, s.
-pub const K_BODY_S: f64 = 1.0e-6;
+pub const K_BODY_S: f64 = 8.0e-6;
 /// Bullet cost per connection per solver iteration per substep, s.
-pub const K_CONN_S: f64 = 1.0e-8;
+pub const K_CONN_S: f64 = 1.0e-7;
 /// Debug build over release build, wall time.
 pub const DEBUG_FACTOR: f64 = 3.0;
 

@@ -814,7 +814,14 @@ mod tests {
         assert!(e.contains("bodies.csv:2: column passive"), "{e}");
         let e = load_error("bodies.csv", &set(&w.bodies, 2, 0, ""));
         assert!(e.contains("bodies.csv:2: column name: is empty"), "{e}");
-        let e = load_error("bodies.csv", &set(&w.bodies, 4, 0, "Column:mat1:7"));
+        // A second body with line 3's identity (name, type and element all agree).
+        let dup = set(
+            &set(&set(&w.bodies, 4, 0, "Column:mat1:7"), 4, 2, "Column"),
+            4,
+            4,
+            "7",
+        );
+        let e = load_error("bodies.csv", &dup);
         assert!(
             e.contains("bodies.csv:4: column name") && e.contains("already on line 3"),
             "{e}"

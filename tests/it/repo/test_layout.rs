@@ -29,7 +29,10 @@ fn reached(file: &Path, dir: &Path, out: &mut BTreeSet<PathBuf>) {
     for line in text.lines() {
         let indent = line.len() - line.trim_start().len();
         let t = line.trim();
-        let t = t.strip_prefix("pub ").unwrap_or(t);
+        let t = t
+            .strip_prefix("pub(crate) ")
+            .or_else(|| t.strip_prefix("pub "))
+            .unwrap_or(t);
         let Some(rest) = t.strip_prefix("mod ") else {
             continue;
         };

@@ -64,7 +64,7 @@ mod fe {
     }
 }
 mod model {
-    mod building;
+    pub(crate) mod building;
     mod errors;
     mod frame3;
     mod generate;

@@ -8,8 +8,9 @@ use fem2rbd_fe::model::generate::{frame, FrameParams};
 use fem2rbd_fe::model::{ElementKind, Model, SectionKind, ShellLayer};
 use std::process::Command;
 
-/// Two 6 m bays in X, one 5 m bay in Y, two 3 m stories, full scale.
-fn small_frame() -> FrameParams {
+/// Two 6 m bays in X, one 5 m bay in Y, two 3 m stories, full scale (also the frame of
+/// `fe::shell::building`).
+pub(crate) fn small_frame() -> FrameParams {
     FrameParams {
         name: "wall-test".into(),
         spans_x: vec![6.0, 6.0],

@@ -21,24 +21,7 @@ fn wall_building_periods_through_the_domain_match_opensees() {
     let p = BuildingParams {
         frame: FrameParams {
             name: "wall-building".into(),
-            spans_x: vec![6.0, 6.0],
-            spans_y: vec![5.0],
-            story_heights: vec![3.0, 3.0],
-            column: [0.5, 0.5],
-            beam: [0.3, 0.6],
-            slab_thickness: 0.12,
-            cover: 0.03,
-            bar_offset: 0.04,
-            column_bar_diameter: 0.025,
-            beam_bar_diameter: 0.02,
-            ec: vec![32.5e9],
-            fc: vec![26.8e6],
-            fy: 400e6,
-            added_mass: vec![30_000.0],
-            column_elements: 2,
-            beam_elements: 1,
-            scale: 1.0,
-            ..FrameParams::default()
+            ..crate::model::building::small_frame()
         },
         walls: ["x0:1:1-2", "x1:1:1-2"]
             .iter()
