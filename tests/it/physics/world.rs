@@ -468,6 +468,22 @@ fn six_dof_linear_limit_stops_the_fall_at_the_limit() {
     }
 }
 
+/// A Generic6Dof constraint with all six axes locked, `b` hanging 1 m below `anchor`.
+fn locked_hanger(w: &mut World, anchor: BodyHandle, b: BodyHandle) -> ConstraintHandle {
+    let mut d = ConstraintDesc::new(
+        ConstraintKind::Generic6Dof {
+            use_linear_reference_frame_a: true,
+        },
+        anchor,
+        b,
+        Pose::at([0.0, 0.0, -1.0]),
+        Pose::IDENTITY,
+    );
+    d.limits = [Some((0.0, 0.0)); 6];
+    d.disable_collisions_between = true;
+    w.add_constraint(&d).unwrap()
+}
+
 /// A Generic6Dof row given ERP and CFM from a target stiffness k and damping ratio ζ
 /// ([`fem2rbd::ruin::stage::member_row_erp_cfm`], Bullet's joint CFM being relative to the
 /// row's effective mass 1/K): a 10 kg box hanging from a static anchor on such a vertical
@@ -487,18 +503,7 @@ fn generic6dof_member_row_sags_m_g_over_k() {
     let b = w
         .add_box(&BoxDesc::dynamic([0.1; 3], m, Pose::at([0.0, 0.0, 4.0])))
         .unwrap();
-    let mut d = ConstraintDesc::new(
-        ConstraintKind::Generic6Dof {
-            use_linear_reference_frame_a: true,
-        },
-        anchor,
-        b,
-        Pose::at([0.0, 0.0, -1.0]),
-        Pose::IDENTITY,
-    );
-    d.limits = [Some((0.0, 0.0)); 6];
-    d.disable_collisions_between = true;
-    let c = w.add_constraint(&d).unwrap();
+    let c = locked_hanger(&mut w, anchor, b);
     w.set_constraint_param(c, ConstraintParam::StopErp, 2, erp)
         .unwrap();
     w.set_constraint_param(c, ConstraintParam::StopCfm, 2, cfm)
@@ -558,18 +563,7 @@ fn generic6dof_relock_holds_the_present_angle() {
                 },
             ))
             .unwrap();
-        let mut d = ConstraintDesc::new(
-            ConstraintKind::Generic6Dof {
-                use_linear_reference_frame_a: true,
-            },
-            anchor,
-            b,
-            Pose::at([0.0, 0.0, -1.0]),
-            Pose::IDENTITY,
-        );
-        d.limits = [Some((0.0, 0.0)); 6];
-        d.disable_collisions_between = true;
-        let c = w.add_constraint(&d).unwrap();
+        let c = locked_hanger(&mut w, anchor, b);
         if relock {
             w.relock_constraint(c, 0b111_000).unwrap();
         }

@@ -545,45 +545,19 @@ impl Domain {
         result
     }
 
-    /// `f(index, element)` for every element, on [`Domain::threads`] scoped threads
-    /// (contiguous chunks of at least 16 elements, as [`Domain::update_elements`]), the
-    /// results in element order. `f` only reads, so the results are the same bits for any
-    /// thread count; summing them (assembly) is left to the caller, in element order.
-    pub fn map_elements<T: Send>(&self, f: impl Fn(usize, &dyn Element) -> T + Sync) -> Vec<T> {
-        let n = self.elements.len();
-        let threads = self
-            .threads
-            .clamp(1, n.div_ceil(MIN_ELEMENTS_PER_THREAD).max(1));
-        if threads == 1 {
-            return self
-                .elements
-                .iter()
-                .enumerate()
-                .map(|(i, e)| f(i, e.as_ref()))
-                .collect();
-        }
-        let chunk = n.div_ceil(threads);
-        let f = &f;
-        std::thread::scope(|scope| {
-            let workers: Vec<_> = self
-                .elements
-                .chunks(chunk)
-                .enumerate()
-                .map(|(c, els)| {
-                    scope.spawn(move || {
-                        els.iter()
-                            .enumerate()
-                            .map(|(k, e)| f(c * chunk + k, e.as_ref()))
-                            .collect::<Vec<T>>()
-                    })
-                })
-                .collect();
-            let mut out = Vec::with_capacity(n);
-            for w in workers {
-                out.extend(w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
-            }
-            out
-        })
+    /// `f(index, element)` for every element, the results in element order; the caller
+    /// sums them (assembly) in element order. Sequential on purpose: the maps are reads of
+    /// what [`Domain::update_elements`] (threaded) already formed — resisting forces,
+    /// tangents, damping products — and threading them cost more than it saved (session 4,
+    /// `bench_fe`: frame3 residual 0.047 → 0.99 ms/step and assembly 0.44 → 1.05 ms/step on
+    /// 2 threads; on the 7-story frame residual 23 → 66 and assembly 90 → 108 ms/step,
+    /// docs/performance.md).
+    pub fn map_elements<T>(&self, f: impl Fn(usize, &dyn Element) -> T) -> Vec<T> {
+        self.elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| f(i, e.as_ref()))
+            .collect()
     }
 
     /// Threads used for element state determination (1 = sequential). Results do not
