@@ -287,10 +287,14 @@ pub fn for_scenario(sc: &crate::pipeline::Scenario) -> anyhow::Result<(Size, Wor
             capacity_passes = if sc.mode == Mode::Hybrid { 2 } else { 1 };
         }
     }
-    let limit = if sc.mode == Mode::Fe {
-        sc.duration.unwrap_or_else(|| gm.duration_s())
-    } else {
-        pipeline::time_limit(sc, &gm)
+    // The keyframes span the whole timeline: the FE stage's (to Tc, or to its end when
+    // the building stands — a hybrid run without collapse has no ruin stage) and the ruin
+    // stage's up to its time limit.
+    let fe_end = sc.duration.unwrap_or_else(|| gm.duration_s());
+    let limit = match sc.mode {
+        Mode::Fe => fe_end,
+        Mode::Hybrid => fe_end.max(pipeline::time_limit(sc, &gm)),
+        Mode::Physics => pipeline::time_limit(sc, &gm),
     };
     let work = Work {
         fe_steps,
