@@ -263,20 +263,27 @@ impl fmt::Display for Estimate {
 /// Size, work and estimate of a scenario run (`fem2rbd run`, one study run): the model
 /// and the records are read, the bodies mapped and their connections found (BCB's
 /// search, as the ruin stage does), but nothing is simulated. Milliseconds for frame3.
-pub fn for_scenario(sc: &crate::pipeline::Scenario) -> anyhow::Result<(Size, Work, Estimate)> {
-    use crate::pipeline::{self, ConnectionModel, Mode};
-    use anyhow::Context;
-    let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
+pub fn for_scenario(
+    sc: &crate::pipeline::Scenario,
+) -> Result<(Size, Work, Estimate), crate::pipeline::PipelineError> {
+    use crate::pipeline::{self, ConnectionModel, Mode, PipelineError};
+    let model = Model::load(&sc.model).map_err(|error| PipelineError::Model {
+        path: sc.model.clone(),
+        error: Box::new(error),
+    })?;
     let gm = pipeline::ground_motion(sc)?;
     let (fe_steps, substeps) = pipeline::check_budget(sc, &gm)?;
     let mut size = Size::of_model(&model);
     let mut capacity_passes = 0;
     if sc.mode != Mode::Fe {
-        let map = crate::mapping::map_to_boxes(
-            &crate::mapping::from_model(&model)?,
-            &crate::mapping::MapOptions::default(),
-        )
-        .with_context(|| format!("mapping {}", sc.model.display()))?;
+        let map = crate::mapping::from_model(&model)
+            .and_then(|input| {
+                crate::mapping::map_to_boxes(&input, &crate::mapping::MapOptions::default())
+            })
+            .map_err(|error| PipelineError::Mapping {
+                path: sc.model.clone(),
+                error: Box::new(error),
+            })?;
         let bodies = pipeline::bodies_of(&model, &map);
         let settings = pipeline::stage_settings(sc);
         let contacts =
