@@ -92,18 +92,19 @@ fn frame7() -> Result<Model> {
     })?)
 }
 
-/// One fem2rbd run; returns the result, ms per step (steps 2..N) and the phase totals
-/// over the same steps.
+/// One fem2rbd run; returns the result, wall and CPU (all threads) ms per step (steps
+/// 2..N) and the phase totals over the same steps.
 #[allow(clippy::type_complexity)]
 fn run_ours(
     case: &Case,
     gm: &GroundMotion,
     duration: f64,
     threads: usize,
-) -> Result<(RunResult, f64, Vec<(Phase, f64, u64)>, u64)> {
+) -> Result<(RunResult, f64, f64, Vec<(Phase, f64, u64)>, u64)> {
     std::env::set_var("FEM2RBD_THREADS", threads.to_string());
     let mut t_first = None;
     let mut t_last = Instant::now();
+    let (mut cpu_first, mut cpu_last) = (None, None);
     let mut iterations = 0u64;
     let r = run_ground_motion(
         &case.model,
@@ -121,10 +122,12 @@ fn run_ours(
             if info.step == 1 {
                 profile::reset();
                 t_first = Some(Instant::now());
+                cpu_first = process_cpu_seconds();
             } else {
                 iterations += info.iterations as u64;
             }
             t_last = Instant::now();
+            cpu_last = process_cpu_seconds();
             StepControl::Continue
         },
     )?;
@@ -143,7 +146,40 @@ fn run_ours(
     let first = t_first.context("no step converged")?;
     let steps = r.transient.steps.saturating_sub(1).max(1);
     let ms = (t_last - first).as_secs_f64() / steps as f64 * 1e3;
-    Ok((r, ms, phases, iterations))
+    let cpu_ms = match (cpu_first, cpu_last) {
+        (Some(a), Some(b)) => (b - a) / steps as f64 * 1e3,
+        _ => f64::NAN,
+    };
+    Ok((r, ms, cpu_ms, phases, iterations))
+}
+
+/// CPU time (user + system, all threads) of this process so far, s, from
+/// `/proc/self/stat` (clock ticks of 10 ms; `None` where there is no procfs).
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which is in parentheses and may hold spaces).
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// FNV-1a hash of every recorded time, displacement, velocity and acceleration bit:
+/// equal digests from two builds say they computed the same bits.
+fn digest(r: &RunResult) -> u64 {
+    let h = &r.transient.history;
+    let mut x: u64 = 0xcbf29ce484222325;
+    let mut eat = |v: f64| {
+        for b in v.to_bits().to_le_bytes() {
+            x ^= u64::from(b);
+            x = x.wrapping_mul(0x100000001b3);
+        }
+    };
+    h.time.iter().for_each(|&t| eat(t));
+    for field in [&h.disp, &h.vel, &h.acc] {
+        field.iter().flatten().flatten().for_each(|&v| eat(v));
+    }
+    x
 }
 
 fn same_bits(a: &RunResult, b: &RunResult) -> bool {
@@ -336,12 +372,13 @@ fn main() -> Result<()> {
 
     // fem2rbd, on the default threads.
     let threads = fem2rbd::fe::domain::default_threads();
-    let (r, ms_ours, phases, iterations) = run_ours(&case, &gm, duration, threads)?;
+    let (r, ms_ours, cpu_ours, phases, iterations) = run_ours(&case, &gm, duration, threads)?;
     let neq = r.built.domain.num_equations();
     println!(
-        "fem2rbd:    {} steps, {:.3} ms/step ({} thread(s), {} equations, {} fallback steps, {:.2} iterations/step)",
+        "fem2rbd:    {} steps, {:.3} ms/step, CPU {:.3} ms/step ({} thread(s), {} equations, {} fallback steps, {:.2} iterations/step)",
         r.transient.steps,
         ms_ours,
+        cpu_ours,
         threads,
         neq,
         r.transient.fallback_steps,
@@ -357,16 +394,17 @@ fn main() -> Result<()> {
             calls
         );
     }
+    println!("digest of the history bits: {:016x}", digest(&r));
     if args.iter().any(|a| a == "--probe") {
         let mut r = r;
         probe(&mut r.built.domain)?;
         return Ok(());
     }
     if compare_threads {
-        let (r1, ms1, _, _) = run_ours(&case, &gm, duration, 1)?;
-        let (r2, ms2, _, _) = run_ours(&case, &gm, duration, 2)?;
+        let (r1, ms1, cpu1, _, _) = run_ours(&case, &gm, duration, 1)?;
+        let (r2, ms2, cpu2, _, _) = run_ours(&case, &gm, duration, 2)?;
         println!(
-            "fem2rbd threads: 1 thread {ms1:.3} ms/step, 2 threads {ms2:.3} ms/step, 2/1 = {:.3}; same bits: {}",
+            "fem2rbd threads: 1 thread {ms1:.3} ms/step (CPU {cpu1:.3}), 2 threads {ms2:.3} ms/step (CPU {cpu2:.3}), 2/1 = {:.3}; same bits: {}",
             ms2 / ms1,
             same_bits(&r1, &r2) && same_bits(&r1, &r)
         );

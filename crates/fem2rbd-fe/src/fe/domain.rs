@@ -17,7 +17,7 @@
 use std::collections::BTreeMap;
 
 use crate::fe::element::Element;
-use crate::fe::element::{ElementError, EndDisplacements, MAX_ELEMENT_NODES};
+use crate::fe::element::{ElementError, EndDisplacements, Prepare, MAX_ELEMENT_NODES};
 
 /// Degrees of freedom per node.
 pub(crate) const NDF: usize = 6;
@@ -27,6 +27,12 @@ const FIXED: usize = usize::MAX;
 /// Fewest elements worth a thread of their own in [`Domain::update_elements`] (below it the
 /// spawn costs more than the fibre work it saves).
 const MIN_ELEMENTS_PER_THREAD: usize = 16;
+
+/// Fewest elements worth a thread of their own in [`Domain::prepare_elements`]: forming
+/// one beam-column's global tangent takes about a microsecond, so below a few hundred
+/// elements a thread's spawn and join cost more than it saves (frame3, 96 elements,
+/// stays sequential; the 7-story frame, 2 646 elements, splits).
+const MIN_PREPARE_PER_THREAD: usize = 512;
 
 /// Threads for element state determination: `FEM2RBD_THREADS` when set to a whole number
 /// ≥ 1, else the machine's available parallelism. Results do not depend on it.
@@ -426,13 +432,15 @@ impl Domain {
         }
     }
 
-    /// Assembles the element resisting forces of the trial state over the equations.
-    /// The element forces are formed on [`Domain::threads`] threads
-    /// ([`Domain::map_elements`]) and summed in element order.
+    /// Assembles the element resisting forces of the trial state over the equations,
+    /// summed in element order (each element's force written into one stack buffer,
+    /// [`Element::resisting_force_into`]).
     pub fn resisting_force(&self, out: &mut [f64]) {
         out.iter_mut().for_each(|x| *x = 0.0);
-        let forces = self.map_elements(|_, el| el.resisting_force());
-        for (el, f) in self.elements.iter().zip(&forces) {
+        let mut f = [0.0; NDF * MAX_ELEMENT_NODES];
+        for el in &self.elements {
+            let n = el.nodes().len();
+            el.resisting_force_into(&mut f[..NDF * n]);
             for (a, &node) in el.nodes().iter().enumerate() {
                 for k in 0..NDF {
                     if let Some(e) = self.equation(node, k) {
@@ -543,6 +551,26 @@ impl Domain {
         };
         self.disp_seen.clone_from(&self.disp);
         result
+    }
+
+    /// [`Element::prepare`] of every element, on [`Domain::threads`] threads when the
+    /// domain is large enough (at least `MIN_PREPARE_PER_THREAD` = 512 elements a thread):
+    /// contiguous chunks of elements, each forming and keeping its own matrices. Nothing
+    /// is summed here and a prepared matrix is the same bits as one formed on first read,
+    /// so the assembly that follows (sequential, in element order) gives the same result
+    /// for any thread count.
+    pub fn prepare_elements(&self, what: Prepare) {
+        let n = self.elements.len();
+        let threads = self.threads.clamp(1, (n / MIN_PREPARE_PER_THREAD).max(1));
+        if threads == 1 {
+            return;
+        }
+        let chunk = n.div_ceil(threads);
+        std::thread::scope(|scope| {
+            for c in self.elements.chunks(chunk) {
+                scope.spawn(move || c.iter().for_each(|e| e.prepare(what)));
+            }
+        });
     }
 
     /// `f(index, element)` for every element, the results in element order; the caller

@@ -9,6 +9,37 @@ use super::{
 use crate::fe::section::{Section, SectionDamage};
 use crate::fe::transform::{new_transform, DeformedFrame, TransformError, TransformKind};
 use nalgebra::{Vector3, Vector6};
+use std::sync::OnceLock;
+
+use super::Mat12;
+
+/// The global matrices of a two-node beam-column's trial state, formed on first use and
+/// kept until the state changes ([`FormCache::clear`] on every `set_trial` and revert).
+/// The tangent is read by the assembly and the trial-geometry damping stiffness by both
+/// the residual (`D v`) and the tangent of the same Newton iteration, so each is formed
+/// once per state instead of once per read, and can be formed on the domain's threads
+/// ([`Element::prepare`]); a cached matrix is the same bits as a freshly formed one.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct FormCache {
+    tangent: OnceLock<Mat12>,
+    damping: OnceLock<Option<Mat12>>,
+}
+
+impl FormCache {
+    /// Forgets the matrices (the trial state changed).
+    pub fn clear(&mut self) {
+        self.tangent.take();
+        self.damping.take();
+    }
+    /// The tangent, formed by `form` if not yet formed for this state.
+    pub fn tangent(&self, form: impl FnOnce() -> Mat12) -> &Mat12 {
+        self.tangent.get_or_init(form)
+    }
+    /// The damping stiffness, formed by `form` if not yet formed for this state.
+    pub fn damping(&self, form: impl FnOnce() -> Option<Mat12>) -> Option<&Mat12> {
+        self.damping.get_or_init(form).as_ref()
+    }
+}
 
 /// State of one integration point (section), for outputs and collapse criteria.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,9 +7,11 @@
 //! `ϑ = v5/L`, i.e. `e = B(ξ) v`. Basic forces `q = Σ Bᵀ s w L`, stiffness
 //! `kb = Σ Bᵀ k_s B w L`.
 
-use super::beam::{damage_of, section_states, transform_error, BeamColumn, SectionState};
+use super::beam::{
+    damage_of, section_states, transform_error, BeamColumn, FormCache, SectionState,
+};
 use super::quadrature::gauss_legendre;
-use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements};
+use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements, Mat12, Prepare};
 use crate::fe::section::Section;
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
 use nalgebra::{DMatrix, DVector};
@@ -34,6 +36,10 @@ pub struct DispBeam3d {
     kb: Mat6,
     /// Initial basic stiffness `Σ Bᵀ k_s0 B w L` (sections' initial tangents; constant).
     kb0: Mat6,
+    /// Whether the transformation has a trial-geometry initial stiffness (corotational).
+    trial_damping: bool,
+    /// Tangent and damping stiffness of the trial state, formed once per state.
+    forms: FormCache,
 }
 
 /// `B(ξ)`: section deformations from basic deformations.
@@ -80,13 +86,17 @@ impl DispBeam3d {
             q: Vector6::zeros(),
             kb: Mat6::zeros(),
             kb0: Mat6::zeros(),
+            trial_damping: false,
+            forms: FormCache::default(),
         };
+        s.trial_damping = s.transf.has_trial_initial_global_stiffness();
         s.kb0 = s.integrate_initial();
         s.state_determination();
         Ok(s)
     }
 
     fn state_determination(&mut self) {
+        self.forms.clear();
         for (i, sec) in self.sections.iter_mut().enumerate() {
             sec.set_trial_deformation(&(self.b[i] * self.v));
         }
@@ -105,6 +115,21 @@ impl DispBeam3d {
         }
         self.q = q;
         self.kb = kb;
+    }
+
+    /// `K = Tᵀ kb T + K_g` of the trial state (cached).
+    fn tangent12(&self) -> &Mat12 {
+        self.forms
+            .tangent(|| self.transf.global_stiffness(&self.kb, &self.q))
+    }
+
+    /// `Tbᵀ kb0 Tb` with the trial geometry (cached), `None` for linear and P-Δ.
+    fn damping12(&self) -> Option<&Mat12> {
+        if !self.trial_damping {
+            return None;
+        }
+        self.forms
+            .damping(|| self.transf.trial_initial_global_stiffness(&self.kb0))
     }
 
     fn integrate_initial(&self) -> Mat6 {
@@ -142,15 +167,37 @@ impl Element for DispBeam3d {
         dvec(&self.transf.global_resisting_force(&self.q))
     }
     fn tangent_stiffness(&self) -> DMatrix<f64> {
-        dmat(&self.transf.global_stiffness(&self.kb, &self.q))
+        dmat(self.tangent12())
     }
     fn initial_stiffness(&self) -> DMatrix<f64> {
         dmat(&self.transf.initial_global_stiffness(&self.kb0))
     }
     fn damping_stiffness(&self) -> Option<DMatrix<f64>> {
-        self.transf
-            .trial_initial_global_stiffness(&self.kb0)
-            .map(|k| dmat(&k))
+        self.damping12().map(dmat)
+    }
+    fn resisting_force_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.transf.global_resisting_force(&self.q).as_slice());
+    }
+    fn tangent_stiffness_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.tangent12().as_slice());
+    }
+    fn damping_stiffness_into(&self, out: &mut [f64]) -> bool {
+        self.damping12()
+            .map(|k| out.copy_from_slice(k.as_slice()))
+            .is_some()
+    }
+    fn has_trial_damping_stiffness(&self) -> bool {
+        self.trial_damping
+    }
+    fn prepare(&self, what: Prepare) {
+        match what {
+            Prepare::Tangent => {
+                self.tangent12();
+            }
+            Prepare::Damping => {
+                self.damping12();
+            }
+        }
     }
     fn commit_state(&mut self) {
         self.transf.commit();
@@ -164,6 +211,7 @@ impl Element for DispBeam3d {
             s.revert_to_last_commit();
         }
         self.v = self.transf.basic_deformations();
+        self.forms.clear();
         self.integrate();
     }
     fn damage(&self) -> ElementDamage {

@@ -4,8 +4,8 @@
 //! `N = EA/L Δl`, `[Mz_i Mz_j] = EIz/L [4 2; 2 4] [θz_i θz_j]`, same with EIy for My,
 //! `T = GJ/L φ`.
 
-use super::beam::{transform_error, BeamColumn, SectionState};
-use super::{dmat, dvec, Element, ElementError, EndDisplacements};
+use super::beam::{transform_error, BeamColumn, FormCache, SectionState};
+use super::{dmat, dvec, Element, ElementError, EndDisplacements, Mat12, Prepare};
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
 use nalgebra::Vector6;
 use nalgebra::{DMatrix, DVector};
@@ -36,6 +36,8 @@ pub struct ElasticBeam3d {
     transf: Box<dyn CrdTransf>,
     kb: Mat6,
     v: Vector6<f64>,
+    /// Tangent of the trial state, formed once per state.
+    forms: FormCache,
 }
 
 impl ElasticBeam3d {
@@ -82,12 +84,19 @@ impl ElasticBeam3d {
             transf,
             kb,
             v: Vector6::zeros(),
+            forms: FormCache::default(),
         })
     }
 
     /// The element's properties.
     pub fn props(&self) -> ElasticProps {
         self.props
+    }
+
+    /// `K = Tᵀ kb T + K_g` of the trial state (cached).
+    fn tangent12(&self) -> &Mat12 {
+        self.forms
+            .tangent(|| self.transf.global_stiffness(&self.kb, &(self.kb * self.v)))
     }
 }
 
@@ -99,6 +108,7 @@ impl Element for ElasticBeam3d {
         &self.nodes
     }
     fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
+        self.forms.clear();
         self.transf
             .update(&disp.total12())
             .map_err(|e| transform_error(self.tag, e))?;
@@ -109,7 +119,25 @@ impl Element for ElasticBeam3d {
         dvec(&self.transf.global_resisting_force(&(self.kb * self.v)))
     }
     fn tangent_stiffness(&self) -> DMatrix<f64> {
-        dmat(&self.transf.global_stiffness(&self.kb, &(self.kb * self.v)))
+        dmat(self.tangent12())
+    }
+    fn resisting_force_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(
+            self.transf
+                .global_resisting_force(&(self.kb * self.v))
+                .as_slice(),
+        );
+    }
+    fn tangent_stiffness_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.tangent12().as_slice());
+    }
+    fn has_trial_damping_stiffness(&self) -> bool {
+        false
+    }
+    fn prepare(&self, what: Prepare) {
+        if what == Prepare::Tangent {
+            self.tangent12();
+        }
     }
     fn initial_stiffness(&self) -> DMatrix<f64> {
         dmat(&self.transf.initial_global_stiffness(&self.kb))
@@ -120,6 +148,7 @@ impl Element for ElasticBeam3d {
     fn revert_to_last_commit(&mut self) {
         self.transf.revert();
         self.v = self.transf.basic_deformations();
+        self.forms.clear();
     }
 }
 

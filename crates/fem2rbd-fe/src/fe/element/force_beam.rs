@@ -20,9 +20,11 @@
 //! parts, up to `max_subdivisions` times (OpenSees' defaults: 10 iterations, 1e-12, 4
 //! subdivisions by a factor 10; the reference frame uses 50 / 1e-12).
 
-use super::beam::{damage_of, section_states, transform_error, BeamColumn, SectionState};
+use super::beam::{
+    damage_of, section_states, transform_error, BeamColumn, FormCache, SectionState,
+};
 use super::quadrature::gauss_lobatto;
-use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements};
+use super::{dmat, dvec, Element, ElementDamage, ElementError, EndDisplacements, Mat12, Prepare};
 use crate::fe::section::{flexibility, Section};
 use crate::fe::transform::{CrdTransf, DeformedFrame, Mat6};
 use nalgebra::{DMatrix, DVector};
@@ -90,6 +92,8 @@ pub struct ForceBeam3d {
     committed: State,
     /// Element iterations used by the last state determination (all attempts).
     last_iterations: usize,
+    /// Tangent of the trial state, formed once per state.
+    forms: FormCache,
 }
 
 /// `b(ξ)`: section forces from basic forces.
@@ -170,7 +174,14 @@ impl ForceBeam3d {
             committed: state.clone(),
             trial: state,
             last_iterations: 0,
+            forms: FormCache::default(),
         })
+    }
+
+    /// `K = Tᵀ kv T + K_g` of the trial state (cached).
+    fn tangent12(&self) -> &Mat12 {
+        self.forms
+            .tangent(|| self.transf.global_stiffness(&self.trial.kv, &self.trial.q))
     }
 
     /// Element iterations used by the last state determination.
@@ -286,6 +297,7 @@ impl Element for ForceBeam3d {
         &self.nodes
     }
     fn set_trial(&mut self, disp: &EndDisplacements<'_>) -> Result<(), ElementError> {
+        self.forms.clear();
         self.transf
             .update(&disp.total12())
             .map_err(|e| transform_error(self.tag, e))?;
@@ -296,7 +308,21 @@ impl Element for ForceBeam3d {
         dvec(&self.transf.global_resisting_force(&self.trial.q))
     }
     fn tangent_stiffness(&self) -> DMatrix<f64> {
-        dmat(&self.transf.global_stiffness(&self.trial.kv, &self.trial.q))
+        dmat(self.tangent12())
+    }
+    fn resisting_force_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.transf.global_resisting_force(&self.trial.q).as_slice());
+    }
+    fn tangent_stiffness_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.tangent12().as_slice());
+    }
+    fn has_trial_damping_stiffness(&self) -> bool {
+        false
+    }
+    fn prepare(&self, what: Prepare) {
+        if what == Prepare::Tangent {
+            self.tangent12();
+        }
     }
     fn initial_stiffness(&self) -> DMatrix<f64> {
         dmat(&self.transf.initial_global_stiffness(&self.kv0))
@@ -314,6 +340,7 @@ impl Element for ForceBeam3d {
             s.revert_to_last_commit();
         }
         self.trial = self.committed.clone();
+        self.forms.clear();
     }
     fn damage(&self) -> ElementDamage {
         damage_of(&self.sections)

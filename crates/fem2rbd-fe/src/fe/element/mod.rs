@@ -47,6 +47,15 @@ pub fn dmat<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> DMatrix<f
     DMatrix::from_column_slice(R, C, m.as_slice())
 }
 
+/// What [`Element::prepare`] forms ahead of the assembly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Prepare {
+    /// The tangent stiffness ([`Element::tangent_stiffness`]).
+    Tangent,
+    /// The trial-geometry damping stiffness ([`Element::damping_stiffness`]).
+    Damping,
+}
+
 /// Damage state of an element, for the collapse criteria and the hand-off.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ElementDamage {
@@ -96,6 +105,37 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn damping_stiffness(&self) -> Option<DMatrix<f64>> {
         None
     }
+    /// [`Self::resisting_force`] written into `out` (`6 n` components) without
+    /// allocating: the form the assembly reads on every Newton iteration.
+    fn resisting_force_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.resisting_force().as_slice());
+    }
+    /// [`Self::tangent_stiffness`] written into `out` (`(6 n)²` entries, column-major)
+    /// without allocating.
+    fn tangent_stiffness_into(&self, out: &mut [f64]) {
+        out.copy_from_slice(self.tangent_stiffness().as_slice());
+    }
+    /// [`Self::damping_stiffness`] written into `out` (`(6 n)²` entries, column-major)
+    /// when it is `Some`; returns whether it was (`out` is untouched otherwise).
+    fn damping_stiffness_into(&self, out: &mut [f64]) -> bool {
+        match self.damping_stiffness() {
+            Some(k) => {
+                out.copy_from_slice(k.as_slice());
+                true
+            }
+            None => false,
+        }
+    }
+    /// Whether [`Self::damping_stiffness`] is `Some`, without forming it.
+    fn has_trial_damping_stiffness(&self) -> bool {
+        self.damping_stiffness().is_some()
+    }
+    /// Forms the matrices of the trial state that `what` names and keeps them until the
+    /// state changes, so that the reads after it are copies. A pure cache: the values read
+    /// are the same bits whether or not this ran first, and on which thread
+    /// ([`crate::fe::domain::Domain::prepare_elements`] runs it on the domain's threads).
+    /// The default does nothing (the reads form the matrices themselves).
+    fn prepare(&self, _what: Prepare) {}
     /// Accepts the trial state.
     fn commit_state(&mut self);
     /// Returns to the last committed state.

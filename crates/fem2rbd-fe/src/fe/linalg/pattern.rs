@@ -4,7 +4,8 @@
 
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
-use crate::fe::domain::Domain;
+use crate::fe::domain::{Domain, NDF};
+use crate::fe::element::{Prepare, MAX_ELEMENT_NODES};
 
 /// Which element stiffness to assemble.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,6 +17,8 @@ pub enum StiffnessKind {
 }
 
 const NONE: usize = usize::MAX;
+/// Entries of the largest element matrix (`(6 · MAX_ELEMENT_NODES)²`).
+const ELEMENT_MATRIX: usize = (NDF * MAX_ELEMENT_NODES) * (NDF * MAX_ELEMENT_NODES);
 
 /// Pattern of the `neq × neq` global matrices (both triangles and the full diagonal
 /// stored) and where each element entry lands in the value array.
@@ -112,7 +115,22 @@ impl SparsePattern {
         SparseColMatRef::new(self.symbolic.as_ref(), values)
     }
 
-    /// `values += factor · Σ_e K_e` (tangent or initial element stiffness).
+    /// `values[slots] += factor · k` for one element matrix `k` (`m × m`, column-major).
+    fn scatter(slots: &[usize], k: &[f64], m: usize, factor: f64, values: &mut [f64]) {
+        for j in 0..m {
+            for i in 0..m {
+                let s = slots[m * i + j];
+                if s != NONE {
+                    values[s] += factor * k[i + m * j];
+                }
+            }
+        }
+    }
+
+    /// `values += factor · Σ_e K_e` (tangent or initial element stiffness), summed in
+    /// element order. The tangents are formed first on the domain's threads
+    /// ([`Domain::prepare_elements`]) and then copied into one buffer per element in turn
+    /// (no allocation per element): the same bits for any thread count.
     pub fn add_stiffness(
         &self,
         domain: &Domain,
@@ -120,22 +138,19 @@ impl SparsePattern {
         factor: f64,
         values: &mut [f64],
     ) {
-        // The element matrices on the domain's threads, the sums in element order: the
-        // same bits for any thread count.
-        let ks = domain.map_elements(|_, el| match kind {
-            StiffnessKind::Tangent => el.tangent_stiffness(),
-            StiffnessKind::Initial => el.initial_stiffness(),
-        });
-        for (k, slots) in ks.iter().zip(&self.element_slots) {
-            let m = k.nrows();
-            for i in 0..m {
-                for j in 0..m {
-                    let s = slots[m * i + j];
-                    if s != NONE {
-                        values[s] += factor * k[(i, j)];
-                    }
+        if kind == StiffnessKind::Tangent {
+            domain.prepare_elements(Prepare::Tangent);
+        }
+        let mut k = [0.0; ELEMENT_MATRIX];
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            let m = NDF * el.nodes().len();
+            match kind {
+                StiffnessKind::Tangent => el.tangent_stiffness_into(&mut k[..m * m]),
+                StiffnessKind::Initial => {
+                    k[..m * m].copy_from_slice(el.initial_stiffness().as_slice())
                 }
             }
+            Self::scatter(slots, &k[..m * m], m, factor, values);
         }
     }
 
@@ -144,73 +159,60 @@ impl SparsePattern {
     /// is `None`).
     pub fn add_constant_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
         for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
-            if el.damping_stiffness().is_some() {
+            if el.has_trial_damping_stiffness() {
                 continue;
             }
             let k = el.initial_stiffness();
-            let m = k.nrows();
-            for i in 0..m {
-                for j in 0..m {
-                    let s = slots[m * i + j];
-                    if s != NONE {
-                        values[s] += factor * k[(i, j)];
-                    }
-                }
-            }
+            Self::scatter(slots, k.as_slice(), k.nrows(), factor, values);
         }
     }
 
     /// `y += Σ_e D_e x_e` over the elements whose damping stiffness `D_e` follows the
     /// trial configuration (`damping_stiffness()` is `Some`), `x` and `y` in equations.
-    /// The element products are formed on the domain's threads and summed in element
-    /// order (the same bits for any thread count).
+    /// The `D_e` are formed on the domain's threads ([`Domain::prepare_elements`]) and
+    /// kept for the tangent of the same iteration; the products are formed and summed in
+    /// element order (the same bits for any thread count).
     pub fn add_trial_damping_product(&self, domain: &Domain, x: &[f64], y: &mut [f64]) {
-        let products = domain.map_elements(|e, el| {
-            let k = el.damping_stiffness()?;
-            let eqs = &self.element_eqs[e];
-            let mut out = vec![0.0; eqs.len()];
+        domain.prepare_elements(Prepare::Damping);
+        let mut k = [0.0; ELEMENT_MATRIX];
+        let mut out = [0.0; NDF * MAX_ELEMENT_NODES];
+        for (el, eqs) in domain.elements().iter().zip(&self.element_eqs) {
+            let m = eqs.len();
+            if !el.damping_stiffness_into(&mut k[..m * m]) {
+                continue;
+            }
             for (i, ri) in eqs.iter().enumerate() {
                 if ri.is_none() {
+                    out[i] = 0.0;
                     continue;
                 }
                 let mut acc = 0.0;
                 for (j, cj) in eqs.iter().enumerate() {
                     if let Some(c) = cj {
-                        acc += k[(i, j)] * x[*c];
+                        acc += k[i + m * j] * x[*c];
                     }
                 }
                 out[i] = acc;
             }
-            Some(out)
-        });
-        for (p, eqs) in products.iter().zip(&self.element_eqs) {
-            let Some(p) = p else { continue };
             for (i, ri) in eqs.iter().enumerate() {
                 if let Some(r) = ri {
-                    y[*r] += p[i];
+                    y[*r] += out[i];
                 }
             }
         }
     }
 
     /// `values += factor · Σ_e D_e` over the elements whose damping stiffness `D_e`
-    /// follows the trial configuration (`damping_stiffness()` is `Some`).
-    /// The element matrices are formed on the domain's threads and summed in element
-    /// order (the same bits for any thread count).
+    /// follows the trial configuration (`damping_stiffness()` is `Some`), summed in
+    /// element order (the `D_e` as kept by [`Self::add_trial_damping_product`], or formed
+    /// on the domain's threads here).
     pub fn add_trial_damping_stiffness(&self, domain: &Domain, factor: f64, values: &mut [f64]) {
-        let ks = domain.map_elements(|_, el| el.damping_stiffness());
-        for (k, slots) in ks.iter().zip(&self.element_slots) {
-            let Some(k) = k else {
-                continue;
-            };
-            let m = k.nrows();
-            for i in 0..m {
-                for j in 0..m {
-                    let s = slots[m * i + j];
-                    if s != NONE {
-                        values[s] += factor * k[(i, j)];
-                    }
-                }
+        domain.prepare_elements(Prepare::Damping);
+        let mut k = [0.0; ELEMENT_MATRIX];
+        for (el, slots) in domain.elements().iter().zip(&self.element_slots) {
+            let m = NDF * el.nodes().len();
+            if el.damping_stiffness_into(&mut k[..m * m]) {
+                Self::scatter(slots, &k[..m * m], m, factor, values);
             }
         }
     }

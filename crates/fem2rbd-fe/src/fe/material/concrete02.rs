@@ -83,8 +83,43 @@ struct State {
 #[derive(Debug, Clone)]
 pub struct Concrete02 {
     p: Concrete02Params,
+    /// Constants of the law, formed once from `p` (the same expressions, hence bits, as
+    /// forming them on every trial).
+    k: Derived,
     trial: State,
     committed: State,
+}
+
+/// Constants derived from the parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Derived {
+    /// E_c0 = 2 f'c / ε_c0.
+    ec0: f64,
+    /// Slope of the descending branch, (f'cu − f'c)/(ε_cu − ε_c0).
+    slope: f64,
+    /// ε_R of the common point R.
+    eps_r: f64,
+    /// σ_R = E_c0 ε_R.
+    sig_r: f64,
+    /// ε_t = f_t / E_c0.
+    eps_t: f64,
+    /// Strain where the tension envelope reaches zero, f_t (1/E_ts + 1/E_c0).
+    eps_zero: f64,
+}
+
+impl Derived {
+    fn new(p: &Concrete02Params) -> Self {
+        let ec0 = 2.0 * p.fpc / p.epsc0;
+        let eps_r = (p.fpcu - p.lambda * ec0 * p.epscu) / (ec0 * (1.0 - p.lambda));
+        Self {
+            ec0,
+            slope: (p.fpcu - p.fpc) / (p.epscu - p.epsc0),
+            eps_r,
+            sig_r: ec0 * eps_r,
+            eps_t: p.ft / ec0,
+            eps_zero: p.ft * (1.0 / p.ets + 1.0 / ec0),
+        }
+    }
 }
 
 impl Concrete02 {
@@ -121,6 +156,7 @@ impl Concrete02 {
         let s = Self::virgin(&p);
         Ok(Self {
             p,
+            k: Derived::new(&p),
             trial: s,
             committed: s,
         })
@@ -133,7 +169,7 @@ impl Concrete02 {
 
     /// Initial modulus E_c0 = 2 f'c/ε_c0 (Pa).
     pub fn ec0(&self) -> f64 {
-        2.0 * self.p.fpc / self.p.epsc0
+        self.k.ec0
     }
 
     fn virgin(p: &Concrete02Params) -> State {
@@ -149,12 +185,12 @@ impl Concrete02 {
     /// Compression envelope: stress and tangent at strain `eps`.
     fn compression_envelope(&self, eps: f64) -> (f64, f64) {
         let p = &self.p;
-        let ec0 = self.ec0();
+        let ec0 = self.k.ec0;
         let eta = eps / p.epsc0;
         if eps >= p.epsc0 {
             (p.fpc * eta * (2.0 - eta), ec0 * (1.0 - eta))
         } else if eps > p.epscu {
-            let slope = (p.fpcu - p.fpc) / (p.epscu - p.epsc0);
+            let slope = self.k.slope;
             (
                 (p.fpcu - p.fpc) * (eps - p.epsc0) / (p.epscu - p.epsc0) + p.fpc,
                 slope,
@@ -167,9 +203,8 @@ impl Concrete02 {
     /// Tension envelope: stress and tangent at strain `eps` (measured from zero stress).
     fn tension_envelope(&self, eps: f64) -> (f64, f64) {
         let p = &self.p;
-        let ec0 = self.ec0();
-        let eps_t = p.ft / ec0;
-        let eps_zero = p.ft * (1.0 / p.ets + 1.0 / ec0);
+        let ec0 = self.k.ec0;
+        let (eps_t, eps_zero) = (self.k.eps_t, self.k.eps_zero);
         if eps <= eps_t {
             (eps * ec0, ec0)
         } else if eps <= eps_zero {
@@ -200,9 +235,7 @@ impl UniaxialMaterial for Concrete02 {
             t.e = e;
             t.ecmin = strain;
         } else {
-            let lambda = self.p.lambda;
-            let eps_r = (self.p.fpcu - lambda * ec0 * self.p.epscu) / (ec0 * (1.0 - lambda));
-            let sig_r = ec0 * eps_r;
+            let (eps_r, sig_r) = (self.k.eps_r, self.k.sig_r);
             let (sig_m, _) = self.compression_envelope(c.ecmin);
             let e_r = (sig_m - sig_r) / (c.ecmin - eps_r);
             let ept = c.ecmin - sig_m / e_r;

@@ -60,6 +60,13 @@ pub trait UniaxialMaterial: std::fmt::Debug + Send + Sync {
     /// Sets the trial strain and updates the trial stress and tangent from the last
     /// committed state.
     fn set_trial_strain(&mut self, strain: f64);
+    /// [`Self::set_trial_strain`], then the trial stress and tangent `(σ, E_t)` (Pa):
+    /// one dynamic call per fibre in the section's hot loop instead of three (the default
+    /// is compiled for each law, so its three calls are static).
+    fn set_trial_strain_response(&mut self, strain: f64) -> (f64, f64) {
+        self.set_trial_strain(strain);
+        (self.stress(), self.tangent())
+    }
     /// Trial strain (–).
     fn strain(&self) -> f64;
     /// Trial stress (Pa).

@@ -40,6 +40,31 @@ impl Clone for Fiber {
     }
 }
 
+/// Running fibre sums of a section: `s = Σ (σ A) a`, `k = Σ ((E_t A) a) aᵀ` with
+/// `a = [1, −y, z]`, each product formed as nalgebra forms `(σ A) a` and `((E_t A) a) aᵀ`
+/// (so the sums are the same bits as the matrix expressions they replace).
+#[derive(Default)]
+struct Accumulator {
+    s: [f64; 3],
+    k: [[f64; 3]; 3],
+}
+
+impl Accumulator {
+    #[inline(always)]
+    fn add(&mut self, f: &Fiber, sig: f64, et: f64) {
+        let a = [1.0, -f.y, f.z];
+        let sa = sig * f.area;
+        let ca = et * f.area;
+        for i in 0..3 {
+            self.s[i] += a[i] * sa;
+            let cai = a[i] * ca;
+            for j in 0..3 {
+                self.k[i][j] += cai * a[j];
+            }
+        }
+    }
+}
+
 /// Errors in section data.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SectionError {
@@ -170,17 +195,23 @@ impl FiberSection {
 
     /// Resultants and tangent from the materials' current (trial) stresses and moduli.
     fn integrate(&mut self) {
-        let mut s3 = Vector3::zeros();
-        let mut k3 = Matrix3::zeros();
+        let mut acc = Accumulator::default();
         for f in &self.fibers {
-            let a = Vector3::new(1.0, -f.y, f.z);
-            s3 += (f.material.stress() * f.area) * a;
-            k3 += (f.material.tangent() * f.area) * a * a.transpose();
+            acc.add(f, f.material.stress(), f.material.tangent());
         }
+        self.store(&acc);
+    }
+
+    /// `s` and `k` from the fibre sums and the elastic torsion.
+    fn store(&mut self, acc: &Accumulator) {
+        let (s3, k3) = (&acc.s, &acc.k);
         self.s = Vector4::new(s3[0], s3[1], s3[2], self.gj * self.e[3]);
-        self.k = Matrix4::zeros();
-        self.k.fixed_view_mut::<3, 3>(0, 0).copy_from(&k3);
-        self.k[(3, 3)] = self.gj;
+        self.k = Matrix4::new(
+            k3[0][0], k3[0][1], k3[0][2], 0.0, //
+            k3[1][0], k3[1][1], k3[1][2], 0.0, //
+            k3[2][0], k3[2][1], k3[2][2], 0.0, //
+            0.0, 0.0, 0.0, self.gj,
+        );
     }
 
     fn fiber_strain(e: &Vector4<f64>, f: &Fiber) -> f64 {
@@ -201,11 +232,14 @@ impl FiberSection {
 impl Section for FiberSection {
     fn set_trial_deformation(&mut self, e: &Vector4<f64>) {
         self.e = *e;
+        // One pass: strain, material, sums (the sums in fibre order, as `integrate`).
+        let mut acc = Accumulator::default();
         for f in &mut self.fibers {
             let eps = Self::fiber_strain(e, f);
-            f.material.set_trial_strain(eps);
+            let (sig, et) = f.material.set_trial_strain_response(eps);
+            acc.add(f, sig, et);
         }
-        self.integrate();
+        self.store(&acc);
     }
     fn deformation(&self) -> Vector4<f64> {
         self.e

@@ -482,6 +482,9 @@ impl CrdTransf for CorotTransf {
         let tb = self.tp * self.kin.t;
         Some(tb.transpose() * kb0 * tb)
     }
+    fn has_trial_initial_global_stiffness(&self) -> bool {
+        true
+    }
     fn commit(&mut self) {
         self.u_c = self.u;
         self.qi_c = self.qi;

@@ -110,6 +110,10 @@ pub trait CrdTransf: std::fmt::Debug + Send + Sync {
     fn trial_initial_global_stiffness(&self, _kb0: &Mat6) -> Option<Mat12> {
         None
     }
+    /// Whether [`Self::trial_initial_global_stiffness`] is `Some` (without forming it).
+    fn has_trial_initial_global_stiffness(&self) -> bool {
+        false
+    }
     /// Accepts the trial configuration.
     fn commit(&mut self);
     /// Returns to the last committed configuration.
