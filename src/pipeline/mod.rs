@@ -321,6 +321,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
     s.hinge_keeps_rotation = p.hinge_keeps_rotation;
     s.spring_cap_per_body = p.spring_cap_per_body;
+    s.ruin.search.search_distance = p.search_distance_m;
     s.joint_rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
         scenario::JointRowsSpec::Member => crate::ruin::stage::JointRows::Member {

@@ -225,6 +225,9 @@ pub struct PhysicsSpec {
     /// spring as Bullet/BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
+    /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
+    /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
+    pub search_distance_m: f64,
     /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
     /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
     pub sleeping: bool,
@@ -277,6 +280,7 @@ impl Default for PhysicsSpec {
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,
             spring_cap_per_body: true,
+            search_distance_m: 0.02,
             sleeping: false,
             time_limit_s: None,
             settle_s: 5.0,
@@ -482,6 +486,14 @@ impl PhysicsSpec {
             "m",
         )?;
         r("physics.margin_m", self.margin_m, 0.0, true, 1.0, "m")?;
+        r(
+            "physics.search_distance_m",
+            self.search_distance_m,
+            0.0,
+            true,
+            2.0,
+            "m",
+        )?;
         r(
             "physics.margin_max_share",
             self.margin_max_share,
