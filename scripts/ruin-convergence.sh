@@ -1,31 +1,56 @@
 #!/usr/bin/env bash
-# Convergence of the ruin measures of frame3 LC5 (docs/ruin-numerics.md): runs the shipped
-# scenario data/frame3/lc5.toml in the hybrid and physics modes at 200 / 400 / 800
-# substeps/s (100 solver iterations) and at 200 iterations (200 substeps/s), release build,
-# then prints the table (Markdown) with scripts/ruin-table.py.
+# Convergence of the ruin measures of frame3 LC5 against the ensemble spread
+# (docs/ruin-numerics.md §5, issue 12 item 3). Per mode (hybrid, physics):
+#   1. an ensemble of N members at the default substep (200 substeps/s, 100 iterations;
+#      `fem2rbd run --ensemble N --seed S`, member 0 = the unperturbed run),
+#   2. the same scenario at 400 and 800 substeps/s (100 iterations) and at 200 iterations,
+# then prints, with scripts/ruin-convergence-table.py, the ensemble spread of every ruin
+# measure and the convergence table: a variant agrees on a measure when it differs from
+# the unperturbed run (member 0) by at most max(10 % of it (0.1 for ratios), the ensemble
+# spread = max - min over the members).
 #
-#   bash scripts/ruin-convergence.sh [OUT_DIR] [MODES]      (default out/ruin-convergence, "hybrid physics")
+#   bash scripts/ruin-convergence.sh [OUT_DIR] [MODES]   (default out/ruin-convergence, "hybrid physics")
 #
-# Extra [physics] lines for every run can be given in RUIN_EXTRA (e.g. RUIN_EXTRA='joint_erp = 0.05').
-# Each run takes 15-60 s on a free core (800 substeps/s: about 4 times longer).
+# Environment: ENSEMBLE (members, default 8), SEED (default 1), THREADS (ensemble worker
+# threads, default 2), FEM2RBD (the binary, default target/release/fem2rbd, built first),
+# RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05').
+# Runs whose summary.json / ensemble.json exist are kept (delete them to rerun).
+# Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
+# 3 times longer; the whole table (2 ensembles of 8 + 6 variants) about 25 min.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/ruin-convergence}
 MODES=${2:-hybrid physics}
+N=${ENSEMBLE:-8}
+SEED=${SEED:-1}
+THREADS=${THREADS:-2}
 ROOT=$PWD
+if [ -z "${FEM2RBD:-}" ]; then
+  cargo build --release --quiet
+  FEM2RBD=./target/release/fem2rbd
+fi
 mkdir -p "$OUT/scenarios"
-cargo build --release --quiet
+scenario() { # name sps iterations
+  local sc="$OUT/scenarios/$1.toml"
+  sed -e "s#^model = \"model.toml\"#model = \"$ROOT/data/frame3/model.toml\"#" \
+      -e "s#file = \"\.\./#file = \"$ROOT/data/#" \
+      data/frame3/lc5.toml > "$sc"
+  printf 'steps_per_second = %s\nsolver_iterations = %s\n%s\n' "$2" "$3" "${RUIN_EXTRA:-}" >> "$sc"
+  echo "$sc"
+}
 for mode in $MODES; do
-  for cfg in "200 100" "400 100" "800 100" "200 200"; do
+  name="$mode-ensemble"
+  if [ ! -f "$OUT/$name/ensemble.json" ]; then
+    echo "== $name ($N members, seed $SEED)" >&2
+    "$FEM2RBD" run "$(scenario "$name" 200 100)" --mode "$mode" --out "$OUT/$name" \
+      --ensemble "$N" --seed "$SEED" --threads "$THREADS" --quiet
+  fi
+  for cfg in "400 100" "800 100" "200 200"; do
     set -- $cfg
     name="$mode-sps$1-it$2"
-    sc="$OUT/scenarios/$name.toml"
-    sed -e "s#^model = \"model.toml\"#model = \"$ROOT/data/frame3/model.toml\"#" \
-        -e "s#file = \"\.\./#file = \"$ROOT/data/#" \
-        data/frame3/lc5.toml > "$sc"
-    printf 'steps_per_second = %s\nsolver_iterations = %s\n%s\n' "$1" "$2" "${RUIN_EXTRA:-}" >> "$sc"
+    [ -f "$OUT/$name/summary.json" ] && continue
     echo "== $name" >&2
-    ./target/release/fem2rbd run "$sc" --mode "$mode" --out "$OUT/$name" --quiet
+    "$FEM2RBD" run "$(scenario "$name" "$1" "$2")" --mode "$mode" --out "$OUT/$name" --quiet
   done
 done
-python3 scripts/ruin-table.py "$OUT"/*-sps*-it*
+python3 scripts/ruin-convergence-table.py "$OUT" $MODES

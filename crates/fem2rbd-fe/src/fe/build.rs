@@ -256,8 +256,8 @@ fn shell_section(
 
 /// Builds the domain of `model` (which must have passed validation, as
 /// [`Model::load`] guarantees). Shells are `ASDShellQ4` elements
-/// ([`crate::fe::shell::element::ShellElement`]) on `layered_shell` sections; `plate`
-/// sections and corotational shells are refused, naming the element.
+/// ([`crate::fe::shell::element::ShellElement`]) on `layered_shell` sections, small-
+/// displacement or corotational; `plate` sections are refused, naming the element.
 pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain> {
     if !model
         .elements
@@ -327,13 +327,6 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 local_x,
                 corotational,
             } => {
-                if *corotational {
-                    return Err(FeError::Unsupported(format!(
-                        "element {}: corotational shells are not supported by the FE solver \
-                         (small-displacement ASDShellQ4 only); set corotational = false",
-                        e.tag
-                    )));
-                }
                 let s = secs.get(section).ok_or_else(|| {
                     FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
                 })?;
@@ -354,7 +347,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                     coords[1][1] - coords[0][1],
                     coords[1][2] - coords[0][2],
                 ]);
-                let el = ShellElement::new(tag, idxs, &coords, lx, &sec, linear)
+                let el = ShellElement::new(tag, idxs, &coords, lx, &sec, linear, *corotational)
                     .map_err(|err| FeError::Unsupported(format!("element {}: {err}", e.tag)))?;
                 let i = domain
                     .add_element(Box::new(el))

@@ -3,10 +3,11 @@
 //! a `LayeredShell` section (Huang & Lu), reproduced term by term so that the element
 //! matrix equals OpenSees' to round-off.
 //!
-//! **Status:** small displacements. [`element::ShellElement`] is the element of the FE
-//! domain (gravity, modal, pushover, transient), with the nonlinear layer laws of
-//! [`layers`]; [`asd_shell_q4_stiffness`] is its linear stiffness on its own. Corotational
-//! kinematics (`-corotational`) are not implemented: the domain refuses such shells.
+//! **Status:** [`element::ShellElement`] is the element of the FE domain (gravity, modal,
+//! pushover, transient), with the nonlinear layer laws of [`layers`], in small
+//! displacements or with OpenSees' corotational kinematics (`-corotational`, large
+//! rotations: `corotational.rs`, Felippa–Haugen EICR with a polar-decomposition frame);
+//! [`asd_shell_q4_stiffness`] is its linear stiffness on its own.
 //!
 //! Formulation (all in the element's local frame, 2 × 2 Gauss points, 24 DOFs
 //! `[u v w θx θy θz]` per node):
@@ -36,6 +37,7 @@
 
 use std::collections::BTreeMap;
 
+pub(crate) mod corotational;
 pub mod element;
 pub mod layers;
 

@@ -47,6 +47,7 @@ mod fe {
     }
     mod shell {
         mod building;
+        mod corotational;
         mod frame_modal;
         mod model;
         mod nonlinear;

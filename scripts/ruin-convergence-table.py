@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""The tables of scripts/ruin-convergence.sh (docs/ruin-numerics.md §5).
+
+Usage: python3 scripts/ruin-convergence-table.py OUT MODE...
+
+Per mode it reads OUT/MODE-ensemble/member-NNN/ (the ensemble at the default substep,
+member 0 unperturbed) and the variant runs OUT/MODE-sps400-it100, -sps800-it100,
+-sps200-it200, and prints (Markdown):
+
+* the ensemble spread of every ruin measure: mean ± sample standard deviation, min–max,
+  and the spread s = max − min;
+* the convergence table: each variant's value and whether it agrees with the unperturbed
+  run x0 (member 0): |x − x0| ≤ max(tol, s), tol = 0.1·|x0| for lengths and areas, 0.1 for
+  the slab-overlap ratios (issue 12 item 3: "within 10 % (0.1 for ratios) or within the
+  ensemble spread, whichever is larger"). A second count says how many measures of each
+  variant lie inside the ensemble's range widened by the same tolerance,
+  [min − tol, max + tol] (the variant is indistinguishable from a member).
+
+The measures are those of scripts/ruin-table.py: floor-centroid offsets, slab overlap
+ratios of consecutive floors, debris footprint area, the 50th / 90th / 100th percentile of
+the body-centre distance beyond the original footprint, the maximum debris height.
+"""
+import csv, glob, json, math, os, statistics, sys
+
+
+def percentile(xs, p):
+    xs = sorted(xs)
+    k = max(0, min(len(xs) - 1, math.ceil(p / 100 * len(xs)) - 1))
+    return xs[k]
+
+
+def measures(d):
+    """Ruin measures of run folder d, as (name, value, is_ratio), plus run facts."""
+    s = json.load(open(os.path.join(d, 'summary.json')))
+    ru = s['ruins']
+    fx, fy = ru['original_footprint_m']['x'], ru['original_footprint_m']['y']
+    passive = {b['name'] for b in csv.DictReader(open(os.path.join(d, 'bodies.csv')))
+               if b['passive'] == '1'}
+    dist = []
+    for r in csv.DictReader(open(os.path.join(d, 'ruins.csv'))):
+        if r['name'] in passive:
+            continue
+        x, y = float(r['x']), float(r['y'])
+        dist.append(math.hypot(max(fx[0] - x, 0.0, x - fx[1]), max(fy[0] - y, 0.0, y - fy[1])))
+    m = []
+    for i, f in enumerate(ru['floors']):
+        m.append(('floor %d offset m' % (i + 1), f['horizontal_offset_m'], False))
+    for o in ru['slab_overlap']:
+        m.append(('slab overlap %s' % '–'.join(str(x) for x in o['floors']), o['overlap_ratio'], True))
+    m.append(('debris area m²', ru['debris_footprint_area_m2'], False))
+    for p in (50, 90, 100):
+        m.append(('d%d m' % p, percentile(dist, p), False))
+    m.append(('max debris height m', ru['max_debris_height_m'], False))
+    rs = s.get('ruin_stage', {})
+    e = rs.get('energy', {})
+    facts = {
+        'stop': rs.get('stop', '-'), 'end': rs.get('end_s', float('nan')),
+        'speed': e.get('speed', {}).get('max_mps', float('nan')),
+        'rise': e.get('settle_phase', {}).get('max_rise_ratio', float('nan')),
+        'injected': e.get('injected_j', float('nan')) / 1000,
+        'unsettled': len(rs.get('unsettled_bodies', [])),
+    }
+    return m, facts
+
+
+def fmt(x):
+    return '%.2f' % x
+
+
+def main():
+    out, modes = sys.argv[1], sys.argv[2:]
+    for mode in modes:
+        members = sorted(glob.glob(os.path.join(out, mode + '-ensemble', 'member-*')))
+        if not members:
+            print('no ensemble for %s in %s' % (mode, out))
+            continue
+        ms = [measures(d) for d in members]
+        names = [n for n, _, _ in ms[0][0]]
+        ratio = {n: r for n, _, r in ms[0][0]}
+        vals = {n: [dict((k, v) for k, v, _ in m[0])[n] for m in ms] for n in names}
+        print('### %s: ensemble of %d members (200 substeps/s, 100 iterations)\n' % (mode, len(ms)))
+        print('| measure | member 0 | mean ± std | min–max | spread s |')
+        print('|---|---|---|---|---|')
+        spread = {}
+        for n in names:
+            v = vals[n]
+            spread[n] = max(v) - min(v)
+            sd = statistics.stdev(v) if len(v) > 1 else 0.0
+            print('| %s | %s | %s ± %s | %s–%s | %s |' % (
+                n, fmt(v[0]), fmt(statistics.mean(v)), fmt(sd), fmt(min(v)), fmt(max(v)), fmt(spread[n])))
+        f = [m[1] for m in ms]
+        print('\nMembers: stop %s; end %s s; max speed %s m/s; unsettled bodies %s; '
+              'settle rise / V0 ≤ %.1e; injected %s kJ.\n' % (
+                  ', '.join(x['stop'] for x in f), ', '.join('%.2f' % x['end'] for x in f),
+                  ', '.join('%.1f' % x['speed'] for x in f), ', '.join(str(x['unsettled']) for x in f),
+                  max(x['rise'] for x in f), ', '.join('%.1f' % x['injected'] for x in f)))
+        variants = []
+        for v in ('sps400-it100', 'sps800-it100', 'sps200-it200'):
+            d = os.path.join(out, '%s-%s' % (mode, v))
+            if os.path.isfile(os.path.join(d, 'summary.json')):
+                variants.append((v, measures(d)))
+        print('### %s: convergence (reference: member 0 = sps200-it100)\n' % mode)
+        head = ['measure', 'sps200-it100', 'allowed ±'] + [v for v, _ in variants]
+        print('| ' + ' | '.join(head) + ' |')
+        print('|' + '---|' * len(head))
+        passed = {v: 0 for v, _ in variants}
+        inside = {v: 0 for v, _ in variants}
+        for n in names:
+            x0 = vals[n][0]
+            tol = 0.1 if ratio[n] else 0.1 * abs(x0)
+            allowed = max(tol, spread[n])
+            row = [n, fmt(x0), fmt(allowed) + (' (s)' if spread[n] > tol else (' (0.1)' if ratio[n] else ' (10 %)'))]
+            for v, (m, _) in variants:
+                x = dict((k, y) for k, y, _ in m)[n]
+                ok = abs(x - x0) <= allowed + 1e-12
+                passed[v] += ok
+                inside[v] += min(vals[n]) - tol - 1e-12 <= x <= max(vals[n]) + tol + 1e-12
+                row.append('%s %s' % (fmt(x), '✓' if ok else '✗'))
+            print('| ' + ' | '.join(row) + ' |')
+        print('| runs: stop, end s, max speed, unsettled, injected kJ | %s %.2f, %.1f, %d, %.1f | | %s |' % (
+            f[0]['stop'], f[0]['end'], f[0]['speed'], f[0]['unsettled'], f[0]['injected'],
+            ' | '.join('%s %.2f, %.1f, %d, %.1f' % (x['stop'], x['end'], x['speed'], x['unsettled'], x['injected'])
+                       for _, (_, x) in variants)))
+        print('\nAgreeing measures (|x − x0| ≤ max(tol, s)): ' + ', '.join('%s %d/%d' % (v, passed[v], len(names)) for v, _ in variants) + '; inside the ensemble range ± tol: ' + ', '.join('%s %d/%d' % (v, inside[v], len(names)) for v, _ in variants) + '\n')
+
+
+main()
