@@ -10,7 +10,7 @@
 //! beam–slab connections for 4 panels instead of 8) and the floor falls (measured: the
 //! panels drop 2 m in 1 s although the same slab holds with its self-weight alone or with
 //! ≤ 316 kg/m² added). A search distance of 0.42 m bridges the gap: 8 beam–slab
-//! connections and the floor stands (measured drop < 1 µm).
+//! connections and the floor stands (measured: largest drop 51 µm, all connections intact).
 use fem2rbd::model::generate::{frame, FrameParams};
 use fem2rbd::pipeline::{self, write, Scenario, Silent};
 use std::path::Path;
