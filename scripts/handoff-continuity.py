@@ -15,7 +15,12 @@ Each of (a)-(c) is run with both connection models, BCB's Formula Assistant ("fo
 and the FE-derived one ("fe"). Usage:
 
   python3 scripts/handoff-continuity.py [--model data/frame3/model.toml]
-      [--time-scale 0.5] [--out out/handoff] [--ruins]
+      [--time-scale 0.5] [--out out/handoff] [--ruins] [--reuse] [--connections fe]
+
+--reuse keeps every run folder that already has a summary.json (rerun by deleting it);
+--connections limits (a)-(c) to the listed connection models (default: formula,fe).
+(d) says whether the ruin mode is the same everywhere: each slab overlap's range over all
+hand-offs and substeps ≤ 0.2 (issue 11's target). FEM2RBD=path overrides the binary.
 
 Writes OUT/table.md (the tables of docs/handoff.md) and keeps every run folder, so
 `fem2rbd plot OUT/<run>` draws the tool's own plots of any of them. Needs
@@ -29,7 +34,8 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "target", "release", "fem2rbd")
+BIN = os.environ.get("FEM2RBD", os.path.join(ROOT, "target", "release", "fem2rbd"))
+REUSE = False
 GM = os.path.join(ROOT, "data", "ground-motions")
 LC5 = [("RSN6_IMPVALL.I_I-ELC180.AT2", "X", 0.93),
        ("RSN6_IMPVALL.I_I-ELC270.AT2", "Y", 1.19),
@@ -55,6 +61,8 @@ def scenario(path, model, out, mode, ts, collapse, physics, zeros=None, fe_extra
 
 
 def run(path):
+    if REUSE and os.path.isfile(os.path.join(path[:-len(".toml")], "summary.json")):
+        return
     r = subprocess.run([BIN, "--quiet", "run", path], capture_output=True, text=True)
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
@@ -99,7 +107,12 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "handoff"))
     ap.add_argument("--t-end", type=float, default=6.0, help="end of the LC5 runs, s")
     ap.add_argument("--ruins", action="store_true", help="(d): full ruin runs at 200/400/800")
+    ap.add_argument("--reuse", action="store_true", help="keep run folders with a summary.json")
+    ap.add_argument("--connections", default="formula,fe", help="connection models of (a)-(c)")
     a = ap.parse_args()
+    global REUSE
+    REUSE = a.reuse
+    cms = [c for c in a.connections.split(",") if c]
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
     model = os.path.abspath(a.model)
@@ -122,7 +135,7 @@ def main():
         for i in range(601):
             fh.write(f"{i * 0.005:.3f} 0.0\n")
     grav = {}
-    for cm in ("formula", "fe"):
+    for cm in cms:
         d = os.path.join(out, f"gravity-{cm}")
         scenario(d + ".toml", model, d, "physics", ts, 'criterion = "vertical_drop"',
                  f'time_limit_s = 3.0\nstop_at_rest = false\nconnections = "{cm}"', zeros=zeros)
@@ -156,7 +169,7 @@ def main():
     p("| hand-off | connections | Tc (s) | start i/p/b | roof drift +0.5 s hybrid / FE (%) | max drop +0.5 s hybrid / FE (m) | drop reached (s) | FE Tc (s) | half-way (s) | target (b) |")
     p("|---|---|---|---|---|---|---|---|---|---|")
     for name, crit in HANDOFFS:
-        for cm in ("formula", "fe"):
+        for cm in cms:
             d = os.path.join(out, f"{name}-{cm}")
             scenario(d + ".toml", model, d, "hybrid", ts, crit,
                      f'time_limit_s = {a.t_end}\nstop_at_rest = false\nconnections = "{cm}"')
@@ -186,21 +199,33 @@ def main():
 
     if a.ruins:
         p("### (d) Final ruins per hand-off and substep (FE-derived connections)\n")
-        p("| hand-off | steps/s | floor offsets (m) | slab overlap 1–2, 2–3 | debris area (m²) | extent (m) |")
-        p("|---|---|---|---|---|---|")
+        p("| hand-off | steps/s | stop, end (s) | floor offsets (m) | slab overlap 1–2, 2–3 | debris area (m²) | extent (m) | max speed (m/s) | unsettled |")
+        p("|---|---|---|---|---|---|---|---|---|")
+        overlaps = []
         for name, crit in HANDOFFS:
             for sps in (200, 400, 800):
                 d = os.path.join(out, f"ruin-{name}-{sps}")
                 scenario(d + ".toml", model, d, "hybrid", ts, crit,
-                         f"steps_per_second = {sps}")
+                         f"steps_per_second = {sps}\nsettle_s = 5.0\nstop_at_rest = true")
                 run(d + ".toml")
                 s = summary(d)
                 ru = s.get("ruins", {})
+                rs = s.get("ruin_stage", {})
+                ov_v = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
+                overlaps.append(ov_v)
                 fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
-                ov = ", ".join(f"{o['overlap_ratio']:.2f}" for o in ru.get("slab_overlap", []))
-                p(f"| {name} | {sps} | {fl} | {ov} | {ru.get('debris_footprint_area_m2', float('nan')):.2f} | "
-                  f"{ru.get('extent_beyond_footprint_m', {}).get('max', float('nan')):.2f} |")
+                ov = ", ".join(f"{o:.2f}" for o in ov_v)
+                sp = rs.get("energy", {}).get("speed", {}).get("max_mps", float("nan"))
+                p(f"| {name} | {sps} | {rs.get('stop', '-')}, {rs.get('end_s', float('nan')):.2f} | {fl} | {ov} | "
+                  f"{ru.get('debris_footprint_area_m2', float('nan')):.2f} | "
+                  f"{ru.get('extent_beyond_footprint_m', {}).get('max', float('nan')):.2f} | {sp:.1f} | "
+                  f"{len(rs.get('unsettled_bodies', []))} |")
         p("")
+        if overlaps and all(len(o) == len(overlaps[0]) for o in overlaps):
+            rng = [max(o[k] for o in overlaps) - min(o[k] for o in overlaps) for k in range(len(overlaps[0]))]
+            verdict = "met" if all(r <= 0.2 for r in rng) else "not met"
+            p("Slab-overlap ranges over all hand-offs and substeps: "
+              + ", ".join(f"{r:.2f}" for r in rng) + f" (target ≤ 0.2: {verdict}).\n")
 
     text = "\n".join(lines)
     with open(os.path.join(out, "table.md"), "w") as fh:

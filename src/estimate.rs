@@ -263,20 +263,27 @@ impl fmt::Display for Estimate {
 /// Size, work and estimate of a scenario run (`fem2rbd run`, one study run): the model
 /// and the records are read, the bodies mapped and their connections found (BCB's
 /// search, as the ruin stage does), but nothing is simulated. Milliseconds for frame3.
-pub fn for_scenario(sc: &crate::pipeline::Scenario) -> anyhow::Result<(Size, Work, Estimate)> {
-    use crate::pipeline::{self, ConnectionModel, Mode};
-    use anyhow::Context;
-    let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
+pub fn for_scenario(
+    sc: &crate::pipeline::Scenario,
+) -> Result<(Size, Work, Estimate), crate::pipeline::PipelineError> {
+    use crate::pipeline::{self, ConnectionModel, Mode, PipelineError};
+    let model = Model::load(&sc.model).map_err(|error| PipelineError::Model {
+        path: sc.model.clone(),
+        error: Box::new(error),
+    })?;
     let gm = pipeline::ground_motion(sc)?;
     let (fe_steps, substeps) = pipeline::check_budget(sc, &gm)?;
     let mut size = Size::of_model(&model);
     let mut capacity_passes = 0;
     if sc.mode != Mode::Fe {
-        let map = crate::mapping::map_to_boxes(
-            &crate::mapping::from_model(&model)?,
-            &crate::mapping::MapOptions::default(),
-        )
-        .with_context(|| format!("mapping {}", sc.model.display()))?;
+        let map = crate::mapping::from_model(&model)
+            .and_then(|input| {
+                crate::mapping::map_to_boxes(&input, &crate::mapping::MapOptions::default())
+            })
+            .map_err(|error| PipelineError::Mapping {
+                path: sc.model.clone(),
+                error: Box::new(error),
+            })?;
         let bodies = pipeline::bodies_of(&model, &map);
         let settings = pipeline::stage_settings(sc);
         let contacts =
@@ -287,10 +294,14 @@ pub fn for_scenario(sc: &crate::pipeline::Scenario) -> anyhow::Result<(Size, Wor
             capacity_passes = if sc.mode == Mode::Hybrid { 2 } else { 1 };
         }
     }
-    let limit = if sc.mode == Mode::Fe {
-        sc.duration.unwrap_or_else(|| gm.duration_s())
-    } else {
-        pipeline::time_limit(sc, &gm)
+    // The keyframes span the whole timeline: the FE stage's (to Tc, or to its end when
+    // the building stands — a hybrid run without collapse has no ruin stage) and the ruin
+    // stage's up to its time limit.
+    let fe_end = sc.duration.unwrap_or_else(|| gm.duration_s());
+    let limit = match sc.mode {
+        Mode::Fe => fe_end,
+        Mode::Hybrid => fe_end.max(pipeline::time_limit(sc, &gm)),
+        Mode::Physics => pipeline::time_limit(sc, &gm),
     };
     let work = Work {
         fe_steps,

@@ -19,9 +19,9 @@
 //!   [`Model::total_mass`] (the lower halves of the base columns included, whose mass the
 //!   FE lumps onto the fixed base nodes).
 
+use super::error::{MappingError, Result};
 use super::input::{LineMember, MappingInput, PointMass, Quad};
 use crate::model::{ElementKind, Model};
-use anyhow::{anyhow, Result};
 
 /// Builds the mapping input of a model (module docs). Errors name the element.
 pub fn from_model(model: &Model) -> Result<MappingInput> {
@@ -32,7 +32,7 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
         nodes
             .get(tag)
             .map(|n| n.xyz())
-            .ok_or_else(|| anyhow!("element {e}: unknown node {tag}"))
+            .ok_or_else(|| MappingError::element(e, format!("unknown node {tag}")))
     };
     let mut input = MappingInput::default();
     for e in &model.elements {
@@ -54,9 +54,9 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
                 unreachable!("line elements have two nodes")
             };
             let tt = e.transf().expect("line elements have a transformation");
-            let t = transfs
-                .get(&tt)
-                .ok_or_else(|| anyhow!("element {}: unknown transformation {tt}", e.tag))?;
+            let t = transfs.get(&tt).ok_or_else(|| {
+                MappingError::element(e.tag, format!("unknown transformation {tt}"))
+            })?;
             Ok(LineMember {
                 element: e.tag,
                 body_type: e.type_name.as_str().into(),
@@ -88,17 +88,17 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
         match &e.kind {
             ElementKind::BeamColumn { section, .. }
             | ElementKind::ElasticBeamColumn { section, .. } => {
-                let sec = secs
-                    .get(section)
-                    .ok_or_else(|| anyhow!("element {}: unknown section {section}", e.tag))?;
-                let (w, d) = sec.outline().ok_or_else(|| {
-                    anyhow!(
-                        "element {} ({}): section {section} has no outline (width × depth); \
+                let sec = secs.get(section).ok_or_else(|| {
+                    MappingError::element(e.tag, format!("unknown section {section}"))
+                })?;
+                let (w, d) = sec.outline().ok_or_else(|| MappingError::Element {
+                    element: e.tag,
+                    body: Some(e.body_name()),
+                    message: format!(
+                        "section {section} has no outline (width × depth); \
                          give the section's width and depth, or mark the element \
-                         rigid_body = false",
-                        e.tag,
-                        e.body_name()
-                    )
+                         rigid_body = false"
+                    ),
                 })?;
                 input.members.push(line(w, d)?);
             }
@@ -107,9 +107,9 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
             } => input.members.push(line(*width, *thickness)?),
             ElementKind::Shell { section, .. } => {
                 let Some(h) = secs.get(section).and_then(|s| s.shell_thickness()) else {
-                    return Err(anyhow!(
-                        "element {}: section {section} is not a shell section",
-                        e.tag
+                    return Err(MappingError::element(
+                        e.tag,
+                        format!("section {section} is not a shell section"),
                     ));
                 };
                 input.quads.push(quad(h)?);
@@ -119,7 +119,7 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
     }
     for m in &model.masses {
         input.nodal_masses.push(PointMass {
-            position: pos(&m.node, 0).map_err(|_| anyhow!("mass at unknown node {}", m.node))?,
+            position: pos(&m.node, 0).map_err(|_| MappingError::UnknownMassNode(m.node))?,
             mass_kg: m.m,
         });
     }

@@ -21,9 +21,9 @@
 //! parallelogram or trapezoid with its parallel sides along x (a = mean base, b = height).
 //! For a trapezoid the centre (node mean) differs slightly from the area centroid.
 
+use super::error::{MappingError, Result};
 use super::input::{LineMember, Quad};
 use crate::body::BodyId;
-use anyhow::{bail, Result};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// What a body is, for the overlap rule ([`super::overlap`]): decided from geometry.
@@ -130,12 +130,14 @@ pub fn opensees_frame(node_i: [f64; 3], node_j: [f64; 3], vecxz: [f64; 3]) -> Re
     let d = v3(node_j) - v3(node_i);
     let len = d.norm();
     if !(len > 0.0) {
-        bail!("zero-length element");
+        return Err(MappingError::Frame("zero-length element".into()));
     }
     let x = d / len;
     let y = v3(vecxz).cross(&x);
     if !(y.norm() > 1e-9 * v3(vecxz).norm()) {
-        bail!("vecxz {vecxz:?} is parallel to the element axis");
+        return Err(MappingError::Frame(format!(
+            "vecxz {vecxz:?} is parallel to the element axis"
+        )));
     }
     let y = y.normalize();
     let z = x.cross(&y);
@@ -177,7 +179,7 @@ fn kind_of_axis(axis_z: f64, vertical: Role, other: Role) -> Role {
 /// The untrimmed box of a line element, carrying the element's own mass (nodal masses
 /// are added by [`super::mass`]).
 pub fn member_box(m: &LineMember) -> Result<RigidBox> {
-    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", m.element, m.body_type);
+    let ctx = |msg: String| MappingError::typed(m.element, &m.body_type, msg);
     if !finite(&m.node_i) || !finite(&m.node_j) || !finite(&m.vecxz) {
         return Err(ctx("node coordinates and vecxz must be finite".into()));
     }
@@ -210,7 +212,7 @@ pub fn member_box(m: &LineMember) -> Result<RigidBox> {
 
 /// The untrimmed box of a quad (module docs), carrying the element's own mass.
 pub fn quad_box(q: &Quad) -> Result<RigidBox> {
-    let ctx = |msg: String| anyhow::anyhow!("element {} ({}): {msg}", q.element, q.body_type);
+    let ctx = |msg: String| MappingError::typed(q.element, &q.body_type, msg);
     if !q.nodes.iter().all(|n| finite(n)) {
         return Err(ctx("node coordinates must be finite".into()));
     }

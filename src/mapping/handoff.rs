@@ -36,11 +36,11 @@
 //!
 //! The paper's own velocity is a secant through keyframes: [`secant_velocity`].
 
+use super::error::{MappingError, Result};
 use super::geometry::RigidBox;
 use super::Mapping;
 use crate::body::BodyId;
 use crate::model::Model;
-use anyhow::{anyhow, bail, Result};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// FE state of one node, relative to the ground (module docs).
@@ -162,23 +162,23 @@ impl Handoff {
         let mut plans = Vec::with_capacity(mapping.bodies.len());
         for b in &mapping.bodies {
             let tag = b.id.element_tag();
+            let body_error = |message: String| MappingError::Body {
+                body: b.id.clone(),
+                message,
+            };
             let e = tag.and_then(|t| elems.get(&t)).ok_or_else(|| {
-                anyhow!(
-                    "body {}: no element {} in the model",
-                    b.id,
-                    b.id.element_field()
-                )
+                body_error(format!("no element {} in the model", b.id.element_field()))
             })?;
             let idx = |t: &u32| {
                 index
                     .get(t)
                     .copied()
-                    .ok_or_else(|| anyhow!("body {}: unknown node {t}", b.id))
+                    .ok_or_else(|| body_error(format!("unknown node {t}")))
             };
             let (plan, frame) = match e.nodes() {
                 [i, j] => {
                     let axes = model.local_axes(e).ok_or_else(|| {
-                        anyhow!("body {}: element {} has no local axes", b.id, e.tag)
+                        body_error(format!("element {} has no local axes", e.tag))
                     })?;
                     let y0 = v3(axes[1]);
                     let nodes = [idx(i)?, idx(j)?];
@@ -190,12 +190,13 @@ impl Handoff {
                     let f = quad_frame(&nodes.map(|k| x0[k]));
                     (Plan::Quad { nodes }, f)
                 }
-                _ => bail!(
-                    "body {}: element {} has {} nodes",
-                    b.id,
-                    e.tag,
-                    e.nodes().len()
-                ),
+                _ => {
+                    return Err(body_error(format!(
+                        "element {} has {} nodes",
+                        e.tag,
+                        e.nodes().len()
+                    )))
+                }
             };
             plans.push(BodyPlan {
                 id: b.id.clone(),
@@ -212,11 +213,10 @@ impl Handoff {
     /// slice length differs from the node count or a member degenerates (zero chord).
     pub fn states(&self, nodes: &[NodeState], ground: &GroundState) -> Result<Vec<BodyState>> {
         if nodes.len() != self.x0.len() {
-            bail!(
-                "hand-off: {} node states given for a model of {} nodes",
-                nodes.len(),
-                self.x0.len()
-            );
+            return Err(MappingError::NodeCount {
+                given: nodes.len(),
+                nodes: self.x0.len(),
+            });
         }
         let (ug, vg) = (v3(ground.displacement), v3(ground.velocity));
         let x = |k: usize| self.x0[k] + ug + v3(nodes[k].u);
@@ -228,10 +228,10 @@ impl Handoff {
                     let (xi, xj) = (x(i), x(j));
                     let len = (xj - xi).norm();
                     if !(len > 0.0) {
-                        bail!(
-                            "hand-off: body {}: its element's chord has zero length",
-                            p.id
-                        );
+                        return Err(MappingError::Degenerate {
+                            body: p.id.clone(),
+                            what: "its element's chord has zero length",
+                        });
                     }
                     let ri = Rotation3::new(v3(nodes[i].theta));
                     let rj = Rotation3::new(v3(nodes[j].theta));
@@ -260,8 +260,9 @@ impl Handoff {
                         a += Matrix3::identity() * r.norm_squared() - r * r.transpose();
                         b += r.cross(&(vs[k] - vm));
                     }
-                    let omega = a.lu().solve(&b).ok_or_else(|| {
-                        anyhow!("hand-off: body {}: degenerate quad (collinear nodes)", p.id)
+                    let omega = a.lu().solve(&b).ok_or_else(|| MappingError::Degenerate {
+                        body: p.id.clone(),
+                        what: "degenerate quad (collinear nodes)",
                     })?;
                     let lin = vm + omega.cross(&(centre - xm));
                     (rotation, centre, lin, omega)
@@ -294,14 +295,16 @@ pub fn secant_velocity(
     n: usize,
 ) -> Result<([f64; 3], [f64; 3])> {
     if n == 0 || poses.len() < n + 1 {
-        bail!(
+        return Err(MappingError::Secant(format!(
             "secant velocity over {n} intervals needs {} keyframes, got {}",
             n + 1,
             poses.len()
-        );
+        )));
     }
     if !(dt > 0.0 && dt.is_finite()) {
-        bail!("keyframe interval must be > 0 s, got {dt}");
+        return Err(MappingError::Secant(format!(
+            "keyframe interval must be > 0 s, got {dt}"
+        )));
     }
     let (x1, q1) = poses[poses.len() - 1];
     let (x0, q0) = poses[poses.len() - 1 - n];

@@ -18,9 +18,9 @@
 //! floor's centre of mass stays where it was in plan (tests measure the shift).
 //! Inertia ([`super::RigidBox::principal_inertia_kgm2`]) treats each body as a uniform box.
 
+use super::error::{MappingError, Result};
 use super::geometry::{RigidBox, Role};
 use super::input::PointMass;
-use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
 type Key = [i64; 3];
@@ -49,26 +49,26 @@ pub(crate) fn distribute_nodal_masses(
         let p = m.position;
         let valid = m.mass_kg >= 0.0 && m.mass_kg.is_finite() && p.iter().all(|x| x.is_finite());
         if !valid {
-            bail!(
-                "nodal mass {k} at ({}, {}, {}): mass must be finite and ≥ 0 kg, got {}",
-                p[0],
-                p[1],
-                p[2],
-                m.mass_kg
-            );
+            return Err(MappingError::NodalMass {
+                index: k,
+                message: format!(
+                    "at ({}, {}, {}): mass must be finite and ≥ 0 kg, got {}",
+                    p[0], p[1], p[2], m.mass_kg
+                ),
+            });
         }
         if m.mass_kg == 0.0 {
             shares.push(Vec::new());
             continue;
         }
         let Some(attached) = at.get(&key(p)) else {
-            bail!(
-                "nodal mass {k} of {} kg at ({}, {}, {}) is at no element node",
-                m.mass_kg,
-                p[0],
-                p[1],
-                p[2]
-            );
+            return Err(MappingError::NodalMass {
+                index: k,
+                message: format!(
+                    "of {} kg at ({}, {}, {}) is at no element node",
+                    m.mass_kg, p[0], p[1], p[2]
+                ),
+            });
         };
         let pick = |kind: Role| -> Vec<usize> {
             attached

@@ -17,6 +17,7 @@
 // `!(x > 0.0)` is used on purpose: it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod error;
 pub mod from_model;
 pub mod geometry;
 pub mod handoff;
@@ -26,12 +27,13 @@ pub mod overlap;
 pub mod polytope;
 pub mod table;
 
+pub use error::MappingError;
 pub use from_model::from_model;
 pub use geometry::{RigidBox, Role};
 pub use input::{LineMember, MappingInput, PointMass, Quad};
 pub use overlap::TrimReport;
 
-use anyhow::{bail, Result};
+use error::Result;
 use std::collections::BTreeMap;
 
 /// Options of [`map_to_boxes`].
@@ -74,7 +76,7 @@ pub fn map_to_boxes(input: &MappingInput, opts: &MapOptions) -> Result<Mapping> 
     let mut seen = BTreeMap::new();
     for b in &bodies {
         if seen.insert(b.id.clone(), ()).is_some() {
-            bail!("two elements map to the same body name {}", b.id);
+            return Err(MappingError::DuplicateBody(b.id.clone()));
         }
     }
     let trim = if opts.remove_overlaps {

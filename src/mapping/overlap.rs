@@ -34,9 +34,9 @@
 //! Subdivided members: each FE element's box spans its own nodes, so consecutive boxes of
 //! one straight member touch without overlapping and are not cut.
 
+use super::error::{MappingError, Result};
 use super::geometry::{RigidBox, Role};
 use super::polytope::{intersect, overlap_volume as obb_overlap, Obb};
-use anyhow::{bail, Result};
 use nalgebra::Vector3;
 
 /// The oriented box of a body.
@@ -138,7 +138,9 @@ struct Cut {
 /// docs). Deterministic: the result depends only on the input order and values.
 pub(crate) fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result<TrimReport> {
     if !(tolerance_m3 >= 0.0 && tolerance_m3.is_finite()) {
-        bail!("overlap tolerance must be ≥ 0 m³, got {tolerance_m3}");
+        return Err(MappingError::Options(format!(
+            "overlap tolerance must be ≥ 0 m³, got {tolerance_m3}"
+        )));
     }
     let order = precedence(boxes);
     let mut rank = vec![0usize; boxes.len()];
@@ -162,10 +164,7 @@ pub(crate) fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result
         let mut cut_here = false;
         for iteration in 0.. {
             if iteration == 1000 {
-                bail!(
-                    "overlap removal: body {} needs more than 1000 cuts",
-                    boxes[bi].id
-                );
+                return Err(MappingError::TooManyCuts(boxes[bi].id.clone()));
             }
             let ob = obb(&boxes[bi]);
             let bb = ob.aabb();
@@ -216,12 +215,10 @@ pub(crate) fn trim_overlaps(boxes: &mut [RigidBox], tolerance_m3: f64) -> Result
             }
             let Some(cut) = best else { break };
             if cut.removed_fraction >= 1.0 - 1e-9 {
-                bail!(
-                    "overlap removal: body {} lies within body {}; it would vanish \
-                     (fix the model's geometry)",
-                    boxes[bi].id,
-                    boxes[best_other].id
-                );
+                return Err(MappingError::Vanishes {
+                    body: boxes[bi].id.clone(),
+                    within: boxes[best_other].id.clone(),
+                });
             }
             let b = &mut boxes[bi];
             let axis = ob.axes.column(cut.axis).into_owned();

@@ -47,5 +47,46 @@ impl OutputError {
     }
 }
 
+/// An animated scene (glTF, VTK) that cannot be written: the scene breaks a rule of the
+/// format (the body, ground or keyframe named), or the output cannot be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnimationError {
+    /// The scene breaks a rule (times, poses, half extents, names); names the body or
+    /// keyframe.
+    #[error("{0}")]
+    Scene(String),
+    /// The glTF of a scene cannot be built; names the file.
+    #[error("cannot write glTF {}: {error}", path.display())]
+    Gltf {
+        /// The `.glb` file.
+        path: PathBuf,
+        /// Why.
+        error: Box<AnimationError>,
+    },
+    /// The output location or a file-system call failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// `bail!`/`ensure!` of the scene checks: an [`AnimationError::Scene`] with the
+/// formatted message.
+macro_rules! scene_bail {
+    ($($t:tt)*) => {
+        return Err($crate::output::AnimationError::Scene(format!($($t)*)))
+    };
+}
+pub(crate) use scene_bail;
+
+/// Returns [`AnimationError::Scene`] with the message unless the condition holds.
+macro_rules! scene_ensure {
+    ($cond:expr, $($t:tt)*) => {
+        if !$cond {
+            $crate::output::error::scene_bail!($($t)*);
+        }
+    };
+}
+pub(crate) use scene_ensure;
+
 /// What output functions return.
 pub type Result<T> = std::result::Result<T, OutputError>;

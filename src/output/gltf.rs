@@ -38,9 +38,13 @@
 //! Checked by tests/it/output/gltf_roundtrip.rs (own GLB reader), tests/it/output/gltf_validator.rs (Khronos
 //! validator: no errors, no warnings) and tests/it/output/gltf_three.rs (three.js plays the file);
 //! [`run_scene`] (a run's timeline) by tests/it/output/gltf_export.rs.
+use crate::output::error::{scene_bail as bail, scene_ensure as ensure};
 use crate::output::run_folder::BodyInfo;
 use crate::output::AtomicFile;
-use anyhow::{bail, ensure, Context, Result};
+use crate::output::{AnimationError, OutputError};
+
+/// What writing a scene returns.
+type Result<T> = std::result::Result<T, AnimationError>;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -95,11 +99,13 @@ pub struct AnimatedScene {
 /// Writes `scene` as one glTF 2.0 binary file at `path`, atomically (never a half file).
 pub fn write_glb(scene: &AnimatedScene, path: impl AsRef<Path>) -> Result<()> {
     let path = path.as_ref();
-    let bytes =
-        encode_glb(scene).with_context(|| format!("cannot write glTF {}", path.display()))?;
+    let bytes = encode_glb(scene).map_err(|error| AnimationError::Gltf {
+        path: path.to_path_buf(),
+        error: Box::new(error),
+    })?;
     let mut file = AtomicFile::create(path)?;
     file.write_all(&bytes)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+        .map_err(OutputError::io("cannot write", path))?;
     Ok(file.commit()?)
 }
 
@@ -239,11 +245,15 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
     doc["bufferViews"] = Value::Array(views);
     doc["accessors"] = Value::Array(accessors);
 
-    let mut json_chunk = serde_json::to_vec(&doc).context("cannot serialise the glTF JSON")?;
+    let mut json_chunk = serde_json::to_vec(&doc).map_err(|e| OutputError::Encode {
+        what: "cannot serialise the glTF JSON".into(),
+        message: e.to_string(),
+    })?;
     pad_to_4(&mut json_chunk, b' ');
     let total = 12 + 8 + json_chunk.len() + 8 + data.len();
-    let total_u32 = u32::try_from(total)
-        .with_context(|| format!("glTF binary would be {total} bytes, over the 4 GiB GLB limit"))?;
+    let Ok(total_u32) = u32::try_from(total) else {
+        bail!("glTF binary would be {total} bytes, over the 4 GiB GLB limit");
+    };
 
     let mut out = Vec::with_capacity(total);
     out.extend_from_slice(&GLB_MAGIC.to_le_bytes());
@@ -470,8 +480,9 @@ impl Track {
                 "{}: position {p:?} m is not finite in f32",
                 at()
             );
-            let r = gltf_rotation(*q, previous)
-                .with_context(|| format!("{}: quaternion {q:?} is zero or not finite", at()))?;
+            let Some(r) = gltf_rotation(*q, previous) else {
+                bail!("{}: quaternion {q:?} is zero or not finite", at());
+            };
             previous = Some(r);
             first.get_or_insert((*p, r));
             translations.push(p32);

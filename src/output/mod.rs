@@ -14,4 +14,4 @@ pub mod summary;
 pub mod vtk;
 
 pub use atomic::{write_atomic, AtomicFile};
-pub use error::OutputError;
+pub use error::{AnimationError, OutputError};

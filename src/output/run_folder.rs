@@ -18,7 +18,6 @@ use crate::output::history::{BodyRow, BODIES_HEADER, HISTORY_HEADER};
 use crate::output::summary::RunSummary;
 use crate::output::{keyframes, ruins};
 use crate::physics::Pose;
-use anyhow::{anyhow, bail, Context, Result};
 use std::path::{Path, PathBuf};
 
 /// Largest accepted |‖q‖ − 1| of a quaternion read from a file. The writers round unit
@@ -101,24 +100,74 @@ pub struct RunFolder {
     pub summary: RunSummary,
 }
 
+/// A run folder that cannot be read back: it is missing, a file cannot be read, or a
+/// file breaks the format (the file and line named).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RunFolderError {
+    /// The run folder does not exist or is not a folder.
+    #[error("run folder {} does not exist or is not a folder", .0.display())]
+    NotAFolder(PathBuf),
+    /// A file of the run folder cannot be read.
+    #[error(
+        "cannot read {} (a run folder written by `fem2rbd run` holds {}): {error}",
+        path.display(),
+        FILES.join(", ")
+    )]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// A line of a CSV file breaks the format (header, field count, a column's value).
+    #[error("{file}:{line}: {message}")]
+    Line {
+        /// The file, as given.
+        file: String,
+        /// The line (1-based; 1 is the header).
+        line: usize,
+        /// What is wrong, with the column.
+        message: String,
+    },
+    /// `summary.json` does not parse as a run summary.
+    #[error("{file}:{line}:{column}: {error}")]
+    Summary {
+        /// The file.
+        file: String,
+        /// Line of the error.
+        line: usize,
+        /// Column of the error.
+        column: usize,
+        /// serde_json's message.
+        error: serde_json::Error,
+    },
+}
+
+/// What run-folder reading returns.
+pub type Result<T> = std::result::Result<T, RunFolderError>;
+
+/// A [`RunFolderError::Line`] error.
+fn at(file: &str, line: usize, message: String) -> RunFolderError {
+    RunFolderError::Line {
+        file: file.to_string(),
+        line,
+        message,
+    }
+}
+
 impl RunFolder {
     /// Reads and checks the run folder `dir` (module docs).
     pub fn load(dir: &Path) -> Result<RunFolder> {
         if !dir.is_dir() {
-            bail!(
-                "run folder {} does not exist or is not a folder",
-                dir.display()
-            );
+            return Err(RunFolderError::NotAFolder(dir.to_path_buf()));
         }
         let read = |name: &str| -> Result<(String, String)> {
             let p = dir.join(name);
-            let text = std::fs::read_to_string(&p).with_context(|| {
-                format!(
-                    "cannot read {} (a run folder written by `fem2rbd run` holds {})",
-                    p.display(),
-                    FILES.join(", ")
-                )
-            })?;
+            let text = match std::fs::read_to_string(&p) {
+                Ok(t) => t,
+                Err(error) => return Err(RunFolderError::Read { path: p, error }),
+            };
             Ok((p.display().to_string(), text))
         };
         let (bf, bt) = read("bodies.csv")?;
@@ -131,8 +180,13 @@ impl RunFolder {
         let (rf, rt) = read("ruins.csv")?;
         let (final_poses, at_rest) = parse_ruins(&rt, &rf, &bodies)?;
         let (sf, st) = read("summary.json")?;
-        let summary: RunSummary = serde_json::from_str(&st)
-            .map_err(|e| anyhow!("{sf}:{}:{}: {e}", e.line(), e.column()))?;
+        let summary: RunSummary =
+            serde_json::from_str(&st).map_err(|error| RunFolderError::Summary {
+                file: sf,
+                line: error.line(),
+                column: error.column(),
+                error,
+            })?;
         Ok(RunFolder {
             dir: dir.to_path_buf(),
             bodies,
@@ -165,12 +219,11 @@ impl Row<'_> {
     }
 
     /// An error at this row, column `i`.
-    fn err(&self, i: usize, msg: impl std::fmt::Display) -> anyhow::Error {
-        anyhow!(
-            "{}:{}: column {}: {msg}",
+    fn err(&self, i: usize, msg: impl std::fmt::Display) -> RunFolderError {
+        at(
             self.file,
             self.line,
-            self.column(i)
+            format!("column {}: {msg}", self.column(i)),
         )
     }
 
@@ -212,13 +265,15 @@ impl Row<'_> {
         ];
         let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
         if (norm - 1.0).abs() > QUATERNION_NORM_TOL {
-            bail!(
-                "{}:{}: columns {}..{}: quaternion {q:?} has norm {norm}, not 1",
+            return Err(at(
                 self.file,
                 self.line,
-                self.column(i),
-                self.column(i + 3)
-            );
+                format!(
+                    "columns {}..{}: quaternion {q:?} has norm {norm}, not 1",
+                    self.column(i),
+                    self.column(i + 3)
+                ),
+            ));
         }
         Ok(q)
     }
@@ -245,9 +300,19 @@ fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Ro
     let n_columns = header.split(',').count();
     let mut lines = text.lines();
     match lines.next() {
-        None => bail!("{file}:1: the file is empty; expected the header {header:?}"),
+        None => {
+            return Err(at(
+                file,
+                1,
+                format!("the file is empty; expected the header {header:?}"),
+            ))
+        }
         Some(h) if h != header => {
-            bail!("{file}:1: header {h:?} is not the expected {header:?}")
+            return Err(at(
+                file,
+                1,
+                format!("header {h:?} is not the expected {header:?}"),
+            ))
         }
         Some(_) => {}
     }
@@ -262,14 +327,15 @@ fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Ro
     for rec in reader.records() {
         let rec = rec.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
-            anyhow!("{file}:{line}: not a CSV row: {e}")
+            at(file, line as usize, format!("not a CSV row: {e}"))
         })?;
         let n = rec.position().map_or(0, |p| p.line() as usize);
         if rec.len() != n_columns {
-            bail!(
-                "{file}:{n}: {} fields, expected {n_columns} ({header})",
-                rec.len()
-            );
+            return Err(at(
+                file,
+                n,
+                format!("{} fields, expected {n_columns} ({header})", rec.len()),
+            ));
         }
         out.push(Row {
             file,
@@ -337,10 +403,11 @@ pub fn parse_keyframes(
     let n = bodies.len();
     if n == 0 {
         if let Some(r) = rows.first() {
-            bail!(
-                "{file}:{}: a frame row, but bodies.csv lists no bodies",
-                r.line
-            );
+            return Err(at(
+                file,
+                r.line,
+                "a frame row, but bodies.csv lists no bodies".into(),
+            ));
         }
         return Ok(Vec::new());
     }
@@ -386,12 +453,15 @@ pub fn parse_keyframes(
     }
     if rows.len() % n != 0 {
         let last = rows.last().expect("rows");
-        bail!(
-            "{file}:{}: the last frame (t = {} s) lists {} of the {n} bodies",
+        return Err(at(
+            file,
             last.line,
-            frames.last().expect("a frame").0,
-            rows.len() % n
-        );
+            format!(
+                "the last frame (t = {} s) lists {} of the {n} bodies",
+                frames.last().expect("a frame").0,
+                rows.len() % n
+            ),
+        ));
     }
     Ok(frames)
 }
@@ -452,21 +522,27 @@ pub(crate) fn check_history_times(
 ) -> Result<()> {
     for (k, (h, (t, _))) in history.iter().zip(frames).enumerate() {
         if h.t_s != *t {
-            bail!(
-                "{hist_file}:{}: column t: {} s, but frame {k} of {kf_file} is at {t} s \
-                 (one history row per frame)",
+            return Err(at(
+                hist_file,
                 k + 2,
-                h.t_s
-            );
+                format!(
+                    "column t: {} s, but frame {k} of {kf_file} is at {t} s \
+                     (one history row per frame)",
+                    h.t_s
+                ),
+            ));
         }
     }
     if history.len() != frames.len() {
-        bail!(
-            "{hist_file}:{}: {} rows, but {kf_file} has {} frames (one history row per frame)",
+        return Err(at(
+            hist_file,
             history.len().min(frames.len()) + 2,
-            history.len(),
-            frames.len()
-        );
+            format!(
+                "{} rows, but {kf_file} has {} frames (one history row per frame)",
+                history.len(),
+                frames.len()
+            ),
+        ));
     }
     Ok(())
 }
@@ -484,11 +560,14 @@ pub(crate) fn parse_ruins(
     let mut at_rest = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
         let Some(b) = bodies.get(i) else {
-            bail!(
-                "{file}:{}: a row for body #{i}, but bodies.csv lists {} bodies",
+            return Err(at(
+                file,
                 r.line,
-                bodies.len()
-            );
+                format!(
+                    "a row for body #{i}, but bodies.csv lists {} bodies",
+                    bodies.len()
+                ),
+            ));
         };
         let want = [
             b.id.name(),
@@ -517,12 +596,15 @@ pub(crate) fn parse_ruins(
         });
     }
     if rows.len() != bodies.len() {
-        bail!(
-            "{file}:{}: {} body rows, but bodies.csv lists {} bodies",
+        return Err(at(
+            file,
             rows.len() + 2,
-            rows.len(),
-            bodies.len()
-        );
+            format!(
+                "{} body rows, but bodies.csv lists {} bodies",
+                rows.len(),
+                bodies.len()
+            ),
+        ));
     }
     Ok((poses, at_rest))
 }

@@ -18,8 +18,12 @@
 //! Numbers are written as ASCII in Rust's shortest round-trip form, so a reader gets the
 //! very f64 values back and the same scene always gives the same bytes. Every file is
 //! written atomically, the `.pvd` last, so it never lists a file that is not there yet.
+use crate::output::error::scene_ensure as ensure;
 use crate::output::gltf::{AnimatedScene, Pose, GROUND_TYPE};
-use anyhow::{ensure, Context, Result};
+use crate::output::{AnimationError, OutputError};
+
+/// What writing a scene returns.
+type Result<T> = std::result::Result<T, AnimationError>;
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -46,7 +50,12 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
     let pvd_path = pvd_path.as_ref();
     let stem = pvd_path
         .file_stem()
-        .with_context(|| format!("output path {} has no file name", pvd_path.display()))?
+        .ok_or_else(|| {
+            OutputError::Location(format!(
+                "output path {} has no file name",
+                pvd_path.display()
+            ))
+        })?
         .to_string_lossy()
         .into_owned();
     let folder = pvd_path.with_file_name(&stem);
@@ -61,8 +70,7 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
         }
     })?;
     if let Some(p) = pvd_path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(p)
-            .with_context(|| format!("cannot create folder {}", p.display()))?;
+        std::fs::create_dir_all(p).map_err(OutputError::io("cannot create folder", p))?;
     }
     // The frames are written into a folder beside their target and swapped in as a
     // whole, with the .pvd renamed right after (crate::output::location): a shorter
@@ -97,7 +105,7 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
     collection.push_str("  </Collection>\n</VTKFile>\n");
     let mut pvd = crate::output::AtomicFile::create(pvd_path)?;
     std::io::Write::write_all(&mut pvd, collection.as_bytes())
-        .with_context(|| format!("cannot write {}", pvd_path.display()))?;
+        .map_err(OutputError::io("cannot write", pvd_path))?;
     staged.swap_in()?;
     pvd.commit()?;
     Ok(written)

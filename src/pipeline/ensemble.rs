@@ -14,8 +14,8 @@
 //! * Members run on `threads` worker threads (`std::thread::scope`); each member is a
 //!   complete, independent pipeline run (its own FE stage and Bullet world), so the
 //!   results do not depend on the thread count (tested in `tests/it/pipeline/ensemble.rs`).
+use super::error::{PipelineError, Result};
 use super::{run_perturbed, RunRecord, Scenario, Silent};
-use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -66,7 +66,7 @@ impl Perturbation {
 /// member order.
 pub fn run_ensemble(sc: &Scenario, n: usize, seed: u64, threads: usize) -> Result<Vec<RunRecord>> {
     if n == 0 {
-        return Err(anyhow!("an ensemble needs at least 1 member"));
+        return Err(PipelineError::NoMembers);
     }
     let next = AtomicUsize::new(0);
     let slots: Mutex<Vec<Option<Result<RunRecord>>>> = Mutex::new((0..n).map(|_| None).collect());
@@ -89,8 +89,11 @@ pub fn run_ensemble(sc: &Scenario, n: usize, seed: u64, threads: usize) -> Resul
         .into_iter()
         .enumerate()
         .map(|(m, r)| {
-            r.unwrap_or_else(|| Err(anyhow!("member {m} did not run")))
-                .map_err(|e| e.context(format!("ensemble member {m}")))
+            r.unwrap_or(Err(PipelineError::NotRun(m)))
+                .map_err(|e| PipelineError::Member {
+                    member: m,
+                    error: Box::new(e),
+                })
         })
         .collect()
 }

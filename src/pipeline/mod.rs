@@ -35,6 +35,7 @@
 //! baseline ([`crate::motion::Baseline::ZeroEnd`], < 0.1 % change of the acceleration).
 
 pub mod ensemble;
+pub mod error;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
@@ -61,7 +62,8 @@ use crate::ruin::stage::{
     to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopRule,
 };
 use crate::ruin::BodyGeom;
-use anyhow::{anyhow, Context, Result};
+use error::Result;
+pub use error::{PipelineError, ScenarioError};
 use nalgebra::UnitQuaternion;
 pub use scenario::{ConnectionModel, Mode, Scenario, VelocityHandoff};
 use std::collections::BTreeMap;
@@ -150,16 +152,27 @@ pub fn ground_motion(sc: &Scenario) -> Result<GroundMotion> {
             },
             Format::Auto,
         )
-        .with_context(|| format!("{}: ground_motion {}", sc.path.display(), c.direction))?;
+        .map_err(|error| PipelineError::Record {
+            scenario: sc.path.clone(),
+            direction: c.direction,
+            error: Box::new(error),
+        })?;
         let mut rec = one.components[axis]
             .clone()
-            .ok_or_else(|| anyhow!("{}: no record read", c.file.display()))?;
+            .ok_or_else(|| PipelineError::NoRecord(c.file.clone()))?;
         if let Some(g) = c.pga_g {
-            rec.scale_to_pga(g)
-                .with_context(|| format!("{}: scaling to {g} g", c.file.display()))?;
+            rec.scale_to_pga(g).map_err(|error| PipelineError::Scale {
+                file: c.file.clone(),
+                pga_g: g,
+                error: Box::new(error),
+            })?;
         }
         if c.time_scale != 1.0 {
-            rec.time_scale(c.time_scale)?;
+            rec.time_scale(c.time_scale)
+                .map_err(|error| PipelineError::Motion {
+                    what: "time scaling",
+                    error: Box::new(error),
+                })?;
         }
         gm.components[axis] = Some(rec);
     }
@@ -337,7 +350,9 @@ fn poses_from_states(
     nodes: &[NodeState],
     ground: &GroundState,
 ) -> Result<(Vec<Pose>, Vec<Velocity>)> {
-    let states = handoff.states(nodes, ground)?;
+    let states = handoff
+        .states(nodes, ground)
+        .map_err(|e| PipelineError::HandOff(Box::new(e)))?;
     let mut poses = Vec::with_capacity(bodies.len());
     let mut vels = Vec::with_capacity(bodies.len());
     for s in &states {
@@ -462,7 +477,10 @@ pub(crate) fn load_inputs(
     sc: &Scenario,
     perturbation: Option<&ensemble::Perturbation>,
 ) -> Result<Inputs> {
-    let model = Model::load(&sc.model).with_context(|| format!("model {}", sc.model.display()))?;
+    let model = Model::load(&sc.model).map_err(|error| PipelineError::Model {
+        path: sc.model.clone(),
+        error: Box::new(error),
+    })?;
     let mut motion = ground_motion(sc)?;
     if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
         for (k, c) in motion.components.iter_mut().enumerate() {
@@ -474,16 +492,26 @@ pub(crate) fn load_inputs(
     let budget = check_budget(sc, &motion)?;
     let ground = motion
         .integrate(sc.dt, Baseline::default())
-        .context("integrating the ground motion")?;
-    let mapping = mapping::map_to_boxes(&mapping::from_model(&model)?, &MapOptions::default())
-        .with_context(|| format!("mapping {}", sc.model.display()))?;
+        .map_err(|error| PipelineError::Motion {
+            what: "integrating the ground motion",
+            error: Box::new(error),
+        })?;
+    let mapping = mapping::from_model(&model)
+        .and_then(|input| mapping::map_to_boxes(&input, &MapOptions::default()))
+        .map_err(|error| PipelineError::Mapping {
+            path: sc.model.clone(),
+            error: Box::new(error),
+        })?;
     let bodies = bodies_of(&model, &mapping);
     // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
     // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
     let fe_strengths =
         sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
-    let groups = group_strengths_for(&model, fe_strengths)
-        .with_context(|| format!("{}", sc.model.display()))?;
+    let groups =
+        group_strengths_for(&model, fe_strengths).map_err(|error| PipelineError::Groups {
+            path: sc.model.clone(),
+            error: Box::new(error),
+        })?;
     Ok(Inputs {
         model,
         motion,
@@ -500,7 +528,10 @@ pub(crate) fn load_inputs(
 /// connection strengths read its gravity state; the FE stage then runs the time history
 /// on it.
 pub(crate) fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
-    prepare(model, &fe_build(sc), RunOptions::default().modes).context("building the FE domain")
+    prepare(model, &fe_build(sc), RunOptions::default().modes).map_err(|error| PipelineError::Fe {
+        stage: "building the FE domain",
+        error: Box::new(error),
+    })
 }
 
 fn fe_build(sc: &Scenario) -> BuildOptions {
@@ -547,7 +578,7 @@ pub(crate) fn fe_stage(
             .node_index
             .get(t)
             .copied()
-            .ok_or_else(|| anyhow!("node {t} is not in the FE domain"))
+            .ok_or(PipelineError::MissingNode { at: "", node: *t })
     };
     let index: Vec<usize> = monitor
         .structure()
@@ -595,7 +626,8 @@ pub(crate) fn fe_stage(
         } else {
             StepControl::Continue
         }
-    })?;
+    })
+    .map_err(|e| PipelineError::FeRun(Box::new(e)))?;
     progress.done();
     let wall = t0.elapsed();
     let end_state = states_at(&result.built.domain, &model_index);
@@ -623,7 +655,10 @@ pub fn node_states(model: &Model, built: &BuiltDomain) -> Result<Vec<NodeState>>
                 .node_index
                 .get(&n.tag)
                 .copied()
-                .ok_or_else(|| anyhow!("hand-off: node {} is not in the FE domain", n.tag))
+                .ok_or(PipelineError::MissingNode {
+                    at: "hand-off: ",
+                    node: n.tag,
+                })
         })
         .collect::<Result<Vec<usize>>>()?;
     Ok(states_at(&built.domain, &index))
@@ -729,7 +764,7 @@ pub(crate) fn hand_off(
             .rev()
             .find(|(t, _)| *t < tc - 1e-9)
             .cloned()
-            .ok_or_else(|| anyhow!("secant velocity: no keyframe before Tc = {tc} s"))?;
+            .ok_or(PipelineError::NoKeyframe { tc_s: tc })?;
         let q = |p: &Pose| {
             UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
                 p.orientation[0],
@@ -750,7 +785,8 @@ pub(crate) fn hand_off(
                 ],
                 tc - t_prev,
                 1,
-            )?;
+            )
+            .map_err(|e| PipelineError::HandOff(Box::new(e)))?;
             *v = Velocity {
                 linear: lin,
                 angular: ang,
@@ -803,13 +839,19 @@ pub fn ruin_stage(
         },
         &stage_settings(sc),
     )
-    .context("building the ruin stage")?;
+    .map_err(|error| PipelineError::Ruin {
+        stage: "building the ruin stage",
+        error: Box::new(error),
+    })?;
     let result = stage
         .run_with(&stop, &mut |f| {
             let c = f.counts;
             progress.physics(f.time_s, limit, (c.elastic, c.plastic, c.broken));
         })
-        .context("running the ruin stage")?;
+        .map_err(|error| PipelineError::Ruin {
+            stage: "running the ruin stage",
+            error: Box::new(error),
+        })?;
     progress.done();
     check_finite(&result, &inputs.bodies, sc)?;
     Ok((result, t0.elapsed()))
@@ -857,8 +899,13 @@ pub(crate) fn run_perturbed(
     };
     let gravity = match (&domain, fe_strengths) {
         (Some(d), true) => {
-            let (loads, caps) = gravity_capacities_of(&inputs.model, &d.built, &push)
-                .context("FE-derived connection strengths")?;
+            let (loads, caps) =
+                gravity_capacities_of(&inputs.model, &d.built, &push).map_err(|error| {
+                    PipelineError::Fe {
+                        stage: "FE-derived connection strengths",
+                        error: Box::new(error),
+                    }
+                })?;
             start.body_strengths = strengths::body_strengths(bodies, &caps);
             Some(FeStrengths {
                 gravity_n: loads,
@@ -868,7 +915,8 @@ pub(crate) fn run_perturbed(
         _ => None,
     };
     if sc.mode != Mode::Physics {
-        let handoff = Handoff::new(&inputs.model, &inputs.mapping)?;
+        let handoff = Handoff::new(&inputs.model, &inputs.mapping)
+            .map_err(|e| PipelineError::HandOff(Box::new(e)))?;
         let prepared = domain.expect("the FE modes build the domain");
         let fe = fe_stage(sc, &inputs, prepared, progress)?;
         rec.fe_wall = fe.wall;
@@ -895,7 +943,10 @@ pub(crate) fn run_perturbed(
                 &push,
                 Some(&g.gravity_caps),
             )
-            .context("FE-derived connection strengths at Tc")?;
+            .map_err(|error| PipelineError::Fe {
+                stage: "FE-derived connection strengths at Tc",
+                error: Box::new(error),
+            })?;
             start.body_strengths = strengths::body_strengths(bodies, &caps);
         }
         start.start_damage = if gravity.is_some() {
@@ -961,25 +1012,27 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
     };
     for f in &result.frames {
         if let Some(i) = f.poses.iter().position(bad) {
-            anyhow::bail!(
-                "{}: the ruin stage blew up: body {} has a non-finite pose at t = {:.4} s \
-                 (physics.steps_per_second = {}, spring_correction = {}, spring_damping = {}; \
-                 a higher substep rate or spring_limit = true may help)",
-                sc.path.display(),
-                bodies[i].id,
-                f.time_s,
-                sc.physics.steps_per_second,
-                sc.physics.spring_correction,
-                sc.physics.spring_damping
-            );
+            return Err(PipelineError::BlewUp {
+                scenario: sc.path.clone(),
+                message: format!(
+                    "body {} has a non-finite pose at t = {:.4} s \
+                     (physics.steps_per_second = {}, spring_correction = {}, \
+                     spring_damping = {}; a higher substep rate or spring_limit = true \
+                     may help)",
+                    bodies[i].id,
+                    f.time_s,
+                    sc.physics.steps_per_second,
+                    sc.physics.spring_correction,
+                    sc.physics.spring_damping
+                ),
+            });
         }
     }
     if let Some(i) = result.final_poses.iter().position(bad) {
-        anyhow::bail!(
-            "{}: the ruin stage blew up: body {} has a non-finite final pose",
-            sc.path.display(),
-            bodies[i].id
-        );
+        return Err(PipelineError::BlewUp {
+            scenario: sc.path.clone(),
+            message: format!("body {} has a non-finite final pose", bodies[i].id),
+        });
     }
     Ok(())
 }

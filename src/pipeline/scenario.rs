@@ -6,11 +6,11 @@
 //! the output folder is relative to the current directory. Every error names the file,
 //! and the line (TOML syntax and types, from the `toml` crate) or the item at fault.
 
+use super::error::ScenarioError;
 use crate::collapse::Criterion;
 use crate::fe::build::Variant;
 use crate::motion::Direction;
 use crate::ruin::rest::RestTest;
-use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -378,9 +378,13 @@ fn range(
     lo_open: bool,
     hi: f64,
     unit: &'static str,
-) -> Result<()> {
-    crate::model::limits::check_range(item, v, lo, lo_open, hi, unit)
-        .map_err(|e| anyhow::anyhow!("{file}: {e}"))
+) -> Result<(), ScenarioError> {
+    crate::model::limits::check_range(item, v, lo, lo_open, hi, unit).map_err(|error| {
+        ScenarioError::Range {
+            file: file.to_string(),
+            error,
+        }
+    })
 }
 
 impl PhysicsSpec {
@@ -525,17 +529,23 @@ impl PhysicsSpec {
 
 impl Scenario {
     /// Reads and checks a scenario file (module docs). Nothing is written.
-    pub fn load(path: impl AsRef<Path>) -> Result<Scenario> {
+    pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
         let path = path.as_ref();
         crate::model::limits::check_input_file(path, "scenario file")?;
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read scenario file {}", path.display()))?;
+        let text = std::fs::read_to_string(path).map_err(|error| ScenarioError::Read {
+            path: path.to_path_buf(),
+            error,
+        })?;
         Self::parse(&text, path)
     }
 
     /// Parses scenario text; `path` names the file in errors and anchors relative paths.
-    pub fn parse(text: &str, path: &Path) -> Result<Scenario> {
+    pub fn parse(text: &str, path: &Path) -> Result<Scenario, ScenarioError> {
         let p = path.display();
+        let invalid = |message: String| ScenarioError::Invalid {
+            file: p.to_string(),
+            message,
+        };
         let raw: RawScenario = toml::from_str(text).map_err(|e| {
             let (line, col) = e
                 .span()
@@ -546,25 +556,43 @@ impl Scenario {
                     (line, col)
                 })
                 .unwrap_or((0, 0));
-            anyhow::anyhow!("{p}:{line}:{col}: {}", e.message())
+            ScenarioError::Syntax {
+                file: p.to_string(),
+                line,
+                column: col,
+                message: e.message().to_string(),
+            }
         })?;
         let base = path.parent().unwrap_or(Path::new("."));
         let model = base.join(&raw.model);
-        crate::model::limits::check_input_file(&model, "model file")
-            .map_err(|e| anyhow::anyhow!("{p}: model: {e}"))?;
+        crate::model::limits::check_input_file(&model, "model file").map_err(|error| {
+            ScenarioError::Input {
+                item: format!("{p}: model"),
+                error,
+            }
+        })?;
         if raw.ground_motion.is_empty() {
-            bail!("{p}: ground_motion: at least one component is needed");
+            return Err(invalid(
+                "ground_motion: at least one component is needed".into(),
+            ));
         }
         let mut components: [Option<ComponentSpec>; 3] = [None, None, None];
         for (i, c) in raw.ground_motion.iter().enumerate() {
-            let item = format!("{p}: ground_motion[{i}]");
+            let item = format!("ground_motion[{i}]");
             let axis = c.direction.index();
             if components[axis].is_some() {
-                bail!("{item}: direction {} given twice", c.direction);
+                return Err(invalid(format!(
+                    "{item}: direction {} given twice",
+                    c.direction
+                )));
             }
             let file = base.join(&c.file);
-            crate::model::limits::check_input_file(&file, "record file")
-                .map_err(|e| anyhow::anyhow!("{item}: {e}"))?;
+            crate::model::limits::check_input_file(&file, "record file").map_err(|error| {
+                ScenarioError::Input {
+                    item: format!("{p}: {item}"),
+                    error,
+                }
+            })?;
             if let Some(g) = c.pga_g {
                 range(
                     &p,
@@ -596,7 +624,9 @@ impl Scenario {
         let criterion = match c.criterion {
             CriterionName::VerticalDrop => {
                 if c.ratio.is_some() {
-                    bail!("{p}: collapse.ratio is for a drift criterion, not vertical_drop");
+                    return Err(invalid(
+                        "collapse.ratio is for a drift criterion, not vertical_drop".into(),
+                    ));
                 }
                 if let Some(t) = c.threshold_m {
                     range(&p, "collapse.threshold_m", t, 0.0, true, 100.0, "m")?;
@@ -605,34 +635,43 @@ impl Scenario {
             }
             CriterionName::Drift1In50 | CriterionName::Drift4Pct | CriterionName::Drift => {
                 if c.threshold_m.is_some() {
-                    bail!("{p}: collapse.threshold_m is for vertical_drop, not a drift criterion");
+                    return Err(invalid(
+                        "collapse.threshold_m is for vertical_drop, not a drift criterion".into(),
+                    ));
                 }
                 let r = match (c.criterion, c.ratio) {
                     (CriterionName::Drift, Some(r)) => r,
                     (CriterionName::Drift, None) => {
-                        bail!("{p}: collapse.criterion = \"drift\" needs ratio")
+                        return Err(invalid("collapse.criterion = \"drift\" needs ratio".into()))
                     }
                     (_, Some(_)) => {
-                        bail!("{p}: collapse.ratio is only for criterion = \"drift\"")
+                        return Err(invalid(
+                            "collapse.ratio is only for criterion = \"drift\"".into(),
+                        ))
                     }
                     (CriterionName::Drift1In50, None) => 1.0 / 50.0,
                     _ => 0.04,
                 };
                 if !(positive(r) && r < 1.0) {
-                    bail!("{p}: collapse.ratio must be in (0, 1), got {r}");
+                    return Err(invalid(format!(
+                        "collapse.ratio must be in (0, 1), got {r}"
+                    )));
                 }
                 CriterionSpec::StoryDrift(r)
             }
         };
-        raw.physics
-            .check()
-            .map_err(|e| anyhow::anyhow!("{p}: {e}"))?;
+        raw.physics.check().map_err(|error| ScenarioError::Range {
+            file: p.to_string(),
+            error,
+        })?;
         if raw
             .output
             .as_ref()
             .is_some_and(|o| o.as_os_str().is_empty())
         {
-            bail!("{p}: output: the output folder is empty (give a folder name)");
+            return Err(invalid(
+                "output: the output folder is empty (give a folder name)".into(),
+            ));
         }
         let stem = path
             .file_stem()

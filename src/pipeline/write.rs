@@ -5,12 +5,14 @@
 //! [`crate::output::history`]). Formatting is fixed (decimals, key order), so the
 //! same input gives the same bytes; only `summary.json`'s `wall_time_s` differs between
 //! runs (left out with `timing = false`).
+use super::error::{PipelineError, Result};
 use super::{RunRecord, TcReason};
 use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, EnergyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
 use crate::output::ruins::{ruins_csv, RuinRow};
+use crate::output::run_folder::RunFolderError;
 use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
@@ -18,9 +20,9 @@ use crate::output::summary::{
     energy_summary, r6, ruin_measures, unsettled, ConnectionCounts, RuinMeasures, RuinStageSummary,
     RunSummary, TcKind, WallTimes,
 };
+use crate::output::AnimationError;
 use crate::physics::Pose;
 use crate::ruin::connection::ConnectionState;
-use anyhow::{Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -47,8 +49,10 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let body_rows = body_rows(rec);
     let history_text = history_csv(&body_rows, &history_frames(rec, &frames));
     let bodies_text = bodies_csv(&body_rows);
-    let glb = glb(&bodies_text, &keyframes_text, &history_text)
-        .context("cannot build collapse.glb from the run's own tables")?;
+    let glb = glb(&bodies_text, &keyframes_text, &history_text).map_err(|e| match e {
+        GlbError::Tables(e) => PipelineError::OwnTables(Box::new(e)),
+        GlbError::Scene(e) => PipelineError::OwnScene(Box::new(e)),
+    })?;
     out.push(("keyframes.csv", keyframes_text.into_bytes()));
     out.push(("history.csv", history_text.into_bytes()));
     out.push(("bodies.csv", bodies_text.into_bytes()));
@@ -251,13 +255,22 @@ fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<Hi
 /// is a function of those three files alone, so `fem2rbd export gltf` on the run folder
 /// writes the same bytes. (The positions therefore carry the CSVs' 6 decimals, 0.5 µm,
 /// about the `f32` resolution of glTF at a few metres.)
-fn glb(bodies: &str, keyframes: &str, history: &str) -> Result<Vec<u8>> {
+fn glb(bodies: &str, keyframes: &str, history: &str) -> std::result::Result<Vec<u8>, GlbError> {
     let bodies = parse_bodies(bodies, "bodies.csv")?;
     let frames = parse_keyframes(keyframes, "keyframes.csv", &bodies)?;
     let history = parse_history(history, "history.csv")?;
     check_history_times(&history, &frames, "history.csv", "keyframes.csv")?;
     let ground: Vec<[f64; 3]> = history.iter().map(|h| h.ground_m).collect();
-    encode_glb(&run_scene(&bodies, &frames, &ground)?)
+    Ok(encode_glb(&run_scene(&bodies, &frames, &ground)?)?)
+}
+
+/// Why [`glb`] failed: reading the tables back, or the scene.
+#[derive(Debug, thiserror::Error)]
+enum GlbError {
+    #[error(transparent)]
+    Tables(#[from] RunFolderError),
+    #[error(transparent)]
+    Scene(#[from] AnimationError),
 }
 
 /// What a run folder owns: an existing non-empty output folder holding none of these is
@@ -270,6 +283,10 @@ pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv"];
 pub fn write(rec: &RunRecord, dir: &Path, timing: bool) -> Result<Vec<PathBuf>> {
     let files = contents(rec, timing)?;
     let refs: Vec<(&str, &[u8])> = files.iter().map(|(n, b)| (*n, b.as_slice())).collect();
-    crate::output::location::replace_dir(dir, RUN_OWNED, &refs)
-        .with_context(|| format!("cannot write the run folder {}", dir.display()))
+    crate::output::location::replace_dir(dir, RUN_OWNED, &refs).map_err(|error| {
+        PipelineError::RunFolder {
+            path: dir.to_path_buf(),
+            error: Box::new(error),
+        }
+    })
 }

@@ -144,7 +144,7 @@ impl GroupStrength {
             message,
         };
         match &self.strength {
-            StrengthSource::Formula(f) => f.validate().map_err(bad)?,
+            StrengthSource::Formula(f) => f.validate().map_err(|e| bad(e.to_string()))?,
             StrengthSource::PerArea(p) => {
                 let vals = [
                     ("C", Some(p.c)),

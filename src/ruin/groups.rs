@@ -41,15 +41,69 @@
 //! × 2, docs/bcb.md §11) but must exist; it copies the first group's inputs.
 
 use super::connection::GroupStrength;
-use super::strength::{FormulaInputs, FormulaKind, StrengthPerArea, StrengthSource, FA_PI};
+use super::strength::{
+    FormulaInputError, FormulaInputs, FormulaKind, StrengthPerArea, StrengthSource, FA_PI,
+};
 use crate::model::material::MaterialLaw;
 use crate::model::section::{Section, SectionKind, ShellLayer};
 use crate::model::{ElementKind, Model};
-use anyhow::{anyhow, bail, Context, Result};
 use std::collections::BTreeMap;
 
 use crate::body::BodyType;
 pub use crate::body::FOUNDATION_GROUP;
+
+/// A group whose strengths cannot be derived from the model: the element, section,
+/// group or material is named.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum GroupError {
+    /// An element refers to a section the model does not have.
+    #[error("element {element}: section {section} is not in the model")]
+    UnknownSection {
+        /// The element's tag.
+        element: u32,
+        /// The missing section.
+        section: u32,
+    },
+    /// A section lacks what the strength rule needs (a layer, bars, a material of the
+    /// right law).
+    #[error("{item}: {message}")]
+    Section {
+        /// "group G (section S)" or "section S".
+        item: String,
+        /// What is missing.
+        message: String,
+    },
+    /// A wall group's section is not a layered shell.
+    #[error("section {0} is not a layered_shell section")]
+    NotLayered(u32),
+    /// The Formula Assistant inputs of a group are unusable.
+    #[error("{item}: {error}")]
+    Formula {
+        /// The group (and section).
+        item: String,
+        /// What is wrong.
+        error: FormulaInputError,
+    },
+    /// A wall group's section cannot be read.
+    #[error("group {group} (element {element}): {error}")]
+    Wall {
+        /// The group.
+        group: String,
+        /// Its first layered-shell element.
+        element: u32,
+        /// What is wrong.
+        error: Box<GroupError>,
+    },
+    /// The model has no group with a strength rule.
+    #[error(
+        "the model has no beam-column element with an rc_rect section and no layered-shell wall"
+    )]
+    NoGroups,
+}
+
+/// What the group functions return.
+pub type Result<T> = std::result::Result<T, GroupError>;
 
 /// The Formula Assistant inputs of one group (module docs). Errors name the group,
 /// section or material that does not fit the rule.
@@ -64,7 +118,10 @@ pub fn group_inputs(model: &Model) -> Result<BTreeMap<String, FormulaInputs>> {
             _ => continue,
         };
         let Some(s) = sections.get(&sec) else {
-            bail!("element {}: section {sec} is not in the model", e.tag);
+            return Err(GroupError::UnknownSection {
+                element: e.tag,
+                section: sec,
+            });
         };
         if !matches!(s.kind, SectionKind::RcRect(_)) {
             continue;
@@ -84,20 +141,33 @@ pub fn group_inputs(model: &Model) -> Result<BTreeMap<String, FormulaInputs>> {
         let fpc = match materials.get(&r.cover_material).map(|m| &m.law) {
             Some(MaterialLaw::Concrete01 { fpc, .. })
             | Some(MaterialLaw::Concrete02 { fpc, .. }) => fpc.abs(),
-            _ => bail!(
-                "{item}: cover material {} is not a Concrete01/02 material",
-                r.cover_material
-            ),
+            _ => {
+                return Err(GroupError::Section {
+                    item,
+                    message: format!(
+                        "cover material {} is not a Concrete01/02 material",
+                        r.cover_material
+                    ),
+                })
+            }
         };
         let fy = match materials.get(&r.bar_material).map(|m| &m.law) {
             Some(MaterialLaw::Steel01 { fy, .. }) | Some(MaterialLaw::Steel02 { fy, .. }) => *fy,
-            _ => bail!(
-                "{item}: bar material {} is not a Steel01/02 material",
-                r.bar_material
-            ),
+            _ => {
+                return Err(GroupError::Section {
+                    item,
+                    message: format!(
+                        "bar material {} is not a Steel01/02 material",
+                        r.bar_material
+                    ),
+                })
+            }
         };
         if r.bars.is_empty() {
-            bail!("{item}: the section has no bars");
+            return Err(GroupError::Section {
+                item,
+                message: "the section has no bars".into(),
+            });
         }
         let mean_area = r.bars.iter().map(|b| b.2).sum::<f64>() / r.bars.len() as f64;
         let inputs = FormulaInputs {
@@ -111,7 +181,9 @@ pub fn group_inputs(model: &Model) -> Result<BTreeMap<String, FormulaInputs>> {
             dl: (4.0 * mean_area / std::f64::consts::PI).sqrt() * 1000.0,
             ..FormulaInputs::default()
         };
-        inputs.validate().map_err(|m| anyhow!("{item}: {m}"))?;
+        if let Err(error) = inputs.validate() {
+            return Err(GroupError::Formula { item, error });
+        }
         out.insert(group, inputs);
     }
     Ok(out)
@@ -136,9 +208,12 @@ pub struct WallSection {
 
 /// Reads a layered-shell section as a wall section; errors name what is missing.
 pub fn wall_section(model: &Model, sec: &Section) -> Result<WallSection> {
-    let item = format!("section {}", sec.tag);
+    let missing = |message: &str| GroupError::Section {
+        item: format!("section {}", sec.tag),
+        message: message.into(),
+    };
     let SectionKind::LayeredShell { layers, .. } = &sec.kind else {
-        bail!("{item} is not a layered_shell section");
+        return Err(GroupError::NotLayered(sec.tag));
     };
     let t: f64 = layers.iter().map(ShellLayer::thickness).sum();
     let fc = layers
@@ -147,12 +222,12 @@ pub fn wall_section(model: &Model, sec: &Section) -> Result<WallSection> {
             ShellLayer::Concrete { fc, .. } => Some(*fc),
             _ => None,
         })
-        .ok_or_else(|| anyhow!("{item}: no concrete layer (BCB's wall formula needs f'c)"))?;
+        .ok_or_else(|| missing("no concrete layer (BCB's wall formula needs f'c)"))?;
     let cover = layers
         .first()
         .filter(|l| matches!(l, ShellLayer::Concrete { .. }))
         .map(ShellLayer::thickness)
-        .ok_or_else(|| anyhow!("{item}: the first layer is not concrete (no cover)"))?;
+        .ok_or_else(|| missing("the first layer is not concrete (no cover)"))?;
     let materials = model.material_map();
     let mut fy = None;
     let (mut tv, mut th) = (0.0, 0.0);
@@ -167,7 +242,11 @@ pub fn wall_section(model: &Model, sec: &Section) -> Result<WallSection> {
                 Some(MaterialLaw::Steel01 { fy, .. }) | Some(MaterialLaw::Steel02 { fy, .. }) => {
                     *fy
                 }
-                _ => bail!("{item}: rebar material {material} is not a Steel01/02 material"),
+                _ => {
+                    return Err(missing(&format!(
+                        "rebar material {material} is not a Steel01/02 material"
+                    )))
+                }
             };
             fy.get_or_insert(f);
             let a = angle.to_radians();
@@ -175,7 +254,7 @@ pub fn wall_section(model: &Model, sec: &Section) -> Result<WallSection> {
             th += thickness * a.cos().powi(2);
         }
     }
-    let fy = fy.ok_or_else(|| anyhow!("{item}: no rebar layer"))?;
+    let fy = fy.ok_or_else(|| missing("no rebar layer"))?;
     Ok(WallSection {
         t,
         cover,
@@ -254,13 +333,19 @@ pub fn wall_groups(model: &Model) -> Result<BTreeMap<String, WallSection>> {
             continue;
         }
         let Some(s) = sections.get(section) else {
-            bail!("element {}: section {section} is not in the model", e.tag);
+            return Err(GroupError::UnknownSection {
+                element: e.tag,
+                section: *section,
+            });
         };
         if !matches!(s.kind, SectionKind::LayeredShell { .. }) {
             continue;
         }
-        let w = wall_section(model, s)
-            .with_context(|| format!("group {} (element {})", e.group, e.tag))?;
+        let w = wall_section(model, s).map_err(|error| GroupError::Wall {
+            group: e.group.0.clone(),
+            element: e.tag,
+            error: Box::new(error),
+        })?;
         out.insert(e.group.0.clone(), w);
     }
     Ok(out)
@@ -280,7 +365,12 @@ pub fn group_strengths_for(model: &Model, fe_walls: bool) -> Result<Vec<GroupStr
     let mut per_area = BTreeMap::new();
     for (name, w) in wall_groups(model)? {
         let i = wall_inputs(&w);
-        i.validate().map_err(|m| anyhow!("group {name}: {m}"))?;
+        if let Err(error) = i.validate() {
+            return Err(GroupError::Formula {
+                item: format!("group {name}"),
+                error,
+            });
+        }
         if fe_walls {
             per_area.insert(name, wall_per_area_aci(&w));
         } else {
@@ -299,7 +389,7 @@ pub fn group_strengths_for(model: &Model, fe_walls: bool) -> Result<Vec<GroupStr
     }
     out.sort_by(|a, b| a.name.cmp(&b.name));
     let Some(first) = inputs.values().next().copied() else {
-        bail!("the model has no beam-column element with an rc_rect section and no layered-shell wall");
+        return Err(GroupError::NoGroups);
     };
     out.push(GroupStrength::formula(FOUNDATION_GROUP, first));
     Ok(out)

@@ -269,7 +269,7 @@ impl FormulaInputs {
 
     /// Checks that every input is finite and that the formulas are defined (positive
     /// section where given, positive spacing, etc.). The message names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), FormulaInputError> {
         let fields = [
             ("h", self.h_mm),
             ("w", self.w_mm),
@@ -288,30 +288,60 @@ impl FormulaInputs {
         ];
         for (name, v) in fields {
             if !v.is_finite() || v < 0.0 {
-                return Err(format!(
-                    "formula input {name} = {v} must be finite and >= 0"
-                ));
+                return Err(FormulaInputError::Negative {
+                    field: name,
+                    value: v,
+                });
             }
         }
         if self.s <= 0.0 {
-            return Err("formula input s (stirrup spacing) must be > 0".into());
+            return Err(FormulaInputError::Spacing);
         }
         if self.h_mm > 0.0 && self.h_mm <= 2.0 * self.c + self.dl {
-            return Err(format!(
-                "formula input h = {} mm leaves no core: it must exceed 2·c + dl = {} mm",
-                self.h_mm,
-                2.0 * self.c + self.dl
-            ));
+            return Err(FormulaInputError::NoCore {
+                field: "h",
+                value: self.h_mm,
+                min: 2.0 * self.c + self.dl,
+            });
         }
         if self.w_mm > 0.0 && self.w_mm <= 2.0 * self.c + self.dl {
-            return Err(format!(
-                "formula input w = {} mm leaves no core: it must exceed 2·c + dl = {} mm",
-                self.w_mm,
-                2.0 * self.c + self.dl
-            ));
+            return Err(FormulaInputError::NoCore {
+                field: "w",
+                value: self.w_mm,
+                min: 2.0 * self.c + self.dl,
+            });
         }
         Ok(())
     }
+}
+
+/// A Formula Assistant input that makes the formulas undefined (the field named).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FormulaInputError {
+    /// An input is not finite or negative.
+    #[error("formula input {field} = {value} must be finite and >= 0")]
+    Negative {
+        /// The input's name (`h`, `fc`, …).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// The stirrup spacing is zero.
+    #[error("formula input s (stirrup spacing) must be > 0")]
+    Spacing,
+    /// The section leaves no core inside the covers and bars.
+    #[error(
+        "formula input {field} = {value} mm leaves no core: it must exceed 2·c + dl = {min} mm"
+    )]
+    NoCore {
+        /// `h` or `w`.
+        field: &'static str,
+        /// Its value, mm.
+        value: f64,
+        /// 2·c + dl, mm.
+        min: f64,
+    },
 }
 
 /// Where a group's strengths come from.
@@ -418,17 +448,26 @@ mod tests {
             s: 0.0,
             ..FormulaInputs::default()
         };
-        assert!(f.validate().unwrap_err().contains("stirrup spacing"));
+        assert_eq!(f.validate(), Err(FormulaInputError::Spacing));
         let f = FormulaInputs {
             fc: f64::NAN,
             ..FormulaInputs::default()
         };
-        assert!(f.validate().unwrap_err().contains("fc"));
+        assert!(matches!(
+            f.validate(),
+            Err(FormulaInputError::Negative { field: "fc", .. })
+        ));
         let f = FormulaInputs {
             h_mm: 40.0,
             ..FormulaInputs::default()
         };
-        assert!(f.validate().unwrap_err().contains("h = 40"));
+        let e = f.validate().unwrap_err();
+        assert!(
+            matches!(e, FormulaInputError::NoCore { field: "h", value, .. } if value == 40.0),
+            "{e:?}"
+        );
+        // The message names the field and its value.
+        assert!(e.to_string().contains("h = 40"), "{e}");
         assert!(FormulaInputs::default().validate().is_ok());
     }
 }

@@ -17,6 +17,7 @@
 //! Only inputs of the runs enter these files (no wall times, no paths), with fixed
 //! decimals, so a study collected after a local run and after a Slurm run gives the same
 //! bytes. Written atomically.
+use super::error::{bail, At, Result};
 use super::format::{Intensity, Study, MILLI_G};
 use super::fragility::{fit_ida, fit_stripes};
 use super::plan::{read_summary, Outcome, Plan, SequenceState, Store};
@@ -24,7 +25,6 @@ use crate::output::run_folder::{parse_history, RunFolder};
 use crate::output::write_atomic;
 use crate::pipeline::ensemble::stats_json;
 use crate::plot::density::DensityGrid;
-use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -145,8 +145,7 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
     r.tc_reason = s.tc_reason.name().to_string();
     r.fe_end_s = s.fe_end_s;
     let hp = dir.join("history.csv");
-    let text =
-        std::fs::read_to_string(&hp).with_context(|| format!("cannot read {}", hp.display()))?;
+    let text = std::fs::read_to_string(&hp).at(|| format!("cannot read {}", hp.display()))?;
     let hist = parse_history(&text, &hp.display().to_string())?;
     let until = r.tc_s.unwrap_or(f64::INFINITY) + 1e-9;
     r.peak_roof_drift = hist
@@ -409,12 +408,12 @@ pub fn collect(study: &Study, store: &Store, partial: bool) -> Result<Vec<PathBu
     done.outcomes.clear();
     for (e, o) in plan.entries.iter().zip(&plan.outcomes) {
         let Some(o) = o else { continue };
-        rows.push(row(study, store, e, o).with_context(|| format!("run {}", e.id))?);
+        rows.push(row(study, store, e, o).at(|| format!("run {}", e.id))?);
         done.entries.push(e.clone());
         done.outcomes.push(Some(o.clone()));
     }
     let dir = store.dir.join("results");
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    std::fs::create_dir_all(&dir).at(|| format!("cannot create {}", dir.display()))?;
     let js = serde_json::to_string_pretty(&study_json(study, &done, &rows))? + "\n";
     let ensemble = study.ensemble.members > 1;
     let mut files = vec![
@@ -454,8 +453,7 @@ pub fn collect(study: &Study, store: &Store, partial: bool) -> Result<Vec<PathBu
     for (name, text) in files {
         let p = dir.join(&name);
         if let Some(parent) = p.parent() {
-            std::fs::create_dir_all(parent)
-                .with_context(|| format!("cannot create {}", parent.display()))?;
+            std::fs::create_dir_all(parent).at(|| format!("cannot create {}", parent.display()))?;
         }
         write_atomic(&p, text.as_bytes())?;
         out.push(p);
@@ -558,8 +556,7 @@ pub(crate) fn density_grids(
         let mut grid: Option<DensityGrid> = None;
         let mut ids = Vec::new();
         for e in entries {
-            let run =
-                RunFolder::load(&store.run_dir(&e.id)).with_context(|| format!("run {}", e.id))?;
+            let run = RunFolder::load(&store.run_dir(&e.id)).at(|| format!("run {}", e.id))?;
             grid.get_or_insert_with(|| DensityGrid::for_run(&run))
                 .add(&run);
             ids.push(e.id.clone());

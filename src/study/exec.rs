@@ -14,11 +14,11 @@
 //! sequence's next intensity starts as soon as its previous run is done; the order in which
 //! entries finish does not change any entry's content (same id → same bytes), so the
 //! results do not depend on `jobs`.
+use super::error::{At, Result, StudyError};
 use super::format::Study;
 use super::plan::{Entry, Outcome, Store, STATUS_FILE};
 use crate::pipeline::scenario::ComponentSpec;
 use crate::pipeline::{self, Scenario, Silent};
-use anyhow::{anyhow, Context, Result};
 use serde_json::json;
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
@@ -113,29 +113,29 @@ fn round6(v: f64) -> f64 {
 /// Writes `files` as the folder `runs/<id>/` atomically (module docs).
 pub(crate) fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]) -> Result<()> {
     let runs = store.runs_dir();
-    std::fs::create_dir_all(&runs).with_context(|| format!("cannot create {}", runs.display()))?;
+    std::fs::create_dir_all(&runs).at(|| format!("cannot create {}", runs.display()))?;
     let pid = std::process::id();
     let tmp = runs.join(format!(".tmp-{id}-{pid}"));
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp)?;
     }
-    std::fs::create_dir(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+    std::fs::create_dir(&tmp).at(|| format!("cannot create {}", tmp.display()))?;
     for (name, bytes) in files {
         let p = tmp.join(name);
-        std::fs::write(&p, bytes).with_context(|| format!("cannot write {}", p.display()))?;
+        std::fs::write(&p, bytes).at(|| format!("cannot write {}", p.display()))?;
         std::fs::File::open(&p)?.sync_all()?;
     }
     let dest = store.run_dir(id);
     let old = runs.join(format!(".old-{id}-{pid}"));
     let moved = if dest.exists() {
         std::fs::rename(&dest, &old)
-            .with_context(|| format!("cannot move the old {} aside", dest.display()))?;
+            .at(|| format!("cannot move the old {} aside", dest.display()))?;
         true
     } else {
         false
     };
     std::fs::rename(&tmp, &dest)
-        .with_context(|| format!("cannot rename {} to {}", tmp.display(), dest.display()))?;
+        .at(|| format!("cannot rename {} to {}", tmp.display(), dest.display()))?;
     if moved {
         std::fs::remove_dir_all(&old)?;
     }
@@ -186,7 +186,7 @@ pub fn run_one(study: &Study, store: &Store, entry: &Entry) -> Result<Outcome> {
         });
         let rec = pipeline::run_perturbed(&sc, &Silent, p.as_ref())?;
         let files = pipeline::write::contents(&rec, false)?;
-        Ok::<_, anyhow::Error>((files, rec.tc_s.is_some()))
+        Ok::<_, crate::pipeline::PipelineError>((files, rec.tc_s.is_some()))
     }));
     let error = match &result {
         Ok(Ok(_)) => None,
@@ -229,15 +229,16 @@ pub struct LocalSummary {
 }
 
 /// Runs every pending entry of `study`, `jobs` at a time, re-planning after each one (IDA
-/// sequences continue until they finish). `runner(entry)` runs one entry (the CLI starts
-/// `fem2rbd study run-one` in a child process); if it returns an error and the entry's
-/// folder records no outcome, the failure is recorded here. `progress(done, total)` is
+/// sequences continue until they finish). `runner(entry)` runs one entry, with the
+/// caller's own error type (the CLI starts `fem2rbd study run-one` in a child process);
+/// if it returns an error and the entry's folder records no outcome, the failure is
+/// recorded here (its `{:#}` text). `progress(done, total)` is
 /// called whenever the counts change.
-pub fn run_local(
+pub fn run_local<E: std::fmt::Display + Send>(
     study: &Study,
     store: &Store,
     jobs: usize,
-    runner: &(dyn Fn(&Entry) -> Result<()> + Sync),
+    runner: &(dyn Fn(&Entry) -> std::result::Result<(), E> + Sync),
     progress: &dyn Fn(usize, usize),
 ) -> Result<LocalSummary> {
     let jobs = jobs.max(1);
@@ -256,7 +257,7 @@ pub fn run_local(
         ..Default::default()
     };
     std::thread::scope(|scope| -> Result<()> {
-        let (tx, rx) = std::sync::mpsc::channel::<(String, Result<()>)>();
+        let (tx, rx) = std::sync::mpsc::channel::<(String, std::result::Result<(), E>)>();
         let mut running: BTreeMap<String, Entry> = BTreeMap::new();
         loop {
             let plan = super::plan::plan(study, &outcome);
@@ -280,9 +281,9 @@ pub fn run_local(
             if running.is_empty() {
                 return Ok(());
             }
-            let (id, r) = rx
-                .recv()
-                .map_err(|_| anyhow!("a study worker thread ended without reporting"))?;
+            let (id, r) = rx.recv().map_err(|_| {
+                StudyError::Invalid("a study worker thread ended without reporting".into())
+            })?;
             let e = running.remove(&id).expect("a running entry");
             let o = match (store.outcome(&id), r) {
                 (Some(o), _) => o,

@@ -10,9 +10,9 @@
 //!
 //! Paths inside the file are relative to the study file; `output` is relative to the
 //! current directory (as a scenario's).
+use super::error::{bail, At, Result, StudyError};
 use crate::motion::{read_record, Format, G};
 use crate::pipeline::{Mode, Scenario};
-use anyhow::{anyhow, bail, Context, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -303,7 +303,7 @@ impl Study {
     pub fn load(path: impl AsRef<Path>) -> Result<Study> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read study file {}", path.display()))?;
+            .at(|| format!("cannot read study file {}", path.display()))?;
         Self::parse(&text, path)
     }
 
@@ -319,13 +319,13 @@ impl Study {
                     (line_of(text, s.start), col)
                 })
                 .unwrap_or((0, 0));
-            anyhow!("{p}:{line}: column {col}: {}", e.message())
+            StudyError::Invalid(format!("{p}:{line}: column {col}: {}", e.message()))
         })?;
         let at = |s: std::ops::Range<usize>| format!("{p}:{}", line_of(text, s.start));
         let base_dir = path.parent().unwrap_or(Path::new("."));
         let base_path = base_dir.join(raw.base.get_ref());
-        let base = Scenario::load(&base_path)
-            .with_context(|| format!("{}: base scenario", at(raw.base.span())))?;
+        let base =
+            Scenario::load(&base_path).at(|| format!("{}: base scenario", at(raw.base.span())))?;
         let modes = if raw.modes.is_empty() {
             vec![base.mode]
         } else {
@@ -340,7 +340,7 @@ impl Study {
         };
         let mut models = Vec::new();
         for (i, m) in raw.models.iter().enumerate() {
-            check_name(&m.name).with_context(|| format!("{p}: models[{i}]"))?;
+            check_name(&m.name).at(|| format!("{p}: models[{i}]"))?;
             if models.iter().any(|o: &StudyModel| o.name == m.name) {
                 bail!("{p}: models[{i}]: name {:?} given twice", m.name);
             }
@@ -373,7 +373,7 @@ impl Study {
         let mut records: Vec<StudyRecord> = Vec::new();
         let mut add =
             |name: String, files: [Option<(PathBuf, String)>; 3], item: String| -> Result<()> {
-                check_name(&name).with_context(|| item.clone())?;
+                check_name(&name).at(|| item.clone())?;
                 if records.iter().any(|r| r.name == name) {
                     bail!("{item}: record name {name:?} given twice");
                 }
@@ -384,7 +384,7 @@ impl Study {
                     if !file.is_file() {
                         bail!("{loc}: record file {} does not exist", file.display());
                     }
-                    pga[axis] = Some(record_pga(&file).with_context(|| loc.clone())?);
+                    pga[axis] = Some(record_pga(&file).at(|| loc.clone())?);
                     paths[axis] = Some(file);
                 }
                 let Some(px) = pga[0] else {
@@ -429,7 +429,7 @@ impl Study {
                 bail!("{item}: x (the file-name suffix of the X component) is needed");
             };
             let mut stems: Vec<String> = std::fs::read_dir(&dir)
-                .with_context(|| format!("{loc}: cannot list {}", dir.display()))?
+                .at(|| format!("{loc}: cannot list {}", dir.display()))?
                 .filter_map(|e| e.ok())
                 .filter_map(|e| e.file_name().to_str().map(str::to_owned))
                 .filter_map(|n| n.strip_suffix(sx.as_str()).map(str::to_owned))
@@ -471,8 +471,8 @@ impl Study {
             (list, None) => {
                 let mut v = Vec::new();
                 for s in list {
-                    let m = milli(*s.get_ref())
-                        .with_context(|| format!("{}: intensity.pga_g", at(s.span())))?;
+                    let m =
+                        milli(*s.get_ref()).at(|| format!("{}: intensity.pga_g", at(s.span())))?;
                     if v.contains(&m) {
                         bail!(
                             "{}: intensity.pga_g: {} g given twice",
@@ -487,8 +487,7 @@ impl Study {
             }
             ([], Some(ida)) => {
                 let g = |s: &Spanned<f64>, k: &str| {
-                    milli(*s.get_ref())
-                        .with_context(|| format!("{}: intensity.ida.{k}", at(s.span())))
+                    milli(*s.get_ref()).at(|| format!("{}: intensity.ida.{k}", at(s.span())))
                 };
                 let rule = IdaRule {
                     start: g(&ida.start_g, "start_g")?,

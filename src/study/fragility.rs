@@ -17,7 +17,7 @@
 //!
 //! Both are maximised over (μ, ln β) by Nelder–Mead from a deterministic start, so the
 //! same data give the same bits.
-use anyhow::{bail, Result};
+use super::error::{Result, StudyError};
 
 /// A fitted lognormal fragility.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -190,15 +190,15 @@ pub fn fit_ida(collapse_g: &[f64], censored_g: &[f64]) -> Result<Fit> {
         .chain(censored_g)
         .any(|x| !(x.is_finite() && *x > 0.0))
     {
-        bail!("fragility: intensities must be positive");
+        return Err(StudyError::Fit("intensities must be positive".into()));
     }
     let ln: Vec<f64> = collapse_g.iter().map(|x| x.ln()).collect();
     let n = ln.len() as f64;
     if ln.len() < 2 || ln.iter().all(|l| (l - ln[0]).abs() < 1e-12) {
-        bail!(
-            "fragility: {} collapse intensities (need at least two different ones)",
+        return Err(StudyError::Fit(format!(
+            "{} collapse intensities (need at least two different ones)",
             ln.len()
-        );
+        )));
     }
     let mu0 = ln.iter().sum::<f64>() / n;
     let b0 = (ln.iter().map(|l| (l - mu0).powi(2)).sum::<f64>() / n).sqrt();
@@ -238,10 +238,12 @@ pub fn fit_stripes(stripes: &[(f64, usize, usize)]) -> Result<Fit> {
         .iter()
         .any(|s| !(s.0 > 0.0 && s.0.is_finite()) || s.2 > s.1)
     {
-        bail!("fragility: bad stripe data");
+        return Err(StudyError::Fit("bad stripe data".into()));
     }
     if coll == 0 || coll == total {
-        bail!("fragility: {coll} of {total} runs collapsed; a fit needs both outcomes");
+        return Err(StudyError::Fit(format!(
+            "{coll} of {total} runs collapsed; a fit needs both outcomes"
+        )));
     }
     let ll = |mu: f64, beta: f64| -> f64 {
         let mut s = 0.0;
@@ -262,7 +264,7 @@ pub fn fit_stripes(stripes: &[(f64, usize, usize)]) -> Result<Fit> {
     let x = nelder_mead(&|p| -ll(p[0], p[1].exp()), [mu0, 0.4f64.ln()], [0.2, 0.2]);
     let (mu, beta) = (x[0], x[1].exp());
     if !(1e-6..=50.0).contains(&beta) {
-        bail!("fragility: the data do not bound the fit (β → {beta:.3e}); separate outcomes overlap or are perfectly split");
+        return Err(StudyError::Fit(format!("the data do not bound the fit (β → {beta:.3e}); separate outcomes overlap or are perfectly split")));
     }
     Ok(Fit {
         median_g: mu.exp(),

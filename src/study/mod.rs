@@ -13,6 +13,7 @@
 //! * [`fragility`] — lognormal collapse fragility by maximum likelihood;
 //! * [`plot`] — IDA and fragility figures of a collected study.
 pub mod collect;
+pub mod error;
 pub mod exec;
 pub mod format;
 pub mod fragility;
@@ -20,5 +21,6 @@ pub mod plan;
 pub mod plot;
 pub mod slurm;
 
+pub use error::StudyError;
 pub use format::Study;
 pub use plan::{Entry, Outcome, Plan, Store};

@@ -22,10 +22,10 @@
 //! Collapse, for the IDA, is a run with a collapse moment Tc (`summary.json` `tc_s` not
 //! null: the criterion was met or the FE diverged first — non-convergence counts as
 //! collapse, as usual in IDA practice).
+use super::error::{At, Result};
 use super::format::{IdaRule, Intensity, Study, MILLI_G};
 use crate::output::summary::RunSummary;
 use crate::pipeline::Mode;
-use anyhow::{Context, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -372,14 +372,13 @@ impl Store {
 /// Reads a run's `summary.json` ([`RunSummary`]).
 pub(crate) fn read_summary(path: &Path) -> Result<RunSummary> {
     let v = read_json(path)?;
-    serde_json::from_value(v).with_context(|| format!("{}: not a run summary", path.display()))
+    serde_json::from_value(v).at(|| format!("{}: not a run summary", path.display()))
 }
 
 /// Reads a JSON file; errors name it.
 pub(crate) fn read_json(path: &Path) -> Result<Value> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    serde_json::from_str(&text).with_context(|| format!("{}: not valid JSON", path.display()))
+    let text = std::fs::read_to_string(path).at(|| format!("cannot read {}", path.display()))?;
+    serde_json::from_str(&text).at(|| format!("{}: not valid JSON", path.display()))
 }
 
 #[cfg(test)]

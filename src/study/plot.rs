@@ -10,11 +10,11 @@
 //!   count), for stripes the fraction of collapses per intensity.
 //!
 //! Text in the bundled DejaVu Sans; same folder, same bytes; written atomically.
+use super::error::{bail, At, Result, StudyError};
 use crate::output::write_atomic;
 use crate::plot::font::FAMILY;
 use crate::plot::style;
 use crate::plot::{png_bytes, svg_string, Figure, ImageFormat};
-use anyhow::{bail, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -253,8 +253,8 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
     let results = dir.join("results");
     let sj = super::plan::read_json(&results.join("study.json"))?;
     let ida_path = results.join("ida.csv");
-    let text = std::fs::read_to_string(&ida_path)
-        .with_context(|| format!("cannot read {}", ida_path.display()))?;
+    let text =
+        std::fs::read_to_string(&ida_path).at(|| format!("cannot read {}", ida_path.display()))?;
     // model, mode → record → points
     let mut curves: BTreeMap<(String, String), BTreeMap<String, Vec<Point>>> = BTreeMap::new();
     let mut lines = text.lines();
@@ -263,7 +263,8 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
     }
     for (i, l) in lines.enumerate() {
         let f: Vec<&str> = l.split(',').collect();
-        let bad = || anyhow::anyhow!("{}:{}: bad row {l:?}", ida_path.display(), i + 2);
+        let bad =
+            || StudyError::Invalid(format!("{}:{}: bad row {l:?}", ida_path.display(), i + 2));
         if f.len() != 6 {
             return Err(bad());
         }
@@ -283,7 +284,7 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             .or_default()
             .push(p);
     }
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
     let study = sj["study"].as_str().unwrap_or("study");
     let mut files = Vec::new();
     for ((model, mode), recs) in &curves {
@@ -373,7 +374,8 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
 /// The debris-density figure of one `results/density/<stem>.json` ([`super::collect`]).
 pub fn density_figure(path: &Path) -> Result<crate::plot::density::DensityFigure> {
     let j = super::plan::read_json(path)?;
-    let bad = |what: &str| anyhow::anyhow!("{}: {what} missing or invalid", path.display());
+    let bad =
+        |what: &str| StudyError::Invalid(format!("{}: {what} missing or invalid", path.display()));
     let runs = j["runs"]
         .as_u64()
         .filter(|r| *r > 0)
@@ -419,7 +421,7 @@ fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
         return Ok(Vec::new());
     }
     let mut jsons: Vec<PathBuf> = std::fs::read_dir(&ddir)
-        .with_context(|| format!("cannot read {}", ddir.display()))?
+        .at(|| format!("cannot read {}", ddir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();

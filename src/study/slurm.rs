@@ -20,12 +20,12 @@
 //! [`submit_script`] writes `slurm/submit.sh`, a loop for a login node that submits the
 //! next batch with `sbatch --wait` until nothing is pending (one batch for stripes, one
 //! per IDA round), then runs `fem2rbd study collect`.
+use super::error::{bail, At, Result, StudyError};
 use super::exec::scenario_for;
 use super::format::{Intensity, SlurmSpec, Study};
 use super::plan::{Entry, Store};
 use crate::estimate::{self, Estimate};
 use crate::output::write_atomic;
-use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -58,7 +58,7 @@ pub fn largest_run(study: &Study) -> Result<(String, Estimate)> {
         Intensity::Ida(r) => r.start,
     };
     let mut best: Option<(String, Estimate)> = None;
-    let mut first_error: Option<anyhow::Error> = None;
+    let mut first_error: Option<StudyError> = None;
     for (mi, m) in study.models.iter().enumerate() {
         for (ri, r) in study.records.iter().enumerate() {
             for &mode in &study.modes {
@@ -79,8 +79,9 @@ pub fn largest_run(study: &Study) -> Result<(String, Estimate)> {
                         }
                     }
                     Err(err) => {
-                        first_error.get_or_insert_with(|| {
-                            err.context(format!("estimating {}/{}/{}", m.name, r.name, mode.name()))
+                        first_error.get_or_insert_with(|| StudyError::At {
+                            item: format!("estimating {}/{}/{}", m.name, r.name, mode.name()),
+                            error: Box::new(err.into()),
                         });
                     }
                 }
@@ -90,10 +91,10 @@ pub fn largest_run(study: &Study) -> Result<(String, Estimate)> {
     match (best, first_error) {
         (Some(b), _) => Ok(b),
         (None, Some(e)) => Err(e),
-        (None, None) => Err(anyhow::anyhow!(
+        (None, None) => Err(StudyError::Invalid(format!(
             "{}: the study has no runs",
             study.path.display()
-        )),
+        ))),
     }
 }
 /// The most runs an IDA sequence can take: the steps from `start_g` to `max_g`, then a
@@ -153,7 +154,7 @@ pub fn requests(study: &Study, spec: &SlurmSpec) -> Result<Requests> {
 }
 
 fn abs(p: &Path) -> Result<PathBuf> {
-    std::path::absolute(p).with_context(|| format!("cannot make {} absolute", p.display()))
+    std::path::absolute(p).at(|| format!("cannot make {} absolute", p.display()))
 }
 
 /// Single-quotes a path for bash.
@@ -175,8 +176,7 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     }
     let req = requests(study, spec)?;
     let dir = abs(&store.dir.join("slurm"))?;
-    std::fs::create_dir_all(dir.join("logs"))
-        .with_context(|| format!("cannot create {}", dir.display()))?;
+    std::fs::create_dir_all(dir.join("logs")).at(|| format!("cannot create {}", dir.display()))?;
     let mut k = 0;
     while dir.join(format!("batch-{k:03}.sbatch")).exists() {
         k += 1;
@@ -272,7 +272,7 @@ pub fn submit_script(
     extra: &str,
 ) -> Result<PathBuf> {
     let dir = abs(&store.dir.join("slurm"))?;
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    std::fs::create_dir_all(&dir).at(|| format!("cannot create {}", dir.display()))?;
     let p = dir.join("submit.sh");
     let s = format!(
         r#"#!/bin/bash

@@ -47,6 +47,7 @@ mod plot {
     mod run_folder;
 }
 mod repo {
+    mod anyhow_edge;
     mod no_unsafe;
     mod test_layout;
 }

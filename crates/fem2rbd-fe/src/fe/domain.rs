@@ -625,9 +625,28 @@ impl Domain {
         self.disp_c.clone_from(&self.disp);
         self.vel_c.clone_from(&self.vel);
         self.acc_c.clone_from(&self.acc);
-        for el in self.elements.iter_mut() {
-            el.commit_state();
+        self.for_each_element_mut(|el| el.commit_state());
+    }
+
+    /// `f` on every element, on [`Domain::threads`] threads in contiguous chunks when the
+    /// domain has at least `MIN_PREPARE_PER_THREAD` elements a thread (a commit copies
+    /// every fibre's state: light work per element, worth a thread only in large models).
+    /// For work that only changes each element's own state (no sums across elements), so
+    /// the result does not depend on the thread count.
+    fn for_each_element_mut(&mut self, f: impl Fn(&mut Box<dyn Element>) + Sync) {
+        let n = self.elements.len();
+        let threads = self.threads.clamp(1, (n / MIN_PREPARE_PER_THREAD).max(1));
+        if threads == 1 {
+            self.elements.iter_mut().for_each(f);
+            return;
         }
+        let chunk = n.div_ceil(threads);
+        let f = &f;
+        std::thread::scope(|scope| {
+            for c in self.elements.chunks_mut(chunk) {
+                scope.spawn(move || c.iter_mut().for_each(f));
+            }
+        });
     }
 
     /// Returns nodes and elements to the last committed state.
@@ -636,9 +655,7 @@ impl Domain {
         self.vel.clone_from(&self.vel_c);
         self.acc.clone_from(&self.acc_c);
         self.disp_seen.clone_from(&self.disp_c);
-        for el in self.elements.iter_mut() {
-            el.revert_to_last_commit();
-        }
+        self.for_each_element_mut(|el| el.revert_to_last_commit());
     }
 
     /// Committed displacement of a node `[ux, uy, uz, rx, ry, rz]` (m, rad).
