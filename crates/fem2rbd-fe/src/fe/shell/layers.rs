@@ -716,3 +716,37 @@ impl LayeredSection {
         concrete > 0 && crushed == concrete
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall() -> LayeredSection {
+        let c = || Box::new(DamageConcreteFiber::new(30e9, 0.2, 3e6, 30e6)) as Box<dyn PlateFiber>;
+        LayeredSection::new(vec![(0.02, c()), (0.06, c()), (0.02, c())])
+    }
+
+    /// The wall hand-off rule: crushing through the thickness loses the load path, a
+    /// crushed cover layer (bending: top face at ε = −0.02, core at 0) or cracking does not.
+    #[test]
+    fn load_path_is_lost_only_when_crushed_through_the_thickness() {
+        // A path of 20 committed steps to `e` (section strains).
+        let push = |e: [f64; 8]| {
+            let mut s = wall();
+            for k in 1..=20 {
+                let f = k as f64 / 20.0;
+                s.set_trial(&Vec8::from_iterator(e.iter().map(|x| x * f)));
+                s.commit_state();
+            }
+            s
+        };
+        // Uniform ε11 = −0.05: every layer crushed (d⁻ → 1; at −0.02 it is 0.87).
+        let s = push([-0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert!(s.load_path_lost());
+        // ε = e − zκ: κ11 = 1.25 1/m gives +0.05 at z = −0.04 (cracked), 0 in the core and
+        // −0.05 at z = +0.04 (crushed cover).
+        let s = push([0.0, 0.0, 0.0, 1.25, 0.0, 0.0, 0.0, 0.0]);
+        assert!(s.damage().1, "the cover layer is crushed");
+        assert!(!s.load_path_lost());
+    }
+}
