@@ -16,7 +16,8 @@
 # RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05').
 # Runs whose summary.json / ensemble.json exist are kept (delete them to rerun).
 # Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
-# 3 times longer; the whole table (2 ensembles of 8 + 6 variants) about 25 min.
+# 3 times longer; the whole table (2 ensembles of 8 + 6 variants) took 39 min on the
+# shared 2-core machine in session 5.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/ruin-convergence}

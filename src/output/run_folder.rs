@@ -209,7 +209,8 @@ struct Row<'a> {
     file: &'a str,
     line: usize,
     header: &'static str,
-    fields: Vec<String>,
+    /// The row's fields (one allocation for the row, not one per field).
+    fields: csv::StringRecord,
 }
 
 impl Row<'_> {
@@ -228,7 +229,7 @@ impl Row<'_> {
     }
 
     fn text(&self, i: usize) -> Result<&str> {
-        let s = self.fields[i].as_str();
+        let s = &self.fields[i];
         if s.is_empty() {
             return Err(self.err(i, "is empty"));
         }
@@ -236,7 +237,7 @@ impl Row<'_> {
     }
 
     fn f64(&self, i: usize) -> Result<f64> {
-        let s = self.fields[i].as_str();
+        let s = &self.fields[i];
         match s.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
             _ => Err(self.err(i, format!("{s:?} is not a finite number"))),
@@ -286,7 +287,7 @@ impl Row<'_> {
     }
 
     fn flag(&self, i: usize) -> Result<bool> {
-        match self.fields[i].as_str() {
+        match &self.fields[i] {
             "1" => Ok(true),
             "0" => Ok(false),
             s => Err(self.err(i, format!("{s:?} must be 1 or 0"))),
@@ -294,12 +295,16 @@ impl Row<'_> {
     }
 }
 
-/// Splits `text` into rows after checking that its first line is `header`. `file`
-/// names the file in errors.
-fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Row<'a>>> {
+/// The rows of `text` after checking that its first line is `header`, one at a time (a
+/// run's keyframes are frames × bodies rows: they are parsed as they are read, never held
+/// as text fields all at once). `file` names the file in errors.
+fn rows<'a>(
+    text: &'a str,
+    file: &'a str,
+    header: &'static str,
+) -> Result<impl Iterator<Item = Result<Row<'a>>> + 'a> {
     let n_columns = header.split(',').count();
-    let mut lines = text.lines();
-    match lines.next() {
+    match text.lines().next() {
         None => {
             return Err(at(
                 file,
@@ -319,12 +324,11 @@ fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Ro
     // RFC 4180 records (quoted fields may hold commas, quotes and newlines:
     // crate::output::csv_text), read with the `csv` crate; errors name the line where
     // the record starts.
-    let mut reader = csv::ReaderBuilder::new()
+    let reader = csv::ReaderBuilder::new()
         .has_headers(true)
         .flexible(true)
         .from_reader(text.as_bytes());
-    let mut out = Vec::new();
-    for rec in reader.records() {
+    Ok(reader.into_records().map(move |rec| {
         let rec = rec.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
             at(file, line as usize, format!("not a CSV row: {e}"))
@@ -337,20 +341,20 @@ fn rows<'a>(text: &'a str, file: &'a str, header: &'static str) -> Result<Vec<Ro
                 format!("{} fields, expected {n_columns} ({header})", rec.len()),
             ));
         }
-        out.push(Row {
+        Ok(Row {
             file,
             line: n,
             header,
-            fields: rec.iter().map(str::to_owned).collect(),
-        });
-    }
-    Ok(out)
+            fields: rec,
+        })
+    }))
 }
 
 /// Parses `bodies.csv` (header [`BODIES_HEADER`]); `file` names it in errors.
 pub fn parse_bodies(text: &str, file: &str) -> Result<Vec<BodyInfo>> {
     let mut out: Vec<BodyInfo> = Vec::new();
     for r in rows(text, file, BODIES_HEADER)? {
+        let r = r?;
         let half_extents = r.vec3(13)?;
         for (d, h) in half_extents.iter().enumerate() {
             if *h <= 0.0 {
@@ -401,22 +405,23 @@ pub fn parse_keyframes(
 ) -> Result<Vec<(f64, Vec<Pose>)>> {
     let rows = rows(text, file, keyframes::HEADER)?;
     let n = bodies.len();
-    if n == 0 {
-        if let Some(r) = rows.first() {
+    let mut frames: Vec<(f64, Vec<Pose>)> = Vec::new();
+    let names: Vec<String> = bodies.iter().map(|b| b.id.name()).collect();
+    // The number of rows read and the line of the last one.
+    let (mut count, mut last_line) = (0usize, 0usize);
+    for (k, r) in rows.enumerate() {
+        let r = r?;
+        (count, last_line) = (k + 1, r.line);
+        if n == 0 {
             return Err(at(
                 file,
                 r.line,
                 "a frame row, but bodies.csv lists no bodies".into(),
             ));
         }
-        return Ok(Vec::new());
-    }
-    let mut frames: Vec<(f64, Vec<Pose>)> = Vec::with_capacity(rows.len() / n);
-    let names: Vec<String> = bodies.iter().map(|b| b.id.name()).collect();
-    for (k, r) in rows.iter().enumerate() {
         let i = k % n;
         let t = r.f64(0)?;
-        let name = r.fields[1].as_str();
+        let name = &r.fields[1];
         if name != names[i] {
             return Err(r.err(
                 1,
@@ -451,15 +456,14 @@ pub fn parse_keyframes(
         }
         frames.last_mut().expect("a frame").1.push(r.pose(2)?);
     }
-    if rows.len() % n != 0 {
-        let last = rows.last().expect("rows");
+    if n > 0 && count % n != 0 {
         return Err(at(
             file,
-            last.line,
+            last_line,
             format!(
                 "the last frame (t = {} s) lists {} of the {n} bodies",
                 frames.last().expect("a frame").0,
-                rows.len() % n
+                count % n
             ),
         ));
     }
@@ -470,17 +474,18 @@ pub fn parse_keyframes(
 pub(crate) fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
     let mut out = Vec::new();
     for r in rows(text, file, HISTORY_HEADER)? {
-        let fe = match r.fields[1].as_str() {
+        let r = r?;
+        let fe = match &r.fields[1] {
             "fe" => true,
             "physics" => false,
             s => return Err(r.err(1, format!("stage {s:?} must be fe or physics"))),
         };
-        let counts = if r.fields[4..7].iter().all(|s| s.is_empty()) {
+        let counts = if (4..7).all(|k| r.fields[k].is_empty()) {
             None
         } else {
             let mut c = [0usize; 3];
             for (d, cd) in c.iter_mut().enumerate() {
-                let s = r.fields[4 + d].as_str();
+                let s = &r.fields[4 + d];
                 *cd = s
                     .parse()
                     .map_err(|_| r.err(4 + d, format!("{s:?} is not a count")))?;
@@ -494,7 +499,7 @@ pub(crate) fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
             max_drop_m: r.opt_f64(3)?,
             counts,
             ground_m: r.vec3(7)?,
-            energy: if r.fields[10..17].iter().all(|s| s.is_empty()) {
+            energy: if (10..17).all(|k| r.fields[k].is_empty()) {
                 None
             } else {
                 Some(crate::output::history::EnergyRow {
@@ -555,7 +560,7 @@ pub(crate) fn parse_ruins(
     file: &str,
     bodies: &[BodyInfo],
 ) -> Result<(Vec<Pose>, Vec<Option<bool>>)> {
-    let rows = rows(text, file, ruins::HEADER)?;
+    let rows = rows(text, file, ruins::HEADER)?.collect::<Result<Vec<Row>>>()?;
     let mut poses = Vec::with_capacity(rows.len());
     let mut at_rest = Vec::with_capacity(rows.len());
     for (i, r) in rows.iter().enumerate() {
@@ -582,13 +587,13 @@ pub(crate) fn parse_ruins(
                     c,
                     format!(
                         "{:?} where bodies.csv has {w:?} for body #{i} (rows in bodies.csv order)",
-                        r.fields[c]
+                        &r.fields[c]
                     ),
                 ));
             }
         }
         poses.push(r.pose(5)?);
-        at_rest.push(match r.fields[12].as_str() {
+        at_rest.push(match &r.fields[12] {
             "1" => Some(true),
             "0" => Some(false),
             "-" => None,

@@ -24,9 +24,11 @@
 //! **FE damage → connection start state.** With FE-derived connections (`[physics]
 //! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
 //! connection starts elastic with the residual capacities at Tc and broken only where a
-//! section it cuts has lost its load path. With BCB's (`"formula"`): a connection's damage
-//! is the worse of the FE damage flags ([`crate::fe::element::ElementDamage`]) of the two
-//! elements it joins
+//! section it cuts has lost its load path (for a wall body: where its shell's section
+//! lost it — concrete crushed through the thickness or a bar layer ruptured). With
+//! BCB's (`"formula"`): a connection's damage is the worse of the FE damage flags
+//! ([`crate::fe::element::ElementDamage`]) of the two beam-column or shell elements it
+//! joins
 //! (ruptured → broken, yielded → plastic, else elastic; panels and foundations count as
 //! intact) — [`crate::ruin::monitor::start_state_from_damage`].
 //!
@@ -934,6 +936,13 @@ pub(crate) fn run_perturbed(
         if sc.mode == Mode::Fe || rec.tc_s.is_none() {
             return Ok(rec);
         }
+        let shell_tags: std::collections::BTreeSet<u32> = inputs
+            .model
+            .elements
+            .iter()
+            .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
+            .map(|e| e.tag)
+            .collect();
         if let Some(g) = &gravity {
             // Residual capacities at Tc; broken only where the load path is lost.
             let caps = member_capacities_against(
@@ -950,7 +959,11 @@ pub(crate) fn run_perturbed(
             start.body_strengths = strengths::body_strengths(bodies, &caps);
         }
         start.start_damage = if gravity.is_some() {
-            BTreeMap::new()
+            // Walls have no member-end capacities: a wall body's connections start broken
+            // only where its shell lost its load path (docs/handoff.md §3).
+            let mut lost = element_damage(&inputs.model, &fe.built);
+            lost.retain(|tag, d| *d == FeDamage::Ruptured && shell_tags.contains(tag));
+            pair_damage(bodies, &lost)
         } else {
             pair_damage(bodies, &element_damage(&inputs.model, &fe.built))
         };
@@ -1037,11 +1050,16 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
     Ok(())
 }
 
-/// FE damage of every beam-column element (model tag → flag) in a built domain.
+/// FE damage of every beam-column and shell element (model tag → flag) in a built
+/// domain (a shell is "ruptured" only when it lost its load path:
+/// [`crate::fe::shell::layers::LayeredSection::load_path_lost`]).
 fn element_damage(model: &Model, built: &crate::fe::build::BuiltDomain) -> BTreeMap<u32, FeDamage> {
     let mut out = BTreeMap::new();
     for e in &model.elements {
-        if !matches!(e.kind, ElementKind::BeamColumn { .. }) {
+        if !matches!(
+            e.kind,
+            ElementKind::BeamColumn { .. } | ElementKind::Shell { .. }
+        ) {
             continue;
         }
         if let Some(&i) = built.element_index.get(&e.tag) {

@@ -38,6 +38,7 @@ mod pipeline {
     mod ensemble;
     mod groups_measures;
     mod handoff_continuity;
+    mod library_slab;
     mod run_frame3;
     mod wall_building;
 }

@@ -300,11 +300,14 @@ impl Element for ShellElement {
             co.revert();
         }
     }
+    /// `yielded`: a bar layer yielded or a concrete layer damaged in compression at some
+    /// Gauss point; `ruptured`: the section at some Gauss point has lost its load path
+    /// ([`LayeredSection::load_path_lost`]: a bar layer ruptured or the concrete crushed
+    /// through the thickness; cracking and cover crushing never count) — the wall rule of
+    /// the hand-off (docs/handoff.md §3).
     fn damage(&self) -> ElementDamage {
-        let (yielded, ruptured) = self.sections.iter().fold((false, false), |(y, r), s| {
-            let (a, b) = s.damage();
-            (y || a, r || b)
-        });
+        let yielded = self.sections.iter().any(|s| s.damage().0);
+        let ruptured = self.sections.iter().any(|s| s.load_path_lost());
         ElementDamage { yielded, ruptured }
     }
 }

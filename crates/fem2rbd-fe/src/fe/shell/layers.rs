@@ -41,6 +41,16 @@ pub trait PlateFiber: std::fmt::Debug + Send + Sync {
     fn damage(&self) -> (bool, bool) {
         (false, false)
     }
+    /// Whether the layer has lost its load path (committed state): `None` for layers that
+    /// do not count (elastic), `Some(true)` for a crushed concrete layer (d⁻ ≥ 0.9) or a
+    /// ruptured bar layer. See [`LayeredSection::load_path_lost`].
+    fn load_path_lost(&self) -> Option<bool> {
+        None
+    }
+    /// Whether this is a concrete layer (for [`LayeredSection::load_path_lost`]).
+    fn is_concrete(&self) -> bool {
+        false
+    }
 }
 
 /// Linear elastic isotropic plate fibre.
@@ -137,6 +147,9 @@ impl PlateFiber for RebarFiber {
     fn damage(&self) -> (bool, bool) {
         let d = self.bar.damage();
         (d.yielded, d.ruptured)
+    }
+    fn load_path_lost(&self) -> Option<bool> {
+        Some(self.bar.damage().ruptured)
     }
 }
 
@@ -531,6 +544,12 @@ impl PlateFiber for DamageConcreteFiber {
         // and d⁻ ≥ 0.9 (crushed to a tenth of the effective stress) as "ruptured".
         (self.committed.dn > 0.0, self.committed.dn >= 0.9)
     }
+    fn load_path_lost(&self) -> Option<bool> {
+        Some(self.committed.dn >= 0.9)
+    }
+    fn is_concrete(&self) -> bool {
+        true
+    }
 }
 
 /// One layer: thickness (m), mid-thickness coordinate z (m) and its law.
@@ -674,5 +693,60 @@ impl LayeredSection {
             let (a, b) = l.fiber.damage();
             (y || a, r || b)
         })
+    }
+
+    /// Whether the section has lost its load path (the wall hand-off rule,
+    /// docs/handoff.md §3): a bar layer (one smeared curtain in one direction) has
+    /// ruptured, or every concrete layer is crushed (d⁻ ≥ 0.9: crushed through the
+    /// thickness). Cracking (d⁺) and a crushed cover layer alone never count. Steel laws
+    /// without a rupture strain (Steel02) never rupture; bar buckling is not modelled.
+    pub fn load_path_lost(&self) -> bool {
+        let mut concrete = 0;
+        let mut crushed = 0;
+        for l in &self.layers {
+            match (l.fiber.is_concrete(), l.fiber.load_path_lost()) {
+                (true, Some(lost)) => {
+                    concrete += 1;
+                    crushed += usize::from(lost);
+                }
+                (false, Some(true)) => return true,
+                _ => {}
+            }
+        }
+        concrete > 0 && crushed == concrete
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall() -> LayeredSection {
+        let c = || Box::new(DamageConcreteFiber::new(30e9, 0.2, 3e6, 30e6)) as Box<dyn PlateFiber>;
+        LayeredSection::new(vec![(0.02, c()), (0.06, c()), (0.02, c())])
+    }
+
+    /// The wall hand-off rule: crushing through the thickness loses the load path, a
+    /// crushed cover layer (bending: top face at ε = −0.02, core at 0) or cracking does not.
+    #[test]
+    fn load_path_is_lost_only_when_crushed_through_the_thickness() {
+        // A path of 20 committed steps to `e` (section strains).
+        let push = |e: [f64; 8]| {
+            let mut s = wall();
+            for k in 1..=20 {
+                let f = k as f64 / 20.0;
+                s.set_trial(&Vec8::from_iterator(e.iter().map(|x| x * f)));
+                s.commit_state();
+            }
+            s
+        };
+        // Uniform ε11 = −0.05: every layer crushed (d⁻ → 1; at −0.02 it is 0.87).
+        let s = push([-0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert!(s.load_path_lost());
+        // ε = e − zκ: κ11 = 1.25 1/m gives +0.05 at z = −0.04 (cracked), 0 in the core and
+        // −0.05 at z = +0.04 (crushed cover).
+        let s = push([0.0, 0.0, 0.0, 1.25, 0.0, 0.0, 0.0, 0.0]);
+        assert!(s.damage().1, "the cover layer is crushed");
+        assert!(!s.load_path_lost());
     }
 }
