@@ -156,14 +156,6 @@ impl BodyId {
         }
     }
 
-    /// Whether this is a foundation block.
-    pub fn is_foundation(&self) -> bool {
-        matches!(
-            self,
-            BodyId::Foundation { .. } | BodyId::WallFoundation { .. }
-        )
-    }
-
     /// The identity from the five identity columns of `bodies.csv` / `ruins.csv`
     /// (`name,group,type,material,element`); an error says which column disagrees.
     pub fn from_columns(

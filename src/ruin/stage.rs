@@ -930,11 +930,6 @@ impl RuinStage {
         self.substeps_per_frame
     }
 
-    /// Time spent inside `World::step` so far.
-    pub fn time_in_bullet(&self) -> Duration {
-        self.in_bullet
-    }
-
     /// Runs `count` substeps, moving the ground and the passive bodies before each one
     /// (no monitor: [`RuinStage::run`] calls it once per frame). After every substep the
     /// energy ledger's ground work and damping loss ([`super::energy`]) and the largest

@@ -233,11 +233,6 @@ impl FormulaInputs {
         }
     }
 
-    /// Whether the per-area values depend on the contact (a section dimension is 0).
-    pub fn uses_contact_dims(&self) -> bool {
-        self.h_mm == 0.0 || self.w_mm == 0.0
-    }
-
     /// Element density ρ·denss + (1−ρ)·densc, kg/m³ (BCB sets it on Evaluate). With a
     /// symbolic section (a zero dimension) BCB cannot evaluate it; we then use the
     /// given contact dimensions like [`Self::per_area`].
