@@ -12,6 +12,27 @@ pub fn repo_root() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
+/// Runs an OpenSees script or driver (`python3 …` with openseespy 3.7.1), asserts that it
+/// succeeded (its output in the message otherwise) and returns the JSON object on the
+/// last line of its standard output that starts with `{` — how every exported script and
+/// test driver reports its results.
+pub fn openseespy_json(cmd: &mut std::process::Command) -> serde_json::Value {
+    let out = cmd
+        .output()
+        .expect("python3 with openseespy 3.7.1 (setup.sh installs it)");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let last = stdout
+        .lines()
+        .rfind(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("no JSON line in the script's output:\n{stdout}"));
+    serde_json::from_str(last).expect("the script's last JSON line")
+}
+
 mod collapse {
     mod criteria;
 }

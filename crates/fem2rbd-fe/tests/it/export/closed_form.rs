@@ -14,18 +14,7 @@ fn run(model: &Model, args: &[&str]) -> Value {
         opensees_script(model, "test", &OpenSeesOptions::default()).unwrap(),
     )
     .unwrap();
-    let out = Command::new("python3")
-        .arg(&p)
-        .args(args)
-        .output()
-        .expect("python3");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap()
+    crate::openseespy_json(Command::new("python3").arg(&p).args(args))
 }
 
 fn period(v: &Value, key: &str) -> f64 {

@@ -178,19 +178,8 @@ fn eigen(m: &Model) -> Vec<serde_json::Value> {
         opensees_script(m, "b.toml", &OpenSeesOptions::default()).unwrap(),
     )
     .unwrap();
-    let out = Command::new("python3")
-        .arg(&path)
-        .args(["eigen", "30"])
-        .output()
-        .expect("python3");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let v: serde_json::Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+        crate::openseespy_json(Command::new("python3").arg(&path).args(["eigen", "30"]));
     v["modes"].as_array().unwrap().clone()
 }
 

@@ -144,19 +144,11 @@ fn opensees_periods(model: &Model, n: usize) -> Vec<f64> {
     let script =
         fem2rbd_fe::export::opensees_script(model, "generated", &Default::default()).unwrap();
     std::fs::write(&path, script).unwrap();
-    let out = Command::new("python3")
-        .arg(&path)
-        .args(["eigen", &n.to_string()])
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v = crate::openseespy_json(
+        Command::new("python3")
+            .arg(&path)
+            .args(["eigen", &n.to_string()]),
     );
-    let last = stdout.lines().rfind(|l| l.starts_with('{')).unwrap();
-    let v: serde_json::Value = serde_json::from_str(last).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     v["modes"]
         .as_array()

@@ -54,19 +54,11 @@ fn wall_building_periods_through_the_domain_match_opensees() {
         opensees_script(&model, "b.toml", &OpenSeesOptions::default()).unwrap(),
     )
     .unwrap();
-    let out = Command::new("python3")
-        .arg(&path)
-        .args(["eigen", &n_modes.to_string()])
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v: serde_json::Value = crate::openseespy_json(
+        Command::new("python3")
+            .arg(&path)
+            .args(["eigen", &n_modes.to_string()]),
     );
-    let v: serde_json::Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
     for (k, t) in modal.periods.iter().enumerate() {
         let t_os = v["modes"][k]["T"].as_f64().unwrap();
         let d = (t - t_os) / t_os;

@@ -142,24 +142,16 @@ fn opensees(model: &Model, mode: &str, value: f64, steps: usize, incr: f64) -> V
     let driver = dir.path().join("drive.py");
     std::fs::write(&driver, DRIVER).unwrap();
     let tips: Vec<String> = tips(NX).iter().map(|t| t.to_string()).collect();
-    let out = Command::new("python3")
-        .arg(&driver)
-        .arg(&script)
-        .arg(mode)
-        .arg(value.to_string())
-        .arg(steps.to_string())
-        .arg(incr.to_string())
-        .arg(tips.join(","))
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v: Value = crate::openseespy_json(
+        Command::new("python3")
+            .arg(&driver)
+            .arg(&script)
+            .arg(mode)
+            .arg(value.to_string())
+            .arg(steps.to_string())
+            .arg(incr.to_string())
+            .arg(tips.join(",")),
     );
-    let v: Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
     assert!(v.get("failed").is_none(), "OpenSees failed: {v}");
     v["out"]
         .as_array()

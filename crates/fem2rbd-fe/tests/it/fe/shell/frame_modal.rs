@@ -132,19 +132,8 @@ fn portal_frame_with_wall_panel_periods_match_opensees() {
         opensees_script(&model, "portal.toml", &OpenSeesOptions::default()).unwrap(),
     )
     .unwrap();
-    let out = Command::new("python3")
-        .arg(&script)
-        .args(["eigen", "3"])
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let v: Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+        crate::openseespy_json(Command::new("python3").arg(&script).args(["eigen", "3"]));
     for (kk, t) in periods.iter().enumerate() {
         let t_os = v["modes"][kk]["T"].as_f64().unwrap();
         eprintln!(

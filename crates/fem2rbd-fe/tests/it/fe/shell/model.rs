@@ -46,18 +46,7 @@ fn run(model: &Model, args: &[&str]) -> (String, Value) {
     let p = dir.path().join("wall.py");
     let script = opensees_script(model, "wall.toml", &OpenSeesOptions::default()).unwrap();
     std::fs::write(&p, &script).unwrap();
-    let out = Command::new("python3")
-        .arg(&p)
-        .args(args)
-        .output()
-        .expect("python3");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v = serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+    let v = crate::openseespy_json(Command::new("python3").arg(&p).args(args));
     (script, v)
 }
 

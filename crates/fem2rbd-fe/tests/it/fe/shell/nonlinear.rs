@@ -112,21 +112,13 @@ fn opensees(model: &Model, top: &[u32], segs: &[(f64, usize)]) -> Vec<f64> {
     std::fs::write(&driver, DRIVER).unwrap();
     let tops: Vec<String> = top.iter().map(|t| t.to_string()).collect();
     let segs_json = serde_json::to_string(segs).unwrap();
-    let out = Command::new("python3")
-        .arg(&driver)
-        .arg(&script)
-        .arg(tops.join(","))
-        .arg(segs_json)
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v: Value = crate::openseespy_json(
+        Command::new("python3")
+            .arg(&driver)
+            .arg(&script)
+            .arg(tops.join(","))
+            .arg(segs_json),
     );
-    let v: Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
     assert!(v.get("failed").is_none(), "OpenSees failed: {v}");
     v["lambda"]
         .as_array()

@@ -142,22 +142,14 @@ fn elastic_layered_wall_pushover_matches_the_exported_opensees_model() {
             .collect::<Vec<_>>()
             .join(",")
     };
-    let out = Command::new("python3")
-        .arg(&driver)
-        .arg(&script)
-        .arg(list(&top))
-        .arg(list(&base))
-        .arg(format!("{TOP_UX:?}"))
-        .output()
-        .expect("python3 with openseespy 3.7.1");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let v: Value = crate::openseespy_json(
+        Command::new("python3")
+            .arg(&driver)
+            .arg(&script)
+            .arg(list(&top))
+            .arg(list(&base))
+            .arg(format!("{TOP_UX:?}")),
     );
-    let v: Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
     let os_shear = v["base_shear"].as_f64().unwrap();
     let mut umax: f64 = 0.0;
     let mut dmax: f64 = 0.0;
