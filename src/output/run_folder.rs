@@ -353,6 +353,9 @@ fn rows<'a>(
 /// Parses `bodies.csv` (header [`BODIES_HEADER`]); `file` names it in errors.
 pub fn parse_bodies(text: &str, file: &str) -> Result<Vec<BodyInfo>> {
     let mut out: Vec<BodyInfo> = Vec::new();
+    // Body → its index, to refuse a repeated body in one lookup (the library building
+    // has thousands of bodies; a scan per row would be quadratic).
+    let mut seen: std::collections::HashMap<BodyId, usize> = std::collections::HashMap::new();
     for r in rows(text, file, BODIES_HEADER)? {
         let r = r?;
         let half_extents = r.vec3(13)?;
@@ -381,7 +384,7 @@ pub fn parse_bodies(text: &str, file: &str) -> Result<Vec<BodyInfo>> {
                 .unwrap_or(0);
             r.err(c, e.message)
         })?;
-        if let Some(k) = out.iter().position(|b| b.id == id) {
+        if let Some(k) = seen.insert(id.clone(), out.len()) {
             return Err(r.err(0, format!("body {name:?} is already on line {}", k + 2)));
         }
         out.push(BodyInfo {
