@@ -165,6 +165,10 @@ pub struct StageSettings {
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
+    /// Lean solver iterations ([`crate::physics::World::set_lean_iterations`]): the same
+    /// bits, about half the CPU time on the library stand-in. Default on;
+    /// `FEM2RBD_LEAN_ITERATIONS=0` switches it off (for `bench_ruin`'s before/after).
+    pub lean_iterations: bool,
 }
 
 /// The error correction of the connections' locked (generic) rows.
@@ -227,6 +231,10 @@ impl Default for StageSettings {
             joint_rows: JointRows::Locked,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
+            lean_iterations: !matches!(
+                std::env::var("FEM2RBD_LEAN_ITERATIONS").as_deref(),
+                Ok("0")
+            ),
         }
     }
 }
@@ -574,6 +582,7 @@ impl RuinStage {
         }
         let mut world = World::new(&ws)?;
         world.set_solver_threads(settings.solver_threads.max(1))?;
+        world.set_lean_iterations(settings.lean_iterations)?;
 
         // 1. Ground.
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
