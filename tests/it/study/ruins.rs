@@ -373,6 +373,19 @@ fn shipped_ruin_study_density_maps_per_intensity() {
     // The example is a ruin study: every run collapses, and at the top intensity the
     // frame breaks apart (broken connections in every run).
     assert_eq!(collapses, 8);
+    // The stripe fragility counts each record at each intensity once (2 records × 2
+    // intensities), not each of the 2 members: collapse is the FE stage's, which they share.
+    let sj: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(a.join("results/study.json")).unwrap()).unwrap();
+    let frag = &sj["fragility"][0];
+    assert_eq!(frag["method"], "stripes_lognormal_mle_binomial");
+    assert_eq!(
+        (frag["collapses"].as_u64(), frag["non_collapses"].as_u64()),
+        (Some(4), Some(0))
+    );
+    for stripe in frag["data"].as_array().unwrap() {
+        assert_eq!(stripe["runs"], 2, "{stripe}");
+    }
     let top = pgas.iter().next_back().unwrap();
     for e in entries.iter().filter(|e| e[5] == *top) {
         let broken = summary(&e[0])["connections"]["broken"].as_u64().unwrap();
