@@ -20,7 +20,7 @@ use fem2rbd_fe::model::Model;
 use serde_json::Value;
 
 /// The test's axial load, 85 kip (N).
-const AXIAL: f64 = 85.0 * 4448.221_615_260_5;
+const AXIAL: f64 = 85.0 * 4_448.221_615_260_5;
 /// Height to the lateral load, 144 in (m): drift = top ux / H.
 const H: f64 = 144.0 * 0.0254;
 
