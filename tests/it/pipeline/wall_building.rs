@@ -356,3 +356,58 @@ fn wall_building_runs_in_fe_and_hybrid_modes() {
     eprintln!("hybrid connections at the end: {c}");
     assert_eq!(c["total"], 162);
 }
+
+/// The wall building's modal periods (the model every test here runs: fibre
+/// beam-columns, the `corotational` layered-shell wall on the frame's nodes, slab and
+/// added masses) from fem2rbd's FE domain (`build_domain` + `modal_analysis`, what
+/// `fem2rbd modal` runs) against `eigen` of the script `fem2rbd export opensees` writes
+/// for the same model, run by openseespy 3.7.1: the first 6 periods to 1e-6 relative
+/// (the tolerance of the other modal checks, docs/shell-verification.md §2b). Needs
+/// python3 with openseespy.
+#[test]
+fn wall_building_periods_match_opensees_on_the_exported_model() {
+    use fem2rbd::export::{opensees_script, OpenSeesOptions};
+    use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings};
+    use fem2rbd::fe::build::{build_domain, BuildOptions};
+    let model = building(&params(true)).unwrap();
+    let n_modes = 6;
+    let mut built = build_domain(&model, &BuildOptions::default()).unwrap();
+    let modal = modal_analysis(
+        &mut built.domain,
+        &ModalSettings {
+            modes: n_modes,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("wall.py");
+    std::fs::write(
+        &script,
+        opensees_script(&model, "wall.toml", &OpenSeesOptions::default()).unwrap(),
+    )
+    .unwrap();
+    let out = std::process::Command::new("python3")
+        .arg(&script)
+        .args(["eigen", &n_modes.to_string()])
+        .output()
+        .expect("python3 with openseespy 3.7.1 (setup.sh installs it)");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "exported script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+    assert_eq!(modal.periods.len(), n_modes);
+    for (k, t) in modal.periods.iter().enumerate() {
+        let t_os = v["modes"][k]["T"].as_f64().unwrap();
+        let d = (t - t_os) / t_os;
+        eprintln!(
+            "mode {}: fem2rbd {t:.9} s, OpenSees {t_os:.9} s ({d:+.2e})",
+            k + 1
+        );
+        assert!(d.abs() < 1e-6, "mode {}: {t} vs {t_os}", k + 1);
+    }
+}

@@ -72,6 +72,7 @@ mod fe {
         mod frame_modal;
         mod model;
         mod nonlinear;
+        mod rw2;
         mod stiffness;
         mod support;
         mod wall;
