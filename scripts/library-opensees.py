@@ -164,6 +164,9 @@ def finish_opensees(s, full):
     import importlib.metadata
     geo = Geometry()
     reduce(full, geo, OS_CSV)
+    if s.get("stopped_by_hand"):
+        t = read_series(OS_CSV)["t"]
+        s.update({"t_end": t[-1], "steps": len(t)})
     s.update({"description": "openseespy run of data/library/model.toml exported by "
                              "`fem2rbd export opensees` under El Centro ELC180 (X) + ELC270 (Y) "
                              f"at {PGA_G} g, dt {DT} s; made by scripts/library-opensees.py",
@@ -236,14 +239,15 @@ def compare(a):
     def end(s):
         if "reason" in s.get("stop", {}):
             return f"{s['t_end']:.3f} s ({s['stop']['reason']})"
-        why = ("diverged" if s.get("t_diverge") is not None else
+        why = ("stopped by hand (machine time), still converging" if s.get("stopped_by_hand")
+               else "diverged" if s.get("t_diverge") is not None else
                "a free node 1 m down" if s.get("t_stop_uz") is not None else "completed")
         return f"{s['t_end']:.3f} s ({why})"
 
     print(f"| end of the analysis | {end(fs)} | {end(osum)} |")
     print(f"| steps (with fallbacks) | {fs['steps']} ({fs['fallback_steps']}) | "
-          f"{osum['steps']} ({osum['fallback_steps']}) |")
-    print(f"| CPU time | {fs['cpu_s']:.0f} s | {osum['cpu_s']:.0f} s |")
+          f"{osum['steps'] or n} ({fmt(osum['fallback_steps'], nd=0)}) |")
+    print(f"| CPU time | {fs['cpu_s']:.0f} s | {fmt(osum['cpu_s'], nd=0)} s |")
     print(f"| Tc: a main node 1 m down (paper {PAPER_TC} s) | {fmt(tc['f'])} s | "
           f"{fmt(tc['o'])} s |")
     for c, name in (("ux", "X"), ("uy", "Y")):
@@ -326,11 +330,24 @@ def main():
     os.makedirs(a.work, exist_ok=True)
     if a.stage in ("all", "opensees"):
         run_opensees(a)
-    if a.stage == "reduce-opensees":  # an OpenSees run made by hand (e.g. in the background)
-        with open(a.summary) as fh:
-            s = json.loads(fh.read().strip().splitlines()[-1])
+    if a.stage == "reduce-opensees":
+        # An OpenSees run made by hand (`python3 WORK/library_th.py th WORK/opensees_nodes.csv`,
+        # e.g. in the background): with --summary its JSON line; without, a run stopped
+        # before its end (the rows written so far, `WORK/opensees_nodes.csv.tmp`).
+        full = os.path.join(a.work, "opensees_nodes.csv")
+        if a.summary:
+            with open(a.summary) as fh:
+                s = json.loads(fh.read().strip().splitlines()[-1])
+        else:
+            full += ".tmp"
+            with open(full) as fh:
+                rows = [ln for ln in fh.read().splitlines()[1:] if ln.count(",") > 0]
+            # the last line may be partial: drop it unless complete
+            t_end = float(rows[-2].split(",")[0]) if len(rows) > 1 else 0.0
+            s = {"t_end": t_end, "steps": None, "fallback_steps": None, "t_stop_uz": None,
+                 "t_diverge": None, "stopped_by_hand": True}
         s["cpu_s"] = a.cpu_s
-        finish_opensees(s, os.path.join(a.work, "opensees_nodes.csv"))
+        finish_opensees(s, full)
     if a.stage in ("all", "fem2rbd"):
         run_fem2rbd(a)
     if a.stage in ("all", "compare"):
