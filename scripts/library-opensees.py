@@ -263,7 +263,7 @@ def compare(a):
         print(f"| roof-centre {name}: max / RMS difference over the common span | "
               f"{dmax * 1e3:.1f} / {rms * 1e3:.1f} mm | {100 * dmax / peak:.1f} / "
               f"{100 * rms / peak:.1f} % of OpenSees's peak |")
-        for lim in (1e-3, 1e-2, 0.1):
+        for lim in (1e-4, 1e-3, 1e-2, 0.1):
             tl = first(t, d, lambda v: abs(v) > lim)
             print(f"| roof-centre {name}: first |difference| > {lim * 1e3:g} mm | "
                   f"{fmt(tl)} s | |")
