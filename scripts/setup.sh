@@ -10,6 +10,7 @@
 #        curl + ca-certificates (only when Rust must be installed)
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
 #        cross-checks of the FE stages), meshio==5.3.5 (reads back our VTK files)
+#        matplotlib (plots of the comparison scripts, e.g. scripts/library-opensees.py)
 #   npm: scripts/setup-node.sh (gltf-validator and three.js for the glTF checks)
 #   Rust: a toolchain >= 1.85 via rustup, only when cargo is missing or older
 #
@@ -98,7 +99,8 @@ fi
 # ---- pip packages ----------------------------------------------------------------------
 mapfile -t pip_missing < <(python3 - <<'PY'
 import importlib.metadata as md
-need = {"pybullet": "3.2.7", "numpy": None, "openseespy": None, "meshio": "5.3.5"}
+need = {"pybullet": "3.2.7", "numpy": None, "openseespy": None, "meshio": "5.3.5",
+        "matplotlib": None}
 for name, version in need.items():
     try:
         have = md.version(name)
