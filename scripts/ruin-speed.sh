@@ -6,17 +6,30 @@
 # simulated second with each setting side by side (alternated runs), Bullet's profile
 # zones and the island statistics.
 #
-#   bash scripts/ruin-speed.sh [OUT_DIR] [SIM_SECONDS] [ROUNDS] [CONFIGS]
-#   (defaults: out/ruin-speed, 1, 3, "t1,t2")
+#   bash scripts/ruin-speed.sh [OUT_DIR] [SIM_SECONDS] [ROUNDS] [CONFIGS] [BUILDING]
+#   (defaults: out/ruin-speed, 1, 3, "t1+bullet,t1,t2", frame7)
+#
+# CONFIGS: tN = N solver threads, +bullet = Bullet's own solver sweep (the "before" of the
+# lean iterations), +sleep = sleeping on (bench_ruin's docs). BUILDING = library runs the
+# same benchmark on the library stand-in's physics-only scenario
+# (data/library/elcentro-4g-physics.toml: 2 703 bodies, 9 095 connections) instead.
+# Run it under `nice -n 10` on a shared machine; compare the CPU columns.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/ruin-speed}
 SIM=${2:-1}
 ROUNDS=${3:-3}
-CONFIGS=${4:-t1,t2}
+CONFIGS=${4:-t1+bullet,t1,t2}
+BUILDING=${5:-frame7}
 ROOT=$PWD
 mkdir -p "$OUT"
 cargo build --release --quiet --bin fem2rbd --bin bench_ruin
+if [ "$BUILDING" = library ]; then
+  exec ./target/release/bench_ruin data/library/elcentro-4g-physics.toml --time "$SIM" --rounds "$ROUNDS" --configs "$CONFIGS"
+elif [ "$BUILDING" != frame7 ]; then
+  echo "ruin-speed.sh: BUILDING must be frame7 or library, not '$BUILDING'" >&2
+  exit 2
+fi
 ./target/release/fem2rbd generate frame --spans-x 7.5,7.5,7.5,7.5,7.5,7.5 --spans-y 7.5,7.5,7.5,7.5 \
   --stories 3.6,3.6,3.6,3.6,3.6,3.6,3.6 \
   --column 0.7x0.7 --beam 0.35x0.7 --slab-thickness 0.15 --scale 1 --ec 30e9 --fc 30e6 \

@@ -106,6 +106,127 @@ void zero_feedback(btJointFeedback &fb) {
 }
 
 
+
+// ---- the iterations without Bullet's obsolete per-constraint loop ------------------------
+//
+// btSequentialImpulseConstraintSolver::solveSingleIteration (Bullet 3.24,
+// btSequentialImpulseConstraintSolver.cpp) sweeps the joint rows, then, in every
+// iteration, walks *all* constraints of the batch to call
+// btTypedConstraint::solveConstraintObsolete on each enabled one (with two
+// getOrInitSolverBody look-ups), then the contact and friction rows. The obsolete call is
+// empty for every constraint type the shim creates (btGeneric6DofConstraint,
+// btGeneric6DofSpring2Constraint, btFixedConstraint: only btConeTwistConstraint overrides
+// it), but the walk reads each constraint object (about 1 kB apiece in double precision)
+// and is a cache miss per constraint per iteration: measured on the library stand-in
+// (63 665 constraints, docs/performance.md) it was about half of the stage's CPU time.
+// LeanSolver::solveSingleIteration is Bullet's function (zlib licence) without that walk:
+// the same rows in the same order through the same row functions, so the same bits.
+// The walk's only other effect is that getOrInitSolverBody gives a solver body to a
+// kinematic or static partner of an enabled constraint that has no rows this substep (a
+// locked joint exactly in place); such a solver body takes part in no row, and its
+// write-back sets the body's velocity to itself.
+class LeanSolver : public btSequentialImpulseConstraintSolver {
+   public:
+    bool lean = true;  // false: Bullet's own solveSingleIteration (for benchmarks)
+
+    btScalar solveSingleIteration(int iteration, btCollisionObject **bodies, int numBodies,
+                                  btPersistentManifold **manifoldPtr, int numManifolds, btTypedConstraint **constraints,
+                                  int numConstraints, const btContactSolverInfo &infoGlobal,
+                                  btIDebugDraw *debugDrawer) override {
+        if (!lean || (infoGlobal.m_solverMode & SOLVER_RANDMIZE_ORDER))
+            return btSequentialImpulseConstraintSolver::solveSingleIteration(
+                iteration, bodies, numBodies, manifoldPtr, numManifolds, constraints, numConstraints, infoGlobal,
+                debugDrawer);
+        BT_PROFILE("solveSingleIteration");
+        btScalar leastSquaresResidual = 0.f;
+        const int numNonContactPool = m_tmpSolverNonContactConstraintPool.size();
+        for (int j = 0; j < numNonContactPool; j++) {
+            btSolverConstraint &constraint = m_tmpSolverNonContactConstraintPool[m_orderNonContactConstraintPool[j]];
+            if (iteration < constraint.m_overrideNumSolverIterations) {
+                btScalar residual = m_resolveSingleConstraintRowGeneric(m_tmpSolverBodyPool[constraint.m_solverBodyIdA],
+                                                                        m_tmpSolverBodyPool[constraint.m_solverBodyIdB],
+                                                                        constraint);
+                leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+            }
+        }
+        if (iteration < infoGlobal.m_numIterations) {
+            const int numPoolConstraints = m_tmpSolverContactConstraintPool.size();
+            if (infoGlobal.m_solverMode & SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) {
+                int multiplier = (infoGlobal.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
+                for (int c = 0; c < numPoolConstraints; c++) {
+                    btScalar totalImpulse = 0;
+                    {
+                        const btSolverConstraint &solveManifold = m_tmpSolverContactConstraintPool[m_orderTmpConstraintPool[c]];
+                        btScalar residual = m_resolveSingleConstraintRowLowerLimit(
+                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
+                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
+                        leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+                        totalImpulse = solveManifold.m_appliedImpulse;
+                    }
+                    for (int k = 0; k < multiplier; ++k) {
+                        btSolverConstraint &solveManifold =
+                            m_tmpSolverContactFrictionConstraintPool[m_orderFrictionConstraintPool[c * multiplier + k]];
+                        if (totalImpulse > btScalar(0)) {
+                            solveManifold.m_lowerLimit = -(solveManifold.m_friction * totalImpulse);
+                            solveManifold.m_upperLimit = solveManifold.m_friction * totalImpulse;
+                            btScalar residual = m_resolveSingleConstraintRowGeneric(
+                                m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
+                                m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
+                            leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+                        }
+                    }
+                }
+            } else {
+                for (int j = 0; j < numPoolConstraints; j++) {
+                    const btSolverConstraint &solveManifold = m_tmpSolverContactConstraintPool[m_orderTmpConstraintPool[j]];
+                    btScalar residual = m_resolveSingleConstraintRowLowerLimit(
+                        m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA], m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB],
+                        solveManifold);
+                    leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+                }
+                const int numFrictionPoolConstraints = m_tmpSolverContactFrictionConstraintPool.size();
+                for (int j = 0; j < numFrictionPoolConstraints; j++) {
+                    btSolverConstraint &solveManifold = m_tmpSolverContactFrictionConstraintPool[m_orderFrictionConstraintPool[j]];
+                    btScalar totalImpulse = m_tmpSolverContactConstraintPool[solveManifold.m_frictionIndex].m_appliedImpulse;
+                    if (totalImpulse > btScalar(0)) {
+                        solveManifold.m_lowerLimit = -(solveManifold.m_friction * totalImpulse);
+                        solveManifold.m_upperLimit = solveManifold.m_friction * totalImpulse;
+                        btScalar residual = m_resolveSingleConstraintRowGeneric(
+                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
+                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
+                        leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+                    }
+                }
+            }
+            const int numRollingFrictionPoolConstraints = m_tmpSolverContactRollingFrictionConstraintPool.size();
+            for (int j = 0; j < numRollingFrictionPoolConstraints; j++) {
+                btSolverConstraint &rollingFrictionConstraint = m_tmpSolverContactRollingFrictionConstraintPool[j];
+                btScalar totalImpulse =
+                    m_tmpSolverContactConstraintPool[rollingFrictionConstraint.m_frictionIndex].m_appliedImpulse;
+                if (totalImpulse > btScalar(0)) {
+                    btScalar rollingFrictionMagnitude = rollingFrictionConstraint.m_friction * totalImpulse;
+                    if (rollingFrictionMagnitude > rollingFrictionConstraint.m_friction)
+                        rollingFrictionMagnitude = rollingFrictionConstraint.m_friction;
+                    rollingFrictionConstraint.m_lowerLimit = -rollingFrictionMagnitude;
+                    rollingFrictionConstraint.m_upperLimit = rollingFrictionMagnitude;
+                    btScalar residual = m_resolveSingleConstraintRowGeneric(
+                        m_tmpSolverBodyPool[rollingFrictionConstraint.m_solverBodyIdA],
+                        m_tmpSolverBodyPool[rollingFrictionConstraint.m_solverBodyIdB], rollingFrictionConstraint);
+                    leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+                }
+            }
+        }
+        (void)bodies;
+        (void)numBodies;
+        (void)manifoldPtr;
+        (void)numManifolds;
+        (void)constraints;
+        (void)numConstraints;
+        (void)debugDrawer;
+        return leastSquaresResidual;
+    }
+};
+
 // ---- warm starting of the joints' rows ---------------------------------------------------
 //
 // Bullet 3.24's btSequentialImpulseConstraintSolver warm-starts contacts (setupContactConstraint:
@@ -146,7 +267,7 @@ WarmRow warm_row_of(const btSolverConstraint &c) {
     return r;
 }
 
-class WarmJointSolver : public btSequentialImpulseConstraintSolver {
+class WarmJointSolver : public LeanSolver {
    public:
     JointWarmStart *warm = nullptr;
 
@@ -342,6 +463,7 @@ class ParallelIslandSolver : public WarmJointSolver {
     void run_jobs(const btContactSolverInfo &info, btIDebugDraw *dd) {
         const size_t n = njobs_;
         while (solvers_.size() < n) solvers_.emplace_back(new JobSolver());
+        for (size_t i = 0; i < n; ++i) solvers_[i]->lean = lean;
         {
             BT_PROFILE("parallelSolverSetup");
             for (size_t i = 0; i < n; ++i) {
@@ -1147,6 +1269,14 @@ int bs_world_set_solver_threads(bs_world *w, int n) {
         if (int e = check_world(w)) return e;
         if (n < 1 || n > 256) return fail(BS_ERR_BAD_ARG, "solver threads must be 1..256, got " + std::to_string(n));
         w->solver->threads = n;
+        return BS_OK;
+    });
+}
+
+int bs_world_set_lean_iterations(bs_world *w, int on) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        w->solver->lean = on != 0;
         return BS_OK;
     });
 }

@@ -192,6 +192,12 @@ int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *r
 int bs_world_set_solver_threads(bs_world *w, int n);
 int bs_world_get_solver_threads(const bs_world *w, int *n);
 
+/* Lean iterations (on by default): the solver's Gauss-Seidel sweep without Bullet's
+ * per-iteration walk over every constraint for btTypedConstraint::solveConstraintObsolete,
+ * which is empty for every constraint type the shim creates; the same rows in the same
+ * order, so the same bits. 0 = Bullet's own solveSingleIteration (for benchmarks). */
+int bs_world_set_lean_iterations(bs_world *w, int on);
+
 /* Island statistics of the last substep's solve: the number of solver batches (island
  * groups passed to solveGroup), the solver rows of the largest batch and of all batches
  * together (contact + joint rows after setup), summed since the last reset. */

@@ -10,7 +10,10 @@
 //! `--time S`: simulated seconds of the ruin stage (the scenario's `time_limit_s` is set to
 //! start + S and `stop_at_rest` off); default 1. `--rounds N`: runs of each setting (default
 //! 3; the median is reported). `--configs`: comma-separated settings, each `tN` (N solver
-//! threads) optionally followed by `+sleep` (Bullet's sleeping on); default `t1,t2`. The
+//! threads) optionally followed by `+sleep` (Bullet's sleeping on) and `+bullet` (Bullet's
+//! own `solveSingleIteration` instead of the shim's lean sweep, the "before" of
+//! docs/performance.md); default `t1,t2`. CPU time per simulated second is the process's
+//! CPU time (every thread) from the first to the last frame of the stage. The
 //! first setting is the baseline of the ratios. Every setting's final poses are compared
 //! bit for bit with the baseline's ("same bits"), which holds for thread counts and is
 //! expected to fail for sleeping (a different model of rest).
@@ -18,16 +21,53 @@
 //! The 7-story building of docs/performance.md: `bash scripts/ruin-speed.sh`.
 use anyhow::{bail, Context, Result};
 use fem2rbd::physics::{profile_read, profile_start, profile_stop, ProfileZone};
-use fem2rbd::pipeline::{run, scenario::Scenario, Silent};
+use fem2rbd::pipeline::{run, scenario::Scenario, Progress};
+use std::cell::Cell;
+
+/// CPU time (user + system, every thread) of this process, s, from `/proc/self/stat`
+/// (clock ticks of 10 ms; NaN where there is no procfs).
+fn process_cpu_seconds() -> f64 {
+    let read = || -> Option<f64> {
+        let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+        let rest = &stat[stat.rfind(')')? + 2..];
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        Some((f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?) / 100.0)
+    };
+    read().unwrap_or(f64::NAN)
+}
+
+/// Records the process CPU time and the simulated time at the first and the last frame of
+/// the ruin stage, so the CPU time of the stepping alone (without the set-up: mapping,
+/// connection search, world building) is `cpu_last - cpu_first` for `t_last - t_first`
+/// simulated seconds.
+#[derive(Default)]
+struct CpuClock {
+    first: Cell<Option<(f64, f64)>>,
+    last: Cell<Option<(f64, f64)>>,
+}
+
+impl Progress for CpuClock {
+    fn physics(&self, t: f64, _t_end: f64, _counts: (usize, usize, usize)) {
+        let now = (t, process_cpu_seconds());
+        if self.first.get().is_none() {
+            self.first.set(Some(now));
+        }
+        self.last.set(Some(now));
+    }
+}
 
 struct Config {
     name: String,
     threads: usize,
     sleeping: bool,
+    /// Lean solver iterations (`+bullet` = off: Bullet's own `solveSingleIteration`).
+    lean: bool,
 }
 
 struct Sample {
     wall_s: f64,
+    /// CPU s per simulated s of the stepping (first to last frame), every thread.
+    cpu_per_sim: f64,
     sim_s: f64,
     bullet_s: f64,
     largest_share: f64,
@@ -41,22 +81,27 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
     s.split(',')
         .map(|c| {
             let c = c.trim();
-            let (t, rest) = c.split_once('+').unwrap_or((c, ""));
+            let mut parts = c.split('+');
+            let t = parts.next().unwrap_or("");
             let threads: usize = t
                 .strip_prefix('t')
                 .and_then(|n| n.parse().ok())
                 .filter(|&n| n >= 1)
-                .with_context(|| format!("--configs: '{c}' must be tN[+sleep]"))?;
-            let sleeping = match rest {
-                "" => false,
-                "sleep" => true,
-                _ => bail!("--configs: '{c}': unknown option '{rest}' (only +sleep)"),
-            };
-            Ok(Config {
+                .with_context(|| format!("--configs: '{c}' must be tN[+sleep][+bullet]"))?;
+            let mut cfg = Config {
                 name: c.to_string(),
                 threads,
-                sleeping,
-            })
+                sleeping: false,
+                lean: true,
+            };
+            for o in parts {
+                match o {
+                    "sleep" => cfg.sleeping = true,
+                    "bullet" => cfg.lean = false,
+                    _ => bail!("--configs: '{c}': unknown option '{o}' (+sleep, +bullet)"),
+                }
+            }
+            Ok(cfg)
         })
         .collect()
 }
@@ -69,8 +114,10 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
     // The stage reads its solver threads from FEM2RBD_THREADS (as the FE); this program
     // is single-threaded here, so setting the variable is sound.
     std::env::set_var("FEM2RBD_THREADS", cfg.threads.to_string());
+    std::env::set_var("FEM2RBD_LEAN_ITERATIONS", if cfg.lean { "1" } else { "0" });
     profile_start()?;
-    let rec = run(&sc, &Silent)?;
+    let clock = CpuClock::default();
+    let rec = run(&sc, &clock)?;
     profile_stop();
     let profile = profile_read()?;
     let r = rec.ruin.context("the scenario ran no ruin stage")?;
@@ -80,8 +127,13 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
         bits.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
     }
     let st = r.islands;
+    let cpu_per_sim = match (clock.first.get(), clock.last.get()) {
+        (Some((t0, c0)), Some((t1, c1))) if t1 > t0 => (c1 - c0) / (t1 - t0),
+        _ => f64::NAN,
+    };
     Ok(Sample {
         wall_s: r.wall.total.as_secs_f64(),
+        cpu_per_sim,
         sim_s,
         bullet_s: r.wall.in_bullet.as_secs_f64(),
         largest_share: st.largest_share(),
@@ -160,19 +212,20 @@ fn main() -> Result<()> {
         for (k, cfg) in configs.iter().enumerate() {
             let s = run_once(&sc, cfg, end)?;
             println!(
-                "round {} {:>10}: {:8.2} s wall, {:6.3} s simulated, {:7.2} s/s",
+                "round {} {:>10}: {:8.2} s wall, {:6.3} s simulated, {:7.2} wall s/s, {:7.2} CPU s/s",
                 round + 1,
                 cfg.name,
                 s.wall_s,
                 s.sim_s,
-                s.wall_s / s.sim_s
+                s.wall_s / s.sim_s,
+                s.cpu_per_sim
             );
             samples[k].push(s);
         }
     }
     println!();
-    println!("| setting | wall s per simulated s (median) | ratio to {} (median of rounds) | in Bullet | largest island's share of rows | rows per substep | asleep at end | same bits as {} |", configs[0].name, configs[0].name);
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("| setting | CPU s per simulated s (median) | CPU ratio to {0} (median of rounds) | wall s per simulated s (median) | wall ratio to {0} | in Bullet | largest island's share of rows | rows per substep | asleep at end | same bits as {0} |", configs[0].name);
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for (k, cfg) in configs.iter().enumerate() {
         let per = median(samples[k].iter().map(|s| s.wall_s / s.sim_s).collect());
         let ratio = median(
@@ -181,10 +234,16 @@ fn main() -> Result<()> {
                 .collect(),
         );
         let share = median(samples[k].iter().map(|s| s.bullet_s / s.wall_s).collect());
+        let cpu = median(samples[k].iter().map(|s| s.cpu_per_sim).collect());
+        let cpu_ratio = median(
+            (0..rounds)
+                .map(|r| samples[k][r].cpu_per_sim / samples[0][r].cpu_per_sim)
+                .collect(),
+        );
         let s0 = &samples[k][0];
         let same = samples[k].iter().all(|s| s.bits == samples[0][0].bits);
         println!(
-            "| {} | {per:.2} | {ratio:.3} | {:.1} % | {:.3} | {:.0} | {} | {} |",
+            "| {} | {cpu:.2} | {cpu_ratio:.3} | {per:.2} | {ratio:.3} | {:.1} % | {:.3} | {:.0} | {} | {} |",
             cfg.name,
             100.0 * share,
             s0.largest_share,

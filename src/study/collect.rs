@@ -26,7 +26,7 @@ use crate::output::write_atomic;
 use crate::pipeline::ensemble::stats_json;
 use crate::plot::density::DensityGrid;
 use serde_json::{json, Value};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -305,9 +305,17 @@ pub(crate) fn study_json(study: &Study, plan: &Plan, rows: &[RunRow]) -> Value {
             }
         }
         Intensity::Stripes(_) => {
+            // One observation per (model, record, mode, intensity): collapse is the FE
+            // stage's outcome (`tc_s`), which an ensemble's members share (they perturb
+            // the hand-off state or, physics-only, have no Tc), so counting every member
+            // would multiply the binomial counts without adding information. The first
+            // member without an error stands for its run.
+            let mut counted: BTreeSet<(usize, usize, usize, u32)> = BTreeSet::new();
             let mut by: BTreeMap<(usize, usize), BTreeMap<u32, (usize, usize)>> = BTreeMap::new();
             for (e, r) in plan.entries.iter().zip(rows) {
-                if r.error.is_some() {
+                if r.error.is_some()
+                    || !counted.insert((e.model, e.record, mode_index(e.mode), e.milli_g))
+                {
                     continue;
                 }
                 let c = by

@@ -13,7 +13,8 @@
 //!   β² = mean((ln x_i − μ)²) (the 1/n variance).
 //! * **Stripes** ([`fit_stripes`]): at intensity x_j, z_j of n_j runs collapsed; binomial
 //!   log-likelihood ℓ = Σ_j [z_j ln Φ_j + (n_j − z_j) ln(1 − Φ_j)], Φ_j = Φ((ln x_j − μ)/β)
-//!   (Baker 2015, eq. 11).
+//!   (Baker 2015, eq. 11). n_j counts each (model, record, mode) once per intensity, not
+//!   each ensemble member: collapse is decided by the FE stage the members share.
 //!
 //! Both are maximised over (μ, ln β) by Nelder–Mead from a deterministic start, so the
 //! same data give the same bits.

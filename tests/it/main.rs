@@ -67,5 +67,6 @@ mod study {
     mod ensemble;
     mod fragility;
     mod local;
+    mod ruins;
     mod slurm;
 }

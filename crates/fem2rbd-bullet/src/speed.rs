@@ -133,6 +133,18 @@ impl World {
         })
     }
 
+    /// Lean solver iterations (on by default): the Gauss–Seidel sweep without Bullet's
+    /// per-iteration walk over every constraint for `solveConstraintObsolete` (empty for
+    /// every constraint type of this wrapper). The same rows in the same order, so the same
+    /// bits; the walk was about half of the ruin stage's CPU time on the library stand-in
+    /// (docs/performance.md). `false` = Bullet's own `solveSingleIteration`, for benchmarks.
+    pub fn set_lean_iterations(&mut self, on: bool) -> Result<(), PhysicsError> {
+        // SAFETY: live world.
+        check("set_lean_iterations", unsafe {
+            sys::bs_world_set_lean_iterations(self.raw_ptr(), i32::from(on))
+        })
+    }
+
     /// The solver threads in force.
     pub fn solver_threads(&self) -> Result<usize, PhysicsError> {
         let mut n = 0;
