@@ -227,6 +227,124 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     }
 };
 
+// ---- warm starting of the joints' rows ---------------------------------------------------
+//
+// Bullet 3.24's btSequentialImpulseConstraintSolver warm-starts contacts (setupContactConstraint:
+// m_appliedImpulse = cp.m_appliedImpulse * m_warmstartingFactor, applied to both bodies before
+// the first iteration) but not joints: convertJoint sets every row's m_appliedImpulse = 0, so a
+// joint row's projected Gauss-Seidel solve starts from zero impulse in every substep, and what
+// the iterations do not reach is left as position error (pulled back next substep by the
+// Baumgarte velocity ERP*e/h). JointWarmStart keeps the impulse of every row of every
+// btGeneric6DofConstraint (D6_CONSTRAINT_TYPE) at the end of a substep, and at the next
+// substep's setup starts each row that is still there (same constraint, a row of the same kind
+// whose axis has turned by less than ~8 degrees) from factor * that impulse, clamped to the
+// row's bounds (the breaking threshold), applied to the two solver bodies exactly as Bullet
+// applies a contact's warm start. factor 0 = Bullet's own behaviour.
+struct WarmRow {
+    btVector3 axis;    // unit linear axis (linear row) or unit angular axis (angular row)
+    bool linear = true;
+    btScalar impulse = 0;
+};
+struct WarmRecord {
+    long long step = -1;  // substep counter when saved
+    std::vector<WarmRow> rows;
+};
+struct JointWarmStart {
+    double factor = 0;
+    long long step = 0;  // advanced once per substep (ParallelIslandSolver::allSolved)
+    std::vector<WarmRecord> records;  // indexed by btTypedConstraint::getUserConstraintId()
+    long long rows_started = 0;       // rows warm-started since the last reset (diagnostics)
+};
+
+WarmRow warm_row_of(const btSolverConstraint &c) {
+    WarmRow r;
+    btScalar ln = c.m_contactNormal1.length();
+    r.linear = ln > btScalar(0.5);
+    btVector3 a = r.linear ? c.m_contactNormal1 : c.m_relpos1CrossNormal;
+    btScalar n = a.length();
+    r.axis = n > 0 ? a / n : btVector3(0, 0, 0);
+    r.impulse = c.m_appliedImpulse;
+    return r;
+}
+
+class WarmJointSolver : public LeanSolver {
+   public:
+    JointWarmStart *warm = nullptr;
+
+   protected:
+    void convertJoints(btTypedConstraint **constraints, int numConstraints, const btContactSolverInfo &info) override {
+        btSequentialImpulseConstraintSolver::convertJoints(constraints, numConstraints, info);
+        if (!warm || !(warm->factor > 0)) return;
+        const int n = m_tmpSolverNonContactConstraintPool.size();
+        int j = 0;
+        while (j < n) {
+            btSolverConstraint &first = m_tmpSolverNonContactConstraintPool[j];
+            auto *t = static_cast<btTypedConstraint *>(first.m_originalContactPoint);
+            int k = j;
+            while (k < n && m_tmpSolverNonContactConstraintPool[k].m_originalContactPoint == t) ++k;
+            int id = t ? t->getUserConstraintId() : -1;
+            if (t && t->getConstraintType() == D6_CONSTRAINT_TYPE && id >= 0 &&
+                static_cast<size_t>(id) < warm->records.size() && warm->records[id].step == warm->step - 1) {
+                const WarmRecord &rec = warm->records[id];
+                for (int r = j; r < k; ++r) {
+                    btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[r];
+                    WarmRow now = warm_row_of(c);
+                    // The same row index first (the usual case: the same rows as last substep),
+                    // else the best-aligned row of the same kind.
+                    const WarmRow *match = nullptr;
+                    size_t idx = static_cast<size_t>(r - j);
+                    if (idx < rec.rows.size() && rec.rows[idx].linear == now.linear &&
+                        rec.rows[idx].axis.dot(now.axis) > btScalar(0.99))
+                        match = &rec.rows[idx];
+                    else {
+                        btScalar best = btScalar(0.99);
+                        for (const WarmRow &o : rec.rows) {
+                            btScalar d = o.axis.dot(now.axis);
+                            if (o.linear == now.linear && d > best) {
+                                best = d;
+                                match = &o;
+                            }
+                        }
+                    }
+                    if (!match) continue;
+                    btScalar lambda = btScalar(warm->factor) * match->impulse;
+                    lambda = btMax(c.m_lowerLimit, btMin(c.m_upperLimit, lambda));
+                    if (lambda == 0) continue;
+                    c.m_appliedImpulse = lambda;
+                    btSolverBody &a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
+                    btSolverBody &b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
+                    a.internalApplyImpulse(c.m_contactNormal1 * a.internalGetInvMass(), c.m_angularComponentA, lambda);
+                    b.internalApplyImpulse(c.m_contactNormal2 * b.internalGetInvMass(), c.m_angularComponentB, lambda);
+                    ++warm->rows_started;
+                }
+            }
+            j = k;
+        }
+    }
+
+   public:
+    // Before solveGroupCacheFriendlyFinish (which clears the pools): keep every D6 row's impulse.
+    void save_joint_impulses() {
+        if (!warm || !(warm->factor > 0)) return;
+        const int n = m_tmpSolverNonContactConstraintPool.size();
+        int j = 0;
+        while (j < n) {
+            auto *t = static_cast<btTypedConstraint *>(m_tmpSolverNonContactConstraintPool[j].m_originalContactPoint);
+            int k = j;
+            while (k < n && m_tmpSolverNonContactConstraintPool[k].m_originalContactPoint == t) ++k;
+            int id = t ? t->getUserConstraintId() : -1;
+            if (t && t->getConstraintType() == D6_CONSTRAINT_TYPE && id >= 0) {
+                if (static_cast<size_t>(id) >= warm->records.size()) warm->records.resize(static_cast<size_t>(id) + 1);
+                WarmRecord &rec = warm->records[id];
+                rec.step = warm->step;
+                rec.rows.clear();
+                for (int r = j; r < k; ++r) rec.rows.push_back(warm_row_of(m_tmpSolverNonContactConstraintPool[r]));
+            }
+            j = k;
+        }
+    }
+};
+
 // ---- island-parallel solving -------------------------------------------------------------
 //
 // btDiscreteDynamicsWorld::solveConstraints hands the solver one batch of islands at a time
@@ -247,7 +365,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
 // batches on up to n threads (a batch is one task; the assignment does not matter, the
 // batches are independent), then the finish of every batch in batch order (write-back of
 // velocities, contact and joint impulses, joint feedback, breaking).
-class JobSolver : public LeanSolver {
+class JobSolver : public WarmJointSolver {
    public:
     btScalar setup(btCollisionObject **b, int nb, btPersistentManifold **m, int nm, btTypedConstraint **c, int nc,
                    const btContactSolverInfo &info, btIDebugDraw *dd) {
@@ -274,7 +392,7 @@ struct SolverJob {
     long long rows = 0;
 };
 
-class ParallelIslandSolver : public LeanSolver {
+class ParallelIslandSolver : public WarmJointSolver {
    public:
     int threads = 1;
     std::vector<btCollisionObject *> kinematic;  // set by the world before each step
@@ -299,6 +417,7 @@ class ParallelIslandSolver : public LeanSolver {
                              m_tmpSolverContactRollingFrictionConstraintPool.size();
             count(rows, numBodies);
             solveGroupCacheFriendlyIterations(bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, dd);
+            save_joint_impulses();
             solveGroupCacheFriendlyFinish(bodies, numBodies, info);
             (void)dispatcher;
             return 0;
@@ -316,6 +435,7 @@ class ParallelIslandSolver : public LeanSolver {
     void allSolved(const btContactSolverInfo &info, btIDebugDraw *dd) override {
         if (njobs_ > 0) run_jobs(info, dd);
         stats.substeps += 1;
+        if (warm) warm->step += 1;
         stats.rows_largest += largest_;
         stats.bodies_awake += awake_;
         awake_ = 0;
@@ -348,6 +468,7 @@ class ParallelIslandSolver : public LeanSolver {
             BT_PROFILE("parallelSolverSetup");
             for (size_t i = 0; i < n; ++i) {
                 SolverJob &j = jobs_[i];
+                solvers_[i]->warm = warm;
                 solvers_[i]->setup(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
                                    static_cast<int>(j.manifolds.size()), ptr(j.constraints),
                                    static_cast<int>(j.constraints.size()), info, dd);
@@ -401,6 +522,7 @@ class ParallelIslandSolver : public LeanSolver {
             BT_PROFILE("parallelSolverFinish");
             for (size_t i = 0; i < n; ++i) {
                 SolverJob &j = jobs_[i];
+                solvers_[i]->save_joint_impulses();
                 solvers_[i]->finish(ptr(j.bodies), static_cast<int>(j.bodies.size()), info);
             }
         }
@@ -454,6 +576,7 @@ struct bs_world {
     std::unique_ptr<btDbvtBroadphase> broadphase;
     std::unique_ptr<ParallelIslandSolver> solver;
     std::unique_ptr<btDiscreteDynamicsWorld> world;
+    JointWarmStart warm;
     std::vector<Body> bodies;
     std::vector<std::unique_ptr<Constraint>> constraints;  // stable addresses for feedback
 
@@ -583,6 +706,7 @@ int bs_world_new(const double gravity[3], bs_world **out) {
         w->dispatcher.reset(new btCollisionDispatcher(w->config.get()));
         w->broadphase.reset(new btDbvtBroadphase());
         w->solver.reset(new ParallelIslandSolver());
+        w->solver->warm = &w->warm;
         w->world.reset(new btDiscreteDynamicsWorld(w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get()));
         w->world->setGravity(vec(gravity));
         w->world->setInternalTickCallback(pre_tick, w.get(), true);
@@ -1116,6 +1240,26 @@ int bs_constraint_relock(bs_world *w, int c, int mask) {
                 g->setLimit(i, v, v);
             }
         }
+        return BS_OK;
+    });
+}
+
+int bs_world_set_joint_warmstart(bs_world *w, double factor) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!(std::isfinite(factor) && factor >= 0 && factor <= 1))
+            return fail(BS_ERR_BAD_ARG, "joint warm-start factor must be in [0, 1], got " + std::to_string(factor));
+        w->warm.factor = factor;
+        return BS_OK;
+    });
+}
+
+int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *rows_started) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!factor || !rows_started) return fail(BS_ERR_NULL, "null output");
+        *factor = w->warm.factor;
+        *rows_started = w->warm.rows_started;
         return BS_OK;
     });
 }

@@ -172,6 +172,15 @@ int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis)
  * deformation instead of driving back to the old lock. */
 int bs_constraint_relock(bs_world *w, int c, int mask);
 
+/* Warm starting of joint rows (Bullet 3.24 warm-starts contacts only): every row of every
+ * btGeneric6DofConstraint starts the next substep's Gauss-Seidel iterations from factor times
+ * its impulse of the last substep (matched by row kind and axis, clamped to the row's bounds),
+ * applied to both bodies before the first iteration, as Bullet does for contacts.
+ * factor in [0, 1]; 0 (the default) = Bullet's behaviour (every joint row starts from 0). */
+int bs_world_set_joint_warmstart(bs_world *w, double factor);
+/* The factor and the number of rows warm-started so far. */
+int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *rows_started);
+
 /* ---- speed: island-parallel solving, sleeping, phase timing --------------------------- */
 /* Solver threads of this world (>= 1; 1 = Bullet's own sequential path). With n > 1 every
  * batch of islands that btDiscreteDynamicsWorld hands the solver is set up in order on the

@@ -332,6 +332,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
         },
     };
     s.body.disable_deactivation = !p.sleeping;
+    s.joint_warmstart = p.joint_warmstart;
+    s.joint_iterations = p.joint_iterations;
     s
 }
 

@@ -220,6 +220,12 @@ pub struct PhysicsSpec {
     pub joint_modulus_pa: f64,
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
+    /// Warm start of the connections' generic rows, 0..=1 (0, Bullet/BCB:
+    /// `crate::ruin::stage::StageSettings::joint_warmstart`).
+    pub joint_warmstart: f64,
+    /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
+    /// `solver_iterations`): `crate::ruin::stage::StageSettings::joint_iterations`.
+    pub joint_iterations: Option<u32>,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
     /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
     /// spring as Bullet/BCB (false):
@@ -279,6 +285,8 @@ impl Default for PhysicsSpec {
             joint_rows: JointRowsSpec::Locked,
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,
+            joint_warmstart: 0.0,
+            joint_iterations: None,
             spring_cap_per_body: true,
             search_distance_m: 0.02,
             sleeping: false,
@@ -469,6 +477,24 @@ impl PhysicsSpec {
             1e13,
             "Pa",
         )?;
+        r(
+            "physics.joint_warmstart",
+            self.joint_warmstart,
+            0.0,
+            false,
+            1.0,
+            "",
+        )?;
+        if let Some(n) = self.joint_iterations {
+            r(
+                "physics.joint_iterations",
+                f64::from(n),
+                1.0,
+                false,
+                10_000.0,
+                "",
+            )?;
+        }
         r(
             "physics.joint_damping_ratio",
             self.joint_damping_ratio,

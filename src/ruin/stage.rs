@@ -155,6 +155,19 @@ pub struct StageSettings {
     pub hinge_keeps_rotation: bool,
     /// How the connections' locked rows correct their error ([`JointRows`]).
     pub joint_rows: JointRows,
+    /// Warm start of the connections' generic rows, 0..=1
+    /// ([`crate::physics::World::set_joint_warmstart`]): each row's Gauss–Seidel solve
+    /// starts from this share of its impulse in the last substep. 0 (BCB/Bullet): every
+    /// joint row starts from zero in every substep, as Bullet 3.24's
+    /// `btSequentialImpulseConstraintSolver::convertJoint` does (it warm-starts contacts
+    /// only), so a statically loaded joint is never converged and its residual error is
+    /// pulled back by the Baumgarte velocity ERP·e/h (docs/ruin-numerics.md §11).
+    pub joint_warmstart: f64,
+    /// Gauss–Seidel iterations of the connections' generic rows
+    /// (`btTypedConstraint::setOverrideNumSolverIterations`; Bullet then runs
+    /// max(this, `solver_iterations`) sweeps, contacts only in the first
+    /// `solver_iterations`). `None` (BCB): the world's `solver_iterations`.
+    pub joint_iterations: Option<u32>,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
     /// lighter body it acts on, counting all springs on that body ([`body_spring_cap`]).
     /// `false` (BCB/Blender): only Bullet's per-spring `limitIfNeeded` cap, which takes
@@ -229,6 +242,8 @@ impl Default for StageSettings {
             spring_rest_at_plastic_onset: false,
             hinge_keeps_rotation: true,
             joint_rows: JointRows::Locked,
+            joint_warmstart: 0.0,
+            joint_iterations: None,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
             lean_iterations: !matches!(
@@ -582,6 +597,18 @@ impl RuinStage {
         }
         let mut world = World::new(&ws)?;
         world.set_solver_threads(settings.solver_threads.max(1))?;
+        if !(settings.joint_warmstart.is_finite()
+            && (0.0..=1.0).contains(&settings.joint_warmstart))
+        {
+            return Err(bad(
+                "joint_warmstart",
+                format!("{} must be in [0, 1]", settings.joint_warmstart),
+            ));
+        }
+        if settings.joint_iterations == Some(0) {
+            return Err(bad("joint_iterations", "must be >= 1".into()));
+        }
+        world.set_joint_warmstart(settings.joint_warmstart)?;
         world.set_lean_iterations(settings.lean_iterations)?;
 
         // 1. Ground.
@@ -779,6 +806,9 @@ impl RuinStage {
                 desc.breaking_impulse_threshold = spec.breaking_impulse;
                 desc.disable_collisions_between = c.disable_collisions;
                 desc.enabled = spec.enabled;
+                if spec.kind == SpecKind::Generic6Dof {
+                    desc.override_solver_iterations = settings.joint_iterations;
+                }
                 let hnd = world.add_constraint(&desc)?;
                 if let (
                     JointRows::Member {

@@ -16,6 +16,7 @@
 pub mod settings;
 pub mod speed;
 pub mod types;
+mod warmstart;
 pub mod world;
 
 pub use settings::{

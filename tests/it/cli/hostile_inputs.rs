@@ -164,6 +164,20 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\nsettle_s = -0.5")),
         case(
+            "joint_warmstart 1.5",
+            run,
+            1,
+            &["s.toml", "physics.joint_warmstart = 1.5", "[0, 1]"],
+        )
+        .with("s.toml", scenario("", "[physics]\njoint_warmstart = 1.5")),
+        case(
+            "joint_iterations 0",
+            run,
+            1,
+            &["s.toml", "physics.joint_iterations = 0"],
+        )
+        .with("s.toml", scenario("", "[physics]\njoint_iterations = 0")),
+        case(
             "time_limit_s 1e9",
             run,
             1,

@@ -579,3 +579,73 @@ fn generic6dof_relock_holds_the_present_angle() {
         "relocked row holds 0.1 rad: {held}"
     );
 }
+
+/// Joint warm start (`World::set_joint_warmstart`, the shim's `JointWarmStart`): a 100 kg
+/// box hangs from a static anchor through a 1 kg box, both links locked Generic6Dof
+/// constraints, solved with 4 Gauss–Seidel iterations at h = 1/200 s. Bullet starts every
+/// joint row from zero impulse in every substep (`convertJoint`), so the solve falls short
+/// of the heavy box's weight and the chain settles where the Baumgarte bias ERP·e/h makes
+/// up the rest: a static sag e0. Started from f times its last impulse, the slowly
+/// converging mode keeps almost all of that guess (its iteration factor t^N ≈ 1), so the
+/// share the bias must make up, hence the sag, scales with 1 − f: e(f) ≈ (1 − f)·e0. At
+/// f = 1 that mode's impulse is carried over unchanged, an integrator acting with a
+/// one-substep lag: the chain oscillates with growing amplitude (docs/ruin-numerics.md §11).
+#[test]
+fn generic6dof_warm_start_scales_the_unconverged_sag() {
+    let h = 1.0 / 200.0;
+    let sag_after = |factor: f64| {
+        let mut s = WorldSettings::default();
+        s.solver.num_iterations = 4;
+        let mut w = World::new(&s).unwrap();
+        w.set_joint_warmstart(factor).unwrap();
+        let anchor = w
+            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
+            .unwrap();
+        let light = w
+            .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.0, 0.0, 4.0])))
+            .unwrap();
+        let heavy = w
+            .add_box(&BoxDesc::dynamic(
+                [0.1; 3],
+                100.0,
+                Pose::at([0.0, 0.0, 3.0]),
+            ))
+            .unwrap();
+        locked_hanger(&mut w, anchor, light);
+        locked_hanger(&mut w, light, heavy);
+        w.step(h, 400).unwrap();
+        let v = w.velocity(heavy).unwrap().linear[2].abs();
+        let (f, started) = w.joint_warmstart().unwrap();
+        assert_eq!(f, factor);
+        assert_eq!(started > 0, factor > 0.0, "rows warm-started: {started}");
+        (3.0 - w.pose(heavy).unwrap().position[2], v)
+    };
+    let (cold, v_cold) = sag_after(0.0);
+    let (quarter, _) = sag_after(0.25);
+    let (half, v_half) = sag_after(0.5);
+    let (full, v_full) = sag_after(1.0);
+    println!(
+        "sag: f = 0 {cold:.4e} m, 0.25 {quarter:.4e} m, 0.5 {half:.4e} m, 1 {full:.4e} m; \
+         speeds {v_cold:.1e}, {v_half:.1e}, {v_full:.1e} m/s"
+    );
+    assert!(
+        cold > 1e-2,
+        "the cold-started solve leaves a sag, got {cold}"
+    );
+    for (f, e) in [(0.25, quarter), (0.5, half)] {
+        let expected = (1.0 - f) * cold;
+        assert!(
+            (e - expected).abs() < 0.02 * cold,
+            "f = {f}: sag {e} vs (1 - f)·e0 = {expected}"
+        );
+    }
+    assert!(
+        v_cold < 1e-3 && v_half < 1e-3,
+        "at rest: {v_cold}, {v_half}"
+    );
+    assert!(v_full > 1.0, "f = 1 should be unstable, speed {v_full}");
+    assert!(World::new(&WorldSettings::default())
+        .unwrap()
+        .set_joint_warmstart(1.5)
+        .is_err());
+}
