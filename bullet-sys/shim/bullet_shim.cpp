@@ -119,7 +119,10 @@ void zero_feedback(btJointFeedback &fb) {
 // it), but the walk reads each constraint object (about 1 kB apiece in double precision)
 // and is a cache miss per constraint per iteration: measured on the library stand-in
 // (63 665 constraints, docs/performance.md) it was about half of the stage's CPU time.
-// LeanSolver::solveSingleIteration is Bullet's function (zlib licence) without that walk:
+// LeanSolver::solveSingleIteration is Bullet's function without that walk — an altered
+// version of btSequentialImpulseConstraintSolver::solveSingleIteration from Bullet Physics
+// 3.24 (Copyright (c) 2003-2006 Erwin Coumans, https://bulletphysics.org; zlib licence:
+// provided 'as-is', without any warranty; altered versions must be plainly marked as such):
 // the same rows in the same order through the same row functions, so the same bits.
 // The walk's only other effect is that getOrInitSolverBody gives a solver body to a
 // kinematic or static partner of an enabled constraint that has no rows this substep (a
