@@ -1,7 +1,7 @@
 //! Helpers shared by the test folders of this crate.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The repository's top folder.
 pub fn root() -> PathBuf {
@@ -23,4 +23,20 @@ pub fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .map(|l| l.split(',').map(|x| x.trim().parse().unwrap()).collect())
         .collect();
     (head, rows)
+}
+
+/// Every `.rs` file under `dir`, recursively, in sorted path order (appended to `out`).
+pub fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<_> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
 }

@@ -2,22 +2,8 @@
 //! `src/cli/` and `src/bin/`. The libraries (the `fem2rbd` library, `fem2rbd-fe`,
 //! `fem2rbd-bullet`) return typed errors. This scans their sources for a use of
 //! `anyhow` in code (comments are skipped) and their manifests for the dependency.
-use std::path::{Path, PathBuf};
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
+use crate::support::rust_files;
+use std::path::Path;
 
 /// Line numbers (1-based) of code (the part of a line before `//`) naming `anyhow`.
 fn anyhow_lines(src: &str) -> Vec<usize> {

@@ -2,22 +2,8 @@
 //! safe wrapper over it). This scans every `.rs` file of the other crates' sources and
 //! fails if the keyword `unsafe` appears as a token (outside comments, strings and char
 //! literals), and checks that their crate roots say `#![forbid(unsafe_code)]`.
-use std::path::{Path, PathBuf};
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
+use crate::support::rust_files;
+use std::path::Path;
 
 /// Line numbers (1-based) where `unsafe` occurs as a code token.
 fn unsafe_tokens(src: &str) -> Vec<usize> {
