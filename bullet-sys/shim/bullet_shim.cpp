@@ -1247,6 +1247,22 @@ int bs_constraint_relock(bs_world *w, int c, int mask) {
     });
 }
 
+// fem2rbd (axial rows, src/ruin/axial.rs): sets one axis's limits of a generic6dof
+// constraint (btGeneric6DofConstraint::setLimit; lo > hi frees the axis).
+int bs_constraint_set_limit(bs_world *w, int c, int axis, double lo, double hi) {
+    return guard([&]() -> int {
+        if (int e = check_constraint(w, c)) return e;
+        Constraint &k = *w->constraints[c];
+        if (k.kind != BS_GENERIC6DOF)
+            return fail(BS_ERR_WRONG_KIND, "set_limit needs a generic6dof constraint");
+        if (axis < 0 || axis > 5) return fail(BS_ERR_BAD_ARG, "axis must be 0..5");
+        if (!std::isfinite(lo) || !std::isfinite(hi)) return fail(BS_ERR_BAD_ARG, "limits must be finite");
+        auto *g = static_cast<btGeneric6DofConstraint *>(k.constraint.get());
+        g->setLimit(axis, lo, hi);
+        return BS_OK;
+    });
+}
+
 int bs_world_set_joint_warmstart(bs_world *w, double factor) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;

@@ -171,6 +171,7 @@ int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis)
  * getRelativePivotPosition(i), angular axes getAngle(i - 3)): the joint keeps its present
  * deformation instead of driving back to the old lock. */
 int bs_constraint_relock(bs_world *w, int c, int mask);
+int bs_constraint_set_limit(bs_world *w, int c, int axis, double lo, double hi);
 
 /* Warm starting of joint rows (Bullet 3.24 warm-starts contacts only): every row of every
  * btGeneric6DofConstraint starts the next substep's Gauss-Seidel iterations from factor times

@@ -226,6 +226,10 @@ pub struct PhysicsSpec {
     /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
     /// `solver_iterations`): `crate::ruin::stage::StageSettings::joint_iterations`.
     pub joint_iterations: Option<u32>,
+    /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
+    /// or `"two_way"` (one two-way row, broken in the sense it pushes):
+    /// `crate::ruin::axial::AxialRows`.
+    pub axial_rows: crate::ruin::axial::AxialRows,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
     /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
     /// spring as Bullet/BCB (false):
@@ -287,6 +291,7 @@ impl Default for PhysicsSpec {
             joint_damping_ratio: 1.0,
             joint_warmstart: 0.0,
             joint_iterations: None,
+            axial_rows: crate::ruin::axial::AxialRows::Bcb,
             spring_cap_per_body: true,
             search_distance_m: 0.02,
             sleeping: false,

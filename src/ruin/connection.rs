@@ -241,6 +241,9 @@ pub struct RuinSettings {
     pub angular_spring: AngularSpring,
     /// Disable collisions between connected bodies while a constraint is enabled (on).
     pub disable_collisions: bool,
+    /// The axial rows: BCB's one-way compression and tension rows (default) or one
+    /// two-way row broken by the stage in the sense it pushes ([`super::axial`]).
+    pub axial_rows: super::axial::AxialRows,
     /// The connection search.
     pub search: super::search::SearchSettings,
 }
@@ -261,6 +264,7 @@ impl Default for RuinSettings {
             spring_limit_if_needed: true,
             angular_spring: AngularSpring::Lever,
             disable_collisions: true,
+            axial_rows: super::axial::AxialRows::Bcb,
             search: super::search::SearchSettings::default(),
         }
     }
@@ -951,17 +955,33 @@ fn constraint_specs(
             enabled: true,
         }
     };
+    let (compression, tension) = match s.axial_rows {
+        super::axial::AxialRows::Bcb => (
+            generic(
+                ConstraintRole::Compression,
+                &[(0, 0.0, BCB_UNLIMITED)],
+                lin(f.compression_n),
+            ),
+            generic(
+                ConstraintRole::Tension,
+                &[(0, -BCB_UNLIMITED, 0.0)],
+                lin(f.tension_n),
+            ),
+        ),
+        // One two-way row (Bullet's threshold the larger of the two, the stage checks the
+        // sense); the tension constraint stays without locked axes (no solver rows).
+        super::axial::AxialRows::TwoWay => (
+            generic(
+                ConstraintRole::Compression,
+                &[(0, 0.0, 0.0)],
+                lin(f.compression_n.max(f.tension_n)),
+            ),
+            generic(ConstraintRole::Tension, &[], lin(f.tension_n)),
+        ),
+    };
     let mut v = vec![
-        generic(
-            ConstraintRole::Compression,
-            &[(0, 0.0, BCB_UNLIMITED)],
-            lin(f.compression_n),
-        ),
-        generic(
-            ConstraintRole::Tension,
-            &[(0, -BCB_UNLIMITED, 0.0)],
-            lin(f.tension_n),
-        ),
+        compression,
+        tension,
         generic(
             ConstraintRole::ShearH,
             &[(h_local, 0.0, 0.0)],

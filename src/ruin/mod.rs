@@ -18,6 +18,7 @@
 //! (the Formula Assistant); every such field says so.
 //! The whole model is described in `docs/ruin-model.md`.
 
+pub mod axial;
 pub mod connection;
 pub mod energy;
 pub mod ground;

@@ -473,6 +473,17 @@ pub struct RuinStage {
     injected_j: f64,
     max_injection: (f64, f64),
     kinematic_asleep: bool,
+    axial_trace: Option<super::axial::AxialTrace>,
+    axial_left: Vec<super::axial::AxialLeft>,
+}
+
+impl Drop for RuinStage {
+    fn drop(&mut self) {
+        if let Some(t) = &self.axial_trace {
+            let pairs: Vec<(usize, usize)> = self.connections.iter().map(|c| (c.a, c.b)).collect();
+            t.finish(&pairs);
+        }
+    }
 }
 
 /// Bullet's activation state `ISLAND_SLEEPING`.
@@ -884,7 +895,6 @@ impl RuinStage {
             rest_bodies,
             total_mass_kg: total_mass,
             model_height_m,
-            connections,
             constraint_handles,
             monitor,
             start_states,
@@ -906,6 +916,12 @@ impl RuinStage {
             injected_j: 0.0,
             max_injection: (0.0, t0),
             kinematic_asleep: false,
+            axial_trace: super::axial::AxialTrace::from_env(
+                input.bodies.iter().map(|b| b.name.clone()).collect(),
+                connections.len(),
+            ),
+            axial_left: vec![super::axial::AxialLeft::Both; connections.len()],
+            connections,
         })
     }
 
@@ -1043,6 +1059,7 @@ impl RuinStage {
             self.in_bullet += t.elapsed();
             self.substeps_done += 1;
             self.restore_ductile_rows()?;
+            self.check_two_way_axial()?;
             let vels1 = self.body_velocities()?;
             let b = substep_balance(&self.props, &poses0, &vels0, &vels1, h, g, vg, ld, ad);
             self.ground_work_j += b.ground_work_j;
@@ -1072,8 +1089,93 @@ impl RuinStage {
                 }
             }
             self.last_mechanical_j = Some(e1);
+            if self.axial_trace.is_some() {
+                self.trace_axial(t_next, &poses1, &vels1)?;
+            }
             poses0 = poses1;
             vels0 = vels1;
+        }
+        Ok(())
+    }
+
+    /// Two-way axial rows ([`super::axial::AxialRows::TwoWay`], elastic connections only):
+    /// a two-way row whose impulse in the last substep reached the breaking impulse of the
+    /// sense it pushed in ([`super::axial::two_way_breaks`]), or that Bullet disabled at
+    /// the larger threshold, becomes BCB's one-way row of the other sense with that
+    /// sense's breaking impulse (BCB's rows break one at a time); when that row is gone
+    /// too, the connection's tension constraint (which has no rows) is disabled with it.
+    fn check_two_way_axial(&mut self) -> Result<(), StageError> {
+        use super::axial::{two_way_breaks, AxialLeft, COMPRESSION_SIGN};
+        use super::connection::BCB_UNLIMITED;
+        if self.settings.ruin.axial_rows != super::axial::AxialRows::TwoWay {
+            return Ok(());
+        }
+        let enabled = self.world.constraints_enabled()?;
+        let kappa_h = self.settings.ruin.linear_correction * self.substep_s;
+        for (i, c) in self.connections.iter().enumerate() {
+            if self.monitor.state(i) != ConnectionState::Elastic {
+                continue;
+            }
+            let hs = &self.constraint_handles[i];
+            let (Some(&h0), Some(&h1)) = (hs.first(), hs.get(1)) else {
+                continue;
+            };
+            let (c_ns, t_ns) = (
+                c.forces.compression_n * kappa_h,
+                c.forces.tension_n * kappa_h,
+            );
+            match self.axial_left[i] {
+                AxialLeft::Both => {
+                    let lambda = self.world.applied_impulse(h0)?;
+                    if !enabled[h0.index()] || two_way_breaks(lambda, c_ns, t_ns) {
+                        let (lo, hi, t, left) = if lambda * COMPRESSION_SIGN > 0.0 {
+                            (-BCB_UNLIMITED, 0.0, t_ns, AxialLeft::Tension)
+                        } else {
+                            (0.0, BCB_UNLIMITED, c_ns, AxialLeft::Compression)
+                        };
+                        self.world.set_constraint_limit(h0, 0, lo, hi)?;
+                        self.world.set_breaking_threshold(h0, t)?;
+                        self.world.set_constraint_enabled(h0, true)?;
+                        self.axial_left[i] = left;
+                    }
+                }
+                AxialLeft::Compression | AxialLeft::Tension => {
+                    if !enabled[h0.index()] {
+                        self.axial_left[i] = AxialLeft::None;
+                        if enabled[h1.index()] {
+                            self.world.set_constraint_enabled(h1, false)?;
+                        }
+                    }
+                }
+                AxialLeft::None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Feeds the debug trace of `super::axial` after one substep.
+    fn trace_axial(&mut self, t: f64, poses: &[Pose], vels: &[Velocity]) -> Result<(), StageError> {
+        let enabled = self.world.constraints_enabled()?;
+        let iso: Vec<Isometry3<f64>> = poses.iter().map(to_isometry).collect();
+        let mut axial = Vec::with_capacity(self.connections.len());
+        let mut pairs = Vec::with_capacity(self.connections.len());
+        for (i, c) in self.connections.iter().enumerate() {
+            let hs = &self.constraint_handles[i];
+            let on = hs.iter().take(2).any(|h| enabled[h.index()]);
+            let x = on.then(|| {
+                let f = &c.constraints[0];
+                super::axial::axial_offset(&iso[c.a], &iso[c.b], &f.frame_a, &f.frame_b)
+            });
+            axial.push(x);
+            pairs.push((c.a, c.b));
+        }
+        let v: Vec<Option<[f64; 3]>> = vels
+            .iter()
+            .zip(&self.passive)
+            .map(|(v, p)| (!p).then_some(v.linear))
+            .collect();
+        if let Some(tr) = self.axial_trace.as_mut() {
+            tr.after_substep(t, &axial, &pairs, &v);
         }
         Ok(())
     }

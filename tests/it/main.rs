@@ -52,6 +52,7 @@ mod repo {
     mod test_layout;
 }
 mod ruin {
+    mod axial_rows;
     mod closed_form;
     mod contacts;
     mod monitor;

@@ -726,6 +726,29 @@ impl World {
         })
     }
 
+    /// Generic6Dof: sets axis `axis`'s limits (0..2 linear, m; 3..5 angular, rad;
+    /// `btGeneric6DofConstraint::setLimit`, lower > upper frees the axis). Used to turn a
+    /// two-way axial row into the one-way row that survives a break in one sense
+    /// (`fem2rbd::ruin::axial`).
+    pub fn set_constraint_limit(
+        &mut self,
+        c: ConstraintHandle,
+        axis: usize,
+        lower: f64,
+        upper: f64,
+    ) -> Result<(), PhysicsError> {
+        let i = self.constraint(c)?;
+        if axis > 5 || !lower.is_finite() || !upper.is_finite() {
+            return Err(PhysicsError::Invalid(format!(
+                "constraint limit on axis {axis}: ({lower}, {upper}) needs axis 0..5 and finite limits"
+            )));
+        }
+        // SAFETY: live world, checked index; the shim checks the kind, axis and values.
+        check("set_limit", unsafe {
+            sys::bs_constraint_set_limit(self.w(), i, axis as i32, lower, upper)
+        })
+    }
+
     /// The poses of all bodies in creation order (one call into Bullet).
     pub fn poses(&self) -> Result<Vec<Pose>, PhysicsError> {
         let n = self.kinds.len();
