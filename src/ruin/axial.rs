@@ -17,9 +17,11 @@
 //! (tension) is kept as a constraint without locked axes (no solver rows) so that the
 //! connection keeps BCB's seven constraints and the monitor's indices. Bullet's own
 //! breaking test is sign-blind (|λ| ≥ threshold, and it clamps the row's impulse at
-//! ±threshold), so row 0 gets the larger of the two breaking impulses and the stage
-//! applies the strength of the sense the row actually pushes in after every substep
-//! ([`two_way_breaks`]):
+//! ±threshold), so the stage sets row 0's Bullet threshold before every substep to the
+//! breaking impulse of the sense the row pushed in during the last substep (the smaller
+//! of the two after a substep without impulse), enables the row again when Bullet
+//! disabled it below the breaking impulse of the sense it pushed in, and applies the
+//! strength of that sense after every substep ([`two_way_breaks`]):
 //!
 //! the row breaks in compression when λ·s_c ≥ C·κ·Δt, in tension when −λ·s_c ≥ T·κ·Δt,
 //!
@@ -31,11 +33,13 @@
 //! §3.1), each in its own sense. As in BCB, a break in one sense leaves the other: the
 //! stage turns row 0 into BCB's one-way row of the other sense (limits [−99999, 0] m or
 //! [0, 99999] m, that sense's breaking impulse; `World::set_constraint_limit`), and when
-//! that breaks too the placeholder row 1 is disabled with it. Two differences from BCB
-//! remain: a tensile impulse between T·κ·Δt and C·κ·Δt (or compressive, if T > C) is
-//! transmitted in the one substep in which it breaks the row (BCB's row would have been
-//! clamped at its own threshold), and the one-way row left after a break starts in the
-//! next substep.
+//! that breaks too the placeholder row 1 is disabled with it. Differences from BCB remain
+//! in the substep in which the load reverses: a compression that follows a tensile
+//! substep is clamped at T·κ·Δt for that substep (if T < C), and a tension that follows a
+//! compressive substep can transmit up to C·κ·Δt in the substep in which it breaks the row
+//! (BCB's tension row would have been clamped at T·κ·Δt); measured on frame3 LC5
+//! physics-only, such breaks carried at most 1.8 times T·κ·Δt. The one-way row left after
+//! a break acts from the next substep on.
 //!
 //! **Trace** (debugging, off unless `FEM2RBD_AXIAL_TRACE=<file>` is set): after every
 //! substep from `FEM2RBD_AXIAL_TRACE_FROM` s on, the sign of every elastic connection's
@@ -125,6 +129,7 @@ pub(crate) struct AxialTrace {
     body_substeps: u64,
     body_substeps_after_switch: u64,
     kick_rows: Vec<String>,
+    break_rows: Vec<String>,
 }
 
 impl AxialTrace {
@@ -154,6 +159,7 @@ impl AxialTrace {
             body_substeps: 0,
             body_substeps_after_switch: 0,
             kick_rows: Vec::new(),
+            break_rows: Vec::new(),
         })
     }
 
@@ -214,6 +220,21 @@ impl AxialTrace {
         self.switched_prev = switched_now;
     }
 
+    /// A two-way row broke at `t` with impulse `lambda` (N·s) against the breaking
+    /// impulses `c_ns`, `t_ns` (any time, not only from `FEM2RBD_AXIAL_TRACE_FROM`).
+    pub(crate) fn note_break(
+        &mut self,
+        t: f64,
+        connection: usize,
+        lambda: f64,
+        c_ns: f64,
+        t_ns: f64,
+    ) {
+        self.break_rows.push(format!(
+            "{t:.4},{connection},{lambda:.6},{c_ns:.6},{t_ns:.6}"
+        ));
+    }
+
     fn write(&self, pairs: &[(usize, usize)]) -> std::io::Result<()> {
         let mut f = std::fs::File::create(&self.path)?;
         let total: u64 = self.switches.values().sum();
@@ -251,6 +272,10 @@ impl AxialTrace {
         for (c, k) in top.iter().take(25) {
             let (a, b) = pairs[**c];
             writeln!(f, "conn {c} {} - {}: {k}", self.names[a], self.names[b])?;
+        }
+        writeln!(f, "# two-way breaks: t,connection,impulse,C_ns,T_ns")?;
+        for r in &self.break_rows {
+            writeln!(f, "{r}")?;
         }
         writeln!(f, "# kicks: t,body,dv,change_before,change_same")?;
         for r in &self.kick_rows {

@@ -968,13 +968,14 @@ fn constraint_specs(
                 lin(f.tension_n),
             ),
         ),
-        // One two-way row (Bullet's threshold the larger of the two, the stage checks the
-        // sense); the tension constraint stays without locked axes (no solver rows).
+        // One two-way row (Bullet's threshold the smaller of the two at the start; the stage
+        // sets it per substep and checks the sense); the tension constraint stays without
+        // locked axes (no solver rows).
         super::axial::AxialRows::TwoWay => (
             generic(
                 ConstraintRole::Compression,
                 &[(0, 0.0, 0.0)],
-                lin(f.compression_n.max(f.tension_n)),
+                lin(f.compression_n.min(f.tension_n)),
             ),
             generic(ConstraintRole::Tension, &[], lin(f.tension_n)),
         ),

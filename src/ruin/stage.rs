@@ -475,6 +475,7 @@ pub struct RuinStage {
     kinematic_asleep: bool,
     axial_trace: Option<super::axial::AxialTrace>,
     axial_left: Vec<super::axial::AxialLeft>,
+    axial_threshold: Vec<f64>,
 }
 
 impl Drop for RuinStage {
@@ -921,6 +922,10 @@ impl RuinStage {
                 connections.len(),
             ),
             axial_left: vec![super::axial::AxialLeft::Both; connections.len()],
+            axial_threshold: connections
+                .iter()
+                .map(|c| c.constraints.first().map_or(0.0, |k| k.breaking_impulse))
+                .collect(),
             connections,
         })
     }
@@ -1100,10 +1105,13 @@ impl RuinStage {
 
     /// Two-way axial rows ([`super::axial::AxialRows::TwoWay`], elastic connections only):
     /// a two-way row whose impulse in the last substep reached the breaking impulse of the
-    /// sense it pushed in ([`super::axial::two_way_breaks`]), or that Bullet disabled at
-    /// the larger threshold, becomes BCB's one-way row of the other sense with that
-    /// sense's breaking impulse (BCB's rows break one at a time); when that row is gone
-    /// too, the connection's tension constraint (which has no rows) is disabled with it.
+    /// sense it pushed in ([`super::axial::two_way_breaks`]) becomes BCB's one-way row of
+    /// the other sense with that sense's breaking impulse (BCB's rows break one at a time);
+    /// when that row is gone too, the connection's tension constraint (which has no rows)
+    /// is disabled with it. A row Bullet disabled below its sense's breaking impulse is
+    /// enabled again; the Bullet threshold (and clamp) of the next substep is the breaking
+    /// impulse of the sense the row pushed in (the smaller one after a substep without
+    /// impulse).
     fn check_two_way_axial(&mut self) -> Result<(), StageError> {
         use super::axial::{two_way_breaks, AxialLeft, COMPRESSION_SIGN};
         use super::connection::BCB_UNLIMITED;
@@ -1127,8 +1135,13 @@ impl RuinStage {
             match self.axial_left[i] {
                 AxialLeft::Both => {
                     let lambda = self.world.applied_impulse(h0)?;
-                    if !enabled[h0.index()] || two_way_breaks(lambda, c_ns, t_ns) {
-                        let (lo, hi, t, left) = if lambda * COMPRESSION_SIGN > 0.0 {
+                    let pushing = lambda * COMPRESSION_SIGN;
+                    if two_way_breaks(lambda, c_ns, t_ns) {
+                        if let Some(tr) = self.axial_trace.as_mut() {
+                            let t = self.start_time_s + self.substeps_done as f64 * self.substep_s;
+                            tr.note_break(t, i, lambda, c_ns, t_ns);
+                        }
+                        let (lo, hi, t, left) = if pushing > 0.0 {
                             (-BCB_UNLIMITED, 0.0, t_ns, AxialLeft::Tension)
                         } else {
                             (0.0, BCB_UNLIMITED, c_ns, AxialLeft::Compression)
@@ -1137,6 +1150,24 @@ impl RuinStage {
                         self.world.set_breaking_threshold(h0, t)?;
                         self.world.set_constraint_enabled(h0, true)?;
                         self.axial_left[i] = left;
+                    } else {
+                        if !enabled[h0.index()] {
+                            // Bullet's sign-blind test at the other sense's threshold: not
+                            // a break of this sense (the impulse was clamped there).
+                            self.world.set_constraint_enabled(h0, true)?;
+                        }
+                        // Next substep: the threshold of the sense the row pushed in.
+                        let next = if pushing > 0.0 {
+                            c_ns
+                        } else if pushing < 0.0 {
+                            t_ns
+                        } else {
+                            c_ns.min(t_ns)
+                        };
+                        if next != self.axial_threshold[i] {
+                            self.world.set_breaking_threshold(h0, next)?;
+                            self.axial_threshold[i] = next;
+                        }
                     }
                 }
                 AxialLeft::Compression | AxialLeft::Tension => {

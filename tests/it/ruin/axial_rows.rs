@@ -201,3 +201,37 @@ fn two_way_axial_row_breaks_in_tension_at_the_tension_strength() {
         "two-way {drop_weak} m vs BCB {drop_bcb} m"
     );
 }
+
+/// A 225 kg box stands on a fixed support (compression W = 2207 N) with a tension
+/// strength far below its weight: the two-way row starts at the smaller (tension)
+/// threshold, Bullet's sign-blind test trips on the compressive impulse, and the stage
+/// must enable the row again (not a break: the compression strength is 6.3 MN). Collisions
+/// between connected bodies are off, so a lost compression row would let the box fall
+/// through the support.
+#[test]
+fn two_way_axial_row_is_not_broken_in_compression_by_the_tension_threshold() {
+    let bodies = [
+        body("support", [0.0, 0.0, 1.1], [0.15, 0.15, 0.1], true),
+        body("box", [0.0, 0.0, 1.7], [0.15, 0.15, 0.5], false),
+    ];
+    let masses = [0.0, 225.0];
+    let groups = [group("rc", 0.001), group("base", 0.001)];
+    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut settings = StageSettings::default();
+    settings.ruin.axial_rows = AxialRows::TwoWay;
+    let ground = GroundSpec {
+        top_z: Some(0.0),
+        ..GroundSpec::default()
+    };
+    let mut stage = RuinStage::build(&input, ground, &settings).unwrap();
+    let axial = stage.constraint_handles(0)[0];
+    stage.substeps(100).unwrap();
+    let z = stage.world().pose(stage.body(1)).unwrap().position[2];
+    let on = stage.world().constraint_enabled(axial).unwrap();
+    eprintln!(
+        "standing box after 0.5 s: sank {:.3e} m, axial row on: {on}",
+        1.7 - z
+    );
+    assert!(on, "the two-way row was left broken under compression");
+    assert!((1.7 - z).abs() < 1e-3, "the box sank {} m", 1.7 - z);
+}
