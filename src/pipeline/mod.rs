@@ -332,9 +332,9 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
         },
     };
     s.body.disable_deactivation = !p.sleeping;
-    s.joint_warmstart = p.joint_warmstart;
+    s.joint_warmstart = p.joint_warmstart_for(sc.mode);
     s.joint_iterations = p.joint_iterations;
-    s.ruin.axial_rows = p.axial_rows;
+    s.ruin.axial_rows = p.axial_rows_for(sc.mode);
     s
 }
 

@@ -220,16 +220,19 @@ pub struct PhysicsSpec {
     pub joint_modulus_pa: f64,
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
-    /// Warm start of the connections' generic rows, 0..=1 (0, Bullet/BCB:
-    /// `crate::ruin::stage::StageSettings::joint_warmstart`).
-    pub joint_warmstart: f64,
+    /// Warm start of the connections' generic rows, 0..=1
+    /// (`crate::ruin::stage::StageSettings::joint_warmstart`). Absent: 0.5 with FE-derived
+    /// connections (docs/handoff.md §4.1), 0 (Bullet/BCB) with BCB's
+    /// ([`PhysicsSpec::joint_warmstart_for`]).
+    pub joint_warmstart: Option<f64>,
     /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
     /// `solver_iterations`): `crate::ruin::stage::StageSettings::joint_iterations`.
     pub joint_iterations: Option<u32>,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
     /// or `"two_way"` (one two-way row, broken in the sense it pushes):
-    /// `crate::ruin::axial::AxialRows`.
-    pub axial_rows: crate::ruin::axial::AxialRows,
+    /// `crate::ruin::axial::AxialRows`. Absent: `"two_way"` with FE-derived connections,
+    /// `"bcb"` with BCB's ([`PhysicsSpec::axial_rows_for`]).
+    pub axial_rows: Option<crate::ruin::axial::AxialRows>,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
     /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
     /// spring as Bullet/BCB (false):
@@ -265,6 +268,31 @@ impl PhysicsSpec {
     }
 }
 
+impl PhysicsSpec {
+    /// The axial rows of a run in `mode`: as given, else the two-way row with FE-derived
+    /// connections (docs/handoff.md §4.1) and BCB's two one-way rows with BCB's Formula
+    /// Assistant (the paper's baseline).
+    pub fn axial_rows_for(&self, mode: Mode) -> crate::ruin::axial::AxialRows {
+        use crate::ruin::axial::AxialRows;
+        self.axial_rows
+            .unwrap_or(match self.connection_model(mode) {
+                ConnectionModel::Fe => AxialRows::TwoWay,
+                ConnectionModel::Formula => AxialRows::Bcb,
+            })
+    }
+
+    /// The joint warm start of a run in `mode`: as given, else 0.5 with FE-derived
+    /// connections (docs/handoff.md §4.1: with the two-way axial row the hybrid frame3 LC5
+    /// debris comes to rest in 6 of 8 ensemble members) and 0 (Bullet/BCB) with BCB's.
+    pub fn joint_warmstart_for(&self, mode: Mode) -> f64 {
+        self.joint_warmstart
+            .unwrap_or(match self.connection_model(mode) {
+                ConnectionModel::Fe => 0.5,
+                ConnectionModel::Formula => 0.0,
+            })
+    }
+}
+
 impl Default for PhysicsSpec {
     fn default() -> Self {
         PhysicsSpec {
@@ -289,9 +317,9 @@ impl Default for PhysicsSpec {
             joint_rows: JointRowsSpec::Locked,
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,
-            joint_warmstart: 0.0,
+            joint_warmstart: None,
             joint_iterations: None,
-            axial_rows: crate::ruin::axial::AxialRows::Bcb,
+            axial_rows: None,
             spring_cap_per_body: true,
             search_distance_m: 0.02,
             sleeping: false,
@@ -482,14 +510,9 @@ impl PhysicsSpec {
             1e13,
             "Pa",
         )?;
-        r(
-            "physics.joint_warmstart",
-            self.joint_warmstart,
-            0.0,
-            false,
-            1.0,
-            "",
-        )?;
+        if let Some(f) = self.joint_warmstart {
+            r("physics.joint_warmstart", f, 0.0, false, 1.0, "")?;
+        }
         if let Some(n) = self.joint_iterations {
             r(
                 "physics.joint_iterations",
