@@ -106,7 +106,8 @@ fn gravity_only(mode: &str, physics: &str, fe: &str, seconds: f64) -> Vec<Row> {
 fn gravity_alone_the_bullet_building_stands_like_the_fe() {
     let rows = gravity_only(
         "physics",
-        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\nsteps_per_second = 800",
+        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\nsteps_per_second = 800\n\
+         axial_rows = \"bcb\"\njoint_warmstart = 0.0",
         "",
         1.0,
     );
@@ -153,7 +154,7 @@ fn gravity_alone_member_rows_at_200_substeps() {
     let rows = gravity_only(
         "physics",
         "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n\
-         joint_rows = \"member\"\nsolver_iterations = 200",
+         joint_rows = \"member\"\nsolver_iterations = 200\naxial_rows = \"bcb\"\njoint_warmstart = 0.0",
         "",
         1.0,
     );
@@ -174,6 +175,51 @@ fn gravity_alone_member_rows_at_200_substeps() {
         (plastic, broken),
         (0, 0),
         "connections gave way under gravity"
+    );
+}
+
+/// Target (c) with the defaults of FE-derived connections (session 7: the two-way axial
+/// row and `joint_warmstart = 0.5`, docs/handoff.md §4.1) at BCB's 200 substeps/s and
+/// 100 iterations, against BCB's two one-way rows without warm start on the same
+/// building. Measured 3 s runs (release): defaults 28.34 mm peak sag (0.12 s), 0.0197 %
+/// peak drift (0.64 s); BCB's rows 61.75 mm, 0.275 %. The drift target (≤ 0.02 %) is
+/// met; the sag target (≤ 10 mm) is **not** (the joint rows' Gauss–Seidel residual,
+/// docs/handoff.md §4), so the sag is asserted at the measured 30 mm bound and at less
+/// than half of BCB's rows. 1 s (both peaks come before 0.7 s).
+#[test]
+fn gravity_alone_default_rows_at_200_substeps() {
+    let run = |extra: &str| {
+        let rows = gravity_only(
+            "physics",
+            &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
+            "",
+            1.0,
+        );
+        let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+        let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+        let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
+        (sag, drift, plastic + broken)
+    };
+    let (sag, drift, lost) = run("");
+    let (sag_bcb, drift_bcb, _) = run("axial_rows = \"bcb\"\njoint_warmstart = 0.0");
+    eprintln!(
+        "gravity alone 1 s, 200 substeps/s: defaults sag {:.2} mm, drift {:.4} %; \
+         BCB rows {:.2} mm, {:.4} %",
+        sag * 1e3,
+        drift * 100.0,
+        sag_bcb * 1e3,
+        drift_bcb * 100.0
+    );
+    assert_eq!(lost, 0, "connections gave way under gravity");
+    assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
+    assert!(sag <= 0.030, "sag {:.2} mm > 30 mm", sag * 1e3);
+    assert!(
+        sag < 0.5 * sag_bcb,
+        "sag {sag} not below half of BCB's {sag_bcb}"
+    );
+    assert!(
+        drift < 0.2 * drift_bcb,
+        "drift {drift} vs BCB's {drift_bcb}"
     );
 }
 
