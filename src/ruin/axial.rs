@@ -40,6 +40,9 @@
 //! (BCB's tension row would have been clamped at T·κ·Δt); measured on frame3 LC5
 //! physics-only, such breaks carried at most 1.8 times T·κ·Δt. The one-way row left after
 //! a break acts from the next substep on.
+//! A connection with no strength in one sense (an FE-derived residual capacity gone in that
+//! sense, docs/handoff.md §3) keeps BCB's two one-way rows: the row without strength starts
+//! broken and the other one holds as in BCB.
 //!
 //! **Trace** (debugging, off unless `FEM2RBD_AXIAL_TRACE=<file>` is set): after every
 //! substep from `FEM2RBD_AXIAL_TRACE_FROM` s on, the sign of every elastic connection's

@@ -971,8 +971,24 @@ fn constraint_specs(
             no_strength,
         }
     };
-    let (compression, tension) = match s.axial_rows {
-        super::axial::AxialRows::Bcb => (
+    // One two-way row when both senses have a strength (Bullet's threshold the smaller of
+    // the two at the start; the stage sets it per substep and checks the sense; the tension
+    // constraint stays without locked axes, no solver rows); BCB's two one-way rows
+    // otherwise (a sense without strength starts broken, the other one-way row is left).
+    let two_way = s.axial_rows == super::axial::AxialRows::TwoWay
+        && f.compression_n > 0.0
+        && f.tension_n > 0.0;
+    let (compression, tension) = if two_way {
+        (
+            generic(
+                ConstraintRole::Compression,
+                &[(0, 0.0, 0.0)],
+                lin(f.compression_n.min(f.tension_n)),
+            ),
+            generic(ConstraintRole::Tension, &[], lin(f.tension_n)),
+        )
+    } else {
+        (
             generic(
                 ConstraintRole::Compression,
                 &[(0, 0.0, BCB_UNLIMITED)],
@@ -983,18 +999,7 @@ fn constraint_specs(
                 &[(0, -BCB_UNLIMITED, 0.0)],
                 lin(f.tension_n),
             ),
-        ),
-        // One two-way row (Bullet's threshold the smaller of the two at the start; the stage
-        // sets it per substep and checks the sense); the tension constraint stays without
-        // locked axes (no solver rows).
-        super::axial::AxialRows::TwoWay => (
-            generic(
-                ConstraintRole::Compression,
-                &[(0, 0.0, 0.0)],
-                lin(f.compression_n.min(f.tension_n)),
-            ),
-            generic(ConstraintRole::Tension, &[], lin(f.tension_n)),
-        ),
+        )
     };
     let mut v = vec![
         compression,
@@ -1220,6 +1225,58 @@ mod tests {
         conn.set_state(ConnectionState::Elastic);
         let on: Vec<bool> = conn.constraints.iter().map(|c| c.enabled).collect();
         assert_eq!(on, [true, false, true, false, true, true, false]);
+    }
+
+    /// The two-way axial row (`super::super::axial`): both senses with strength → constraint 0
+    /// locked at [0, 0] with the smaller breaking impulse, constraint 1 without locked
+    /// axes; a sense without strength → BCB's two one-way rows (that sense starts broken).
+    #[test]
+    fn two_way_axial_row_or_bcb_rows_when_a_sense_has_no_strength() {
+        let s = RuinSettings {
+            axial_rows: super::super::axial::AxialRows::TwoWay,
+            ..RuinSettings::default()
+        };
+        let geom = |z: f64| BodyGeom {
+            name: format!("Column:1:{z}"),
+            group: "1".into(),
+            centre: [0.0, 0.0, z],
+            rotation: UnitQuaternion::identity(),
+            half_extents: [0.1, 0.1, 0.5],
+            passive: false,
+        };
+        let (ba, bb) = (geom(0.5), geom(1.5));
+        let c = Contact {
+            a: 0,
+            b: 1,
+            pivot: [0.0, 0.0, 1.0],
+            normal_axis: 2,
+            normal_sign: 1.0,
+            h_axis: 0,
+            w_axis: 1,
+            h: 0.2,
+            w: 0.2,
+            normal_overlap: 0.0,
+            area: 0.04,
+            centre_distance: 1.0,
+        };
+        let forces = |t: f64| ConnectionForces {
+            compression_n: 3.0e6,
+            tension_n: t,
+            shear_h_n: 1.0e5,
+            shear_w_n: 1.0e5,
+            bend_h_nm: 2.0e5,
+            bend_w_nm: 2.0e5,
+            plastic_n: None,
+            spring_stiffness: None,
+        };
+        let dt = s.substep();
+        let two = constraint_specs(&c, &ba, &bb, &ba.pose(), &bb.pose(), &forces(5.0e5), &s);
+        assert_eq!((two[0].lower[0], two[0].upper[0]), (0.0, 0.0));
+        assert_eq!(two[0].breaking_impulse, 5.0e5 * s.linear_correction * dt);
+        assert!((0..6).all(|i| two[1].is_free(i)) && two[1].enabled);
+        let bcb = constraint_specs(&c, &ba, &bb, &ba.pose(), &bb.pose(), &forces(0.0), &s);
+        assert_eq!((bcb[0].lower[0], bcb[0].upper[0]), (0.0, BCB_UNLIMITED));
+        assert!(bcb[0].enabled && !bcb[1].enabled && bcb[1].no_strength);
     }
 
     #[test]

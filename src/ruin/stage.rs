@@ -929,7 +929,20 @@ impl RuinStage {
                 input.bodies.iter().map(|b| b.name.clone()).collect(),
                 connections.len(),
             ),
-            axial_left: vec![super::axial::AxialLeft::Both; connections.len()],
+            // Two-way rows (constraint 0 locked at [0, 0] on the normal); a connection
+            // built with BCB's rows (a sense without strength) is left to Bullet.
+            axial_left: connections
+                .iter()
+                .map(|c| match c.constraints.first() {
+                    Some(k)
+                        if settings.ruin.axial_rows == super::axial::AxialRows::TwoWay
+                            && k.lower[0] == k.upper[0] =>
+                    {
+                        super::axial::AxialLeft::Both
+                    }
+                    _ => super::axial::AxialLeft::None,
+                })
+                .collect(),
             axial_threshold: connections
                 .iter()
                 .map(|c| c.constraints.first().map_or(0.0, |k| k.breaking_impulse))
