@@ -9,10 +9,10 @@ use fem2rbd::pipeline::Scenario;
 #[test]
 fn library_scenarios_use_implex_others_default_to_implicit_and_bad_values_are_refused() {
     for f in ["elcentro-4g.toml", "elcentro-4g-fe.toml"] {
-        let sc = Scenario::load(&root().join("data/library").join(f)).unwrap();
+        let sc = Scenario::load(root().join("data/library").join(f)).unwrap();
         assert_eq!(sc.concrete_integration, ConcreteIntegration::Implex, "{f}");
     }
-    let sc = Scenario::load(&root().join("data/frame3/lc5.toml")).unwrap();
+    let sc = Scenario::load(root().join("data/frame3/lc5.toml")).unwrap();
     assert_eq!(sc.concrete_integration, ConcreteIntegration::Implicit);
 
     let dir = tempfile::tempdir().unwrap();
