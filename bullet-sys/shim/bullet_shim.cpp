@@ -240,7 +240,41 @@ class SpinBarrier {
 };
 
 // Sweep kinds (bs_world_set_sweep, bullet_shim.h).
-enum { SWEEP_BULLET = BS_SWEEP_BULLET, SWEEP_LEAN = BS_SWEEP_LEAN, SWEEP_PACKED = BS_SWEEP_PACKED };
+enum {
+    SWEEP_BULLET = BS_SWEEP_BULLET,
+    SWEEP_LEAN = BS_SWEEP_LEAN,
+    SWEEP_PACKED = BS_SWEEP_PACKED,
+    SWEEP_PACKED_THREADS = BS_SWEEP_PACKED_THREADS
+};
+
+// Chooses, substep by substep, whether a phase (the joints' set-up, the one-island sweep)
+// runs on one thread (mode 0) or on the solver threads (mode 1), by the measured wall time
+// per unit of work of each. Both modes give the same bits, so the choice changes only the
+// speed: on a machine whose cores are busy with other work a thread that must wait for
+// another is often not running, and the threaded phase can be slower than the sequential
+// one (docs/performance.md). Every kExplore-th call tries the mode not in favour.
+struct ThreadChooser {
+    static constexpr long long kExplore = 16;
+    bool always = false;        // always mode 1 (SWEEP_PACKED_THREADS: tests, benchmarks)
+    double avg[2] = {-1, -1};   // s per unit of work, exponential average (-1: none yet)
+    long long calls = 0;
+    long long used[2] = {0, 0};
+    int pick() {
+        if (always) return 1;
+        ++calls;
+        if (avg[1] < 0) return 1;
+        if (avg[0] < 0) return 0;
+        const int best = avg[1] < avg[0] ? 1 : 0;
+        return (calls % kExplore == 0) ? 1 - best : best;
+    }
+    void record(int mode, double seconds_per_unit) {
+        used[mode] += 1;
+        avg[mode] = avg[mode] < 0 ? seconds_per_unit : 0.75 * avg[mode] + 0.25 * seconds_per_unit;
+    }
+};
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 // ---- the iterations without Bullet's obsolete per-constraint loop ------------------------
 //
@@ -278,6 +312,9 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     int sweep_threads = 1;                 // threads of the packed sweep (one batch at a time)
     long long *parallel_setups = nullptr;  // counts the joint set-ups run on threads
     long long *parallel_sweeps = nullptr;  // counts the packed sweeps run on threads
+    ThreadChooser *setup_chooser = nullptr;  // null: threads whenever eligible
+    ThreadChooser *sweep_chooser = nullptr;
+    bool packed() const { return sweep == SWEEP_PACKED || sweep == SWEEP_PACKED_THREADS; }
 
     btScalar solveSingleIteration(int iteration, btCollisionObject **bodies, int numBodies,
                                   btPersistentManifold **manifoldPtr, int numManifolds, btTypedConstraint **constraints,
@@ -316,7 +353,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
                                                btTypedConstraint **constraints, int numConstraints,
                                                const btContactSolverInfo &infoGlobal,
                                                btIDebugDraw *debugDrawer) override {
-        if (sweep != SWEEP_PACKED || (infoGlobal.m_solverMode & SOLVER_RANDMIZE_ORDER))
+        if (!packed() || (infoGlobal.m_solverMode & SOLVER_RANDMIZE_ORDER))
             return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyIterations(
                 bodies, numBodies, manifoldPtr, numManifolds, constraints, numConstraints, infoGlobal, debugDrawer);
         BT_PROFILE("solveGroupCacheFriendlyIterations");
@@ -325,36 +362,56 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
         const int maxIterations = m_maxOverrideNumSolverIterations > infoGlobal.m_numIterations
                                       ? m_maxOverrideNumSolverIterations
                                       : infoGlobal.m_numIterations;
-        pack();
+        const bool eligible = sweep_threads > 1 && m_tmpSolverNonContactConstraintPool.size() >= kThreadedSweepRows;
+        const int mode = eligible ? (sweep_chooser ? sweep_chooser->pick() : 1) : 0;
+        const auto t0 = std::chrono::steady_clock::now();
+        pack(mode ? sweep_threads : 1);
+        int used = maxIterations;
         if (segments_ > 1) {
             if (parallel_sweeps) ++*parallel_sweeps;
-            threaded_iterations(maxIterations, numBodies, bodies, numManifolds, infoGlobal);
+            used = threaded_iterations(maxIterations, numBodies, bodies, numManifolds, infoGlobal);
         } else {
             for (int iteration = 0; iteration < maxIterations; iteration++) {
                 m_leastSquaresResidual = packed_iteration(iteration, infoGlobal);
                 if (m_leastSquaresResidual <= infoGlobal.m_leastSquaresResidualThreshold ||
                     (iteration >= (maxIterations - 1))) {
                     analytics(iteration, numBodies, bodies, numManifolds);
+                    used = iteration + 1;
                     break;
                 }
             }
         }
+        if (eligible && sweep_chooser)
+            sweep_chooser->record(mode, seconds_since(t0) / (double(rows_.size()) * std::max(used, 1)));
         unpack();
         return 0.f;
     }
 
    protected:
     void convertJoints(btTypedConstraint **constraints, int numConstraints, const btContactSolverInfo &info) override {
-        if (sweep != SWEEP_PACKED || setup_threads <= 1 || numConstraints < 2 * kSetupChunk) {
+        if (!packed() || setup_threads <= 1 || numConstraints < 2 * kSetupChunk) {
             btSequentialImpulseConstraintSolver::convertJoints(constraints, numConstraints, info);
             return;
         }
-        BT_PROFILE("convertJointsOnThreads");
-        if (parallel_setups) ++*parallel_setups;
+        const int mode = setup_chooser ? setup_chooser->pick() : 1;
+        const auto t0 = std::chrono::steady_clock::now();
+        if (mode) {
+            BT_PROFILE("convertJointsOnThreads");
+            if (parallel_setups) ++*parallel_setups;
+            convert_joints(constraints, numConstraints, info, setup_threads);
+        } else {
+            BT_PROFILE("convertJoints");
+            convert_joints(constraints, numConstraints, info, 1);
+        }
+        if (setup_chooser) setup_chooser->record(mode, seconds_since(t0) / numConstraints);
+    }
+
+    void convert_joints(btTypedConstraint **constraints, int numConstraints, const btContactSolverInfo &info,
+                        int threads) {
         m_tmpConstraintSizesPool.resizeNoInitialize(numConstraints);
         // Per constraint (its own members, its feedback and its info1 slot only): Bullet's
         // buildJacobian / internalSetAppliedImpulse loop and its getInfo1 loop.
-        parallel_chunks(numConstraints, setup_threads, kSetupChunk, [&](int begin, int end) {
+        parallel_chunks(numConstraints, threads, kSetupChunk, [&](int begin, int end) {
             for (int i = begin; i < end; i++) {
                 btTypedConstraint *constraint = constraints[i];
                 constraint->buildJacobian();
@@ -398,7 +455,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
         }
         // Bullet's convertJoint per constraint: getInfo2 into its own rows, then the rows'
         // effective masses and right-hand sides.
-        parallel_chunks(numConstraints, setup_threads, kSetupChunk, [&](int begin, int end) {
+        parallel_chunks(numConstraints, threads, kSetupChunk, [&](int begin, int end) {
             for (int i = begin; i < end; i++) {
                 const btTypedConstraint::btConstraintInfo1 &info1 = m_tmpConstraintSizesPool[i];
                 if (!info1.m_numConstraintRows) continue;
@@ -503,7 +560,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
                m_tmpSolverContactRollingFrictionConstraintPool.size() > 0;
     }
 
-    void pack() {
+    void pack(int threads) {
         const int nb = m_tmpSolverBodyPool.size();
         pbodies_.resize(static_cast<size_t>(nb));
         for (int i = 0; i < nb; i++) {
@@ -559,7 +616,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
         // Segments (threaded sweep): the moving bodies cut into sweep_threads slabs along the
         // longer horizontal extent of their centres, each slab holding about as many row ends;
         // a row belongs to the segment of its body A (or B when A does not move).
-        const int T = (sweep_threads > 1 && n >= kThreadedSweepRows) ? sweep_threads : 1;
+        const int T = (threads > 1 && n >= kThreadedSweepRows) ? threads : 1;
         segments_ = T;
         row_seg_.assign(static_cast<size_t>(n), 0);
         if (T > 1) {
@@ -803,8 +860,8 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     // segments run concurrently (the calling thread runs segment 0), then the calling thread
     // folds their residuals (max: the same value as Bullet's fold in its order, unless a row
     // gives NaN) and runs the contact rows, then decides on the exit as Bullet does.
-    void threaded_iterations(int maxIterations, int numBodies, btCollisionObject **bodies, int numManifolds,
-                             const btContactSolverInfo &infoGlobal) {
+    int threaded_iterations(int maxIterations, int numBodies, btCollisionObject **bodies, int numManifolds,
+                            const btContactSolverInfo &infoGlobal) {
         const int T = segments_;
         for (int t = 0; t < T; t++) progress_[t].done.store(0, std::memory_order_relaxed);
         part_.assign(static_cast<size_t>(T), 0.0);
@@ -832,6 +889,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
             throw;
         }
         go.store(1, std::memory_order_release);
+        int used = maxIterations;
         for (int iteration = 0; iteration < maxIterations; iteration++) {
             iteration_now = iteration;
             barrier.wait();
@@ -848,12 +906,14 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
             if (m_leastSquaresResidual <= infoGlobal.m_leastSquaresResidualThreshold ||
                 (iteration >= (maxIterations - 1))) {
                 analytics(iteration, numBodies, bodies, numManifolds);
+                used = iteration + 1;
                 break;
             }
         }
         stop.store(true, std::memory_order_release);
         barrier.wait();
         for (auto &th : pool) th.join();
+        return used;
     }
 };
 
@@ -1029,6 +1089,7 @@ class ParallelIslandSolver : public WarmJointSolver {
     bs_island_stats stats{};
     long long parallel_setups = 0;  // joint set-ups of batches run on the solver threads
     long long parallel_sweeps = 0;  // packed sweeps of batches run on the solver threads
+    ThreadChooser setup_chooser, sweep_chooser;  // shared by the batches' solvers
 
     void prepareSolve(int a, int b) override {
         btSequentialImpulseConstraintSolver::prepareSolve(a, b);
@@ -1099,6 +1160,10 @@ class ParallelIslandSolver : public WarmJointSolver {
             solvers_[i]->sweep = sweep;
             solvers_[i]->setup_threads = threads;
             solvers_[i]->parallel_setups = &parallel_setups;
+            setup_chooser.always = sweep == SWEEP_PACKED_THREADS;
+            sweep_chooser.always = sweep == SWEEP_PACKED_THREADS;
+            solvers_[i]->setup_chooser = &setup_chooser;
+            solvers_[i]->sweep_chooser = &sweep_chooser;
         }
         {
             BT_PROFILE("parallelSolverSetup");
@@ -1920,7 +1985,7 @@ int bs_world_set_solver_threads(bs_world *w, int n) {
 int bs_world_set_sweep(bs_world *w, int on) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
-        if (on < 0 || on > 2) return fail(BS_ERR_BAD_ARG, "sweep must be 0, 1 or 2, got " + std::to_string(on));
+        if (on < 0 || on > 3) return fail(BS_ERR_BAD_ARG, "sweep must be 0..3, got " + std::to_string(on));
         w->solver->sweep = on;
         return BS_OK;
     });

@@ -13,7 +13,9 @@
 //! threads) optionally followed by `+sleep` (Bullet's sleeping on) and `+bullet` (Bullet's
 //! own `solveSingleIteration` instead of the shim's packed sweep, the "before" of session 6)
 //! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the "before" of
-//! session 7; docs/performance.md); default `t1,t2`. CPU time per simulated second is the process's
+//! session 7; docs/performance.md) or `+threads` (the packed sweep always on the threads where
+//! eligible, instead of whichever of one thread and the threads measures faster); default
+//! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
 //! first setting is the baseline of the ratios. Every setting's final poses are compared
 //! bit for bit with the baseline's ("same bits"), which holds for thread counts and is
@@ -61,7 +63,8 @@ struct Config {
     name: String,
     threads: usize,
     sleeping: bool,
-    /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`) or `packed` (default).
+    /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`), `threads` (`+threads`)
+    /// or `packed` (default).
     sweep: &'static str,
 }
 
@@ -88,7 +91,9 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
                 .strip_prefix('t')
                 .and_then(|n| n.parse().ok())
                 .filter(|&n| n >= 1)
-                .with_context(|| format!("--configs: '{c}' must be tN[+sleep][+bullet|+lean]"))?;
+                .with_context(|| {
+                    format!("--configs: '{c}' must be tN[+sleep][+bullet|+lean|+threads]")
+                })?;
             let mut cfg = Config {
                 name: c.to_string(),
                 threads,
@@ -100,7 +105,10 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
                     "sleep" => cfg.sleeping = true,
                     "bullet" => cfg.sweep = "bullet",
                     "lean" => cfg.sweep = "lean",
-                    _ => bail!("--configs: '{c}': unknown option '{o}' (+sleep, +bullet, +lean)"),
+                    "threads" => cfg.sweep = "threads",
+                    _ => bail!(
+                        "--configs: '{c}': unknown option '{o}' (+sleep, +bullet, +lean, +threads)"
+                    ),
                 }
             }
             Ok(cfg)

@@ -179,8 +179,8 @@ pub struct StageSettings {
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
     /// The solver's sweep ([`crate::physics::World::set_sweep`]): every kind gives the same
-    /// bits. Default [`crate::physics::Sweep::Packed`]; `FEM2RBD_SWEEP=bullet` or `lean`
-    /// selects the older ones (for `bench_ruin`'s before/after).
+    /// bits. Default [`crate::physics::Sweep::Packed`]; `FEM2RBD_SWEEP=bullet`, `lean` or
+    /// `threads` selects another (for `bench_ruin`'s before/after).
     pub sweep: crate::physics::Sweep,
 }
 
@@ -249,6 +249,7 @@ impl Default for StageSettings {
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
                 Ok("bullet") => crate::physics::Sweep::Bullet,
                 Ok("lean") => crate::physics::Sweep::Lean,
+                Ok("threads") => crate::physics::Sweep::PackedThreads,
                 _ => crate::physics::Sweep::Packed,
             },
         }

@@ -57,12 +57,18 @@ pub enum Sweep {
     /// functions.
     Lean,
     /// The lean sweep over packed copies of the joint rows (208 instead of 288 bytes a row,
-    /// 128 bytes a solver body; the sweep is bound by memory traffic), the same arithmetic
-    /// in the same order; with more than one solver thread the joints' set-up (Bullet's
-    /// `getInfo1`/`getInfo2`/`convertJoint` of every constraint, each writing only its own
-    /// rows) also runs on the solver threads.
+    /// 128 bytes a solver body), in dependency-level order (every body's rows keep Bullet's
+    /// order), the same arithmetic. With more than one solver thread the joints' set-up
+    /// (Bullet's `getInfo1`/`getInfo2`/`convertJoint` of every constraint, each writing only
+    /// its own rows) and the sweep of a batch holding most of the substep's rows (slabs of
+    /// bodies, one per thread; a row waits for the rows before it on its bodies) may run on
+    /// the threads: each substep takes whichever of one thread and the threads has measured
+    /// faster per unit of work (on a machine busy with other work a waiting thread is often
+    /// not running).
     #[default]
     Packed,
+    /// As [`Sweep::Packed`], always on the threads where eligible (tests, benchmarks).
+    PackedThreads,
 }
 
 /// Solver work that ran on the solver threads ([`World::parallel_counts`]).
@@ -168,6 +174,7 @@ impl World {
             Sweep::Bullet => sys::BS_SWEEP_BULLET,
             Sweep::Lean => sys::BS_SWEEP_LEAN,
             Sweep::Packed => sys::BS_SWEEP_PACKED,
+            Sweep::PackedThreads => sys::BS_SWEEP_PACKED_THREADS,
         };
         // SAFETY: live world; the shim validates the code.
         check("set_sweep", unsafe {
@@ -176,9 +183,9 @@ impl World {
     }
 
     /// Joint set-ups and packed sweeps (one each per solver batch and substep) that ran on
-    /// the solver threads so far ([`Sweep::Packed`] with more than one thread: the set-up
-    /// of a batch of at least 64 constraints, the sweep of a batch with more than half of
-    /// the substep's rows and at least 256 joint rows).
+    /// the solver threads so far ([`Sweep::Packed`] or [`Sweep::PackedThreads`] with more
+    /// than one thread: the set-up of a batch of at least 64 constraints, the sweep of a
+    /// batch with more than half of the substep's rows and at least 256 joint rows).
     pub fn parallel_counts(&self) -> Result<ParallelCounts, PhysicsError> {
         let (mut setups, mut sweeps) = (0i64, 0i64);
         // SAFETY: live world, writable integers.
