@@ -13,8 +13,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <map>
@@ -721,12 +719,6 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
                     last_q_[x] = q;
                 }
             }
-        }
-        if (std::getenv("FEM2RBD_DEBUG_LEVELS")) {
-            long long waits = 0;
-            for (const RowDep &d : deps_) waits += (d.t1 >= 0) + (d.t2 >= 0);
-            std::fprintf(stderr, "packed sweep: %d rows, %d bodies, %d levels, %d segments, %lld waits\n", n, nb, nlev,
-                         T, T > 1 ? waits : 0LL);
         }
     }
 
