@@ -82,6 +82,7 @@ fn wall() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
 }
 
 type Scene = (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory);
+type SceneFn = fn() -> Scene;
 
 fn run_towers(threads: usize, batch: u32) -> (RuinResult, fem2rbd::physics::IslandStats) {
     let (r, s, _, _) = run_scene(towers(), threads, batch, Sweep::Packed);
@@ -189,7 +190,7 @@ fn island_parallel_solver_gives_the_same_bits_for_any_thread_count() {
 /// wall (one island), on 1, 2 and 3 threads.
 #[test]
 fn lean_and_packed_sweeps_give_bullets_bits() {
-    let scenes: [(&str, fn() -> Scene, u32); 3] = [
+    let scenes: [(&str, SceneFn, u32); 3] = [
         ("towers", towers, 1),
         ("towers", towers, 128),
         ("wall", wall, 128),
