@@ -10,6 +10,7 @@ use clap::Args;
 use fem2rbd::fe::analysis::transient::{StepControl, StopReason};
 use fem2rbd::fe::build::{BuildOptions, Variant};
 use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
+use fem2rbd::fe::shell::layers::ConcreteIntegration;
 use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
 use fem2rbd::model::Model;
 use fem2rbd::motion::{Format, GroundMotion};
@@ -44,6 +45,10 @@ pub struct FeArgs {
     /// Element variant: model, force, disp or elastic.
     #[arg(long, default_value = "model")]
     pub variant: Variant,
+    /// Integration of the shells' concrete layers: implicit (OpenSees'
+    /// PlasticDamageConcretePlaneStress) or implex (docs/shell-verification.md §10).
+    #[arg(long, default_value = "implicit", value_parser = parse_integration)]
+    pub concrete_integration: ConcreteIntegration,
     /// Record every k-th step.
     #[arg(long, default_value_t = 1)]
     pub every: usize,
@@ -53,6 +58,15 @@ pub struct FeArgs {
     /// Print the time and memory estimate (docs/reliability.md) and exit without running.
     #[arg(long)]
     pub estimate: bool,
+}
+
+/// `implicit` or `implex`.
+fn parse_integration(s: &str) -> Result<ConcreteIntegration, String> {
+    match s {
+        "implicit" => Ok(ConcreteIntegration::Implicit),
+        "implex" => Ok(ConcreteIntegration::Implex),
+        _ => Err(format!("expected implicit or implex, got {s:?}")),
+    }
 }
 
 /// One `--gm` component (the shared syntax of [`fem2rbd::motion::spec`]).
@@ -156,6 +170,7 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
     let options = RunOptions {
         build: BuildOptions {
             variant: args.variant,
+            concrete_integration: args.concrete_integration,
             ..Default::default()
         },
         dt: args.dt,

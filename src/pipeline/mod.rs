@@ -541,6 +541,7 @@ pub(crate) fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
 fn fe_build(sc: &Scenario) -> BuildOptions {
     BuildOptions {
         variant: sc.variant,
+        concrete_integration: sc.concrete_integration,
         ..Default::default()
     }
 }

@@ -9,6 +9,7 @@
 use super::error::ScenarioError;
 use crate::collapse::Criterion;
 use crate::fe::build::Variant;
+use crate::fe::shell::layers::ConcreteIntegration;
 use crate::motion::Direction;
 use crate::ruin::rest::RestTest;
 use serde::Deserialize;
@@ -57,6 +58,9 @@ pub(crate) struct FeSpec {
     pub variant: Variant,
     /// Analysis length, s; absent = the record's length.
     pub duration: Option<f64>,
+    /// `implicit` (OpenSees' law, default) or `implex` for the shells' concrete layers
+    /// ([`crate::fe::shell::layers::ConcreteIntegration`]).
+    pub concrete_integration: ConcreteIntegration,
 }
 
 impl Default for FeSpec {
@@ -65,6 +69,7 @@ impl Default for FeSpec {
             dt: 0.005,
             variant: Variant::AsModel,
             duration: None,
+            concrete_integration: ConcreteIntegration::Implicit,
         }
     }
 }
@@ -365,6 +370,8 @@ pub struct Scenario {
     pub variant: Variant,
     /// FE duration, s (`None` = record).
     pub duration: Option<f64>,
+    /// Integration of the shells' concrete layers (`[fe] concrete_integration`).
+    pub concrete_integration: ConcreteIntegration,
     /// Collapse criterion.
     pub criterion: CriterionSpec,
     /// Physics settings.
@@ -717,6 +724,7 @@ impl Scenario {
             dt: raw.fe.dt,
             variant,
             duration: raw.fe.duration,
+            concrete_integration: raw.fe.concrete_integration,
             criterion,
             physics: raw.physics.clone(),
         })

@@ -20,7 +20,7 @@ use crate::fe::section::fiber::FiberSection;
 use crate::fe::section::Section;
 use crate::fe::shell::element::ShellElement;
 use crate::fe::shell::layers::{
-    DamageConcreteFiber, ElasticFiber, LayeredSection, PlateFiber, RebarFiber,
+    ConcreteIntegration, DamageConcreteFiber, ElasticFiber, LayeredSection, PlateFiber, RebarFiber,
 };
 use crate::fe::transform::TransformKind;
 use crate::fe::FeError;
@@ -77,6 +77,10 @@ pub struct BuildOptions {
     /// Element iteration controls of force-based elements. The frame3 reference runs use
     /// `-iter 50 1e-12`.
     pub force_options: ForceBeamOptions,
+    /// How the shells' `concrete` layers integrate their damage and plastic strain:
+    /// OpenSees' implicit law (default) or IMPL-EX
+    /// ([`crate::fe::shell::layers::ConcreteIntegration`]).
+    pub concrete_integration: ConcreteIntegration,
 }
 
 impl Default for BuildOptions {
@@ -88,6 +92,7 @@ impl Default for BuildOptions {
                 tol: 1e-12,
                 ..ForceBeamOptions::default()
             },
+            concrete_integration: ConcreteIntegration::Implicit,
         }
     }
 }
@@ -217,6 +222,7 @@ fn shell_section(
     tag: u32,
     s: &model::Section,
     mats: &BTreeMap<u32, &model::Material>,
+    integration: ConcreteIntegration,
 ) -> Result<(LayeredSection, bool)> {
     let SectionKind::LayeredShell { layers, .. } = &s.kind else {
         return Err(FeError::Unsupported(format!(
@@ -232,7 +238,7 @@ fn shell_section(
             ShellLayer::Elastic { e, nu, .. } => Box::new(ElasticFiber::new(*e, *nu)),
             ShellLayer::Concrete { e, nu, fc, ft, .. } => {
                 linear = false;
-                Box::new(DamageConcreteFiber::new(*e, *nu, *ft, *fc))
+                Box::new(DamageConcreteFiber::new(*e, *nu, *ft, *fc).with_integration(integration))
             }
             ShellLayer::Rebar {
                 material, angle, ..
@@ -330,7 +336,7 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
                 let s = secs.get(section).ok_or_else(|| {
                     FeError::Unsupported(format!("element {}: unknown section {section}", e.tag))
                 })?;
-                let (sec, linear) = shell_section(e.tag, s, &mats)?;
+                let (sec, linear) = shell_section(e.tag, s, &mats, options.concrete_integration)?;
                 let mut coords = [[0.0; 3]; 4];
                 let mut idxs = [0; 4];
                 for ((c, i), n) in coords.iter_mut().zip(&mut idxs).zip(nodes) {

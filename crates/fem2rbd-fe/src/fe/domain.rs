@@ -620,6 +620,13 @@ impl Domain {
         res
     }
 
+    /// Tells every element the time increment Δt (s) of the step about to be iterated
+    /// ([`Element::set_time_increment`]); the transient integrator calls it before each
+    /// (sub)step. Static analyses leave it at its pseudo-time default of 1.
+    pub fn set_time_increment(&mut self, dt: f64) {
+        self.for_each_element_mut(|el| el.set_time_increment(dt));
+    }
+
     /// Accepts the trial state (nodes and elements).
     pub fn commit(&mut self) {
         self.disp_c.clone_from(&self.disp);

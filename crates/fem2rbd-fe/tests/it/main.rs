@@ -70,6 +70,7 @@ mod fe {
         mod building;
         mod corotational;
         mod frame_modal;
+        mod implex;
         mod model;
         mod nonlinear;
         mod rw2;

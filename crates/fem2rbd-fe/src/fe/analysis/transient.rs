@@ -370,6 +370,7 @@ impl Newmark {
         if ag.iter().any(|x| !x.is_finite()) {
             return Err(IterationFailure::NonFiniteResidual);
         }
+        domain.set_time_increment(h);
         let mut un = vec![0.0; n];
         let mut vn = vec![0.0; n];
         let mut an = vec![0.0; n];

@@ -136,6 +136,10 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     /// ([`crate::fe::domain::Domain::prepare_elements`] runs it on the domain's threads).
     /// The default does nothing (the reads form the matrices themselves).
     fn prepare(&self, _what: Prepare) {}
+    /// The time increment Δt (s) of the step about to be iterated, for materials that
+    /// extrapolate their internal variables in time (IMPL-EX concrete layers,
+    /// [`crate::fe::shell::layers::ConcreteIntegration`]). Default: ignored.
+    fn set_time_increment(&mut self, _dt: f64) {}
     /// Accepts the trial state.
     fn commit_state(&mut self);
     /// Returns to the last committed state.

@@ -272,6 +272,14 @@ impl Element for ShellElement {
     fn initial_stiffness(&self) -> DMatrix<f64> {
         dmat(&self.k0)
     }
+    fn set_time_increment(&mut self, dt: f64) {
+        if self.linear {
+            return;
+        }
+        for s in &mut self.sections {
+            s.set_time_increment(dt);
+        }
+    }
     fn commit_state(&mut self) {
         if self.linear {
             return;

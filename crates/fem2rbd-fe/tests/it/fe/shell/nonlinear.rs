@@ -27,7 +27,7 @@ use serde_json::Value;
 
 const STEP: f64 = 0.25e-3;
 
-fn wall_model() -> String {
+pub(super) fn wall_model() -> String {
     let header = r#"name = "nonlinear-layered-wall"
 [[material]]
 tag = 1

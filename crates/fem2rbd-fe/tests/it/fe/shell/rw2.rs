@@ -16,6 +16,7 @@ use fem2rbd_fe::fe::analysis::static_analysis::{
 };
 use fem2rbd_fe::fe::analysis::ConvergenceTest;
 use fem2rbd_fe::fe::build::{build_domain, BuildOptions};
+use fem2rbd_fe::fe::shell::layers::ConcreteIntegration;
 use fem2rbd_fe::model::Model;
 use serde_json::Value;
 
@@ -127,8 +128,21 @@ fn opensees(model: &Model, segs: &[(f64, usize)]) -> (Vec<f64>, Option<usize>) {
 
 /// Base shear (N) per step from fem2rbd, and the step it failed at, if any.
 fn fem2rbd(model: &Model, segs: &[(f64, usize)]) -> (Vec<f64>, Option<usize>) {
+    fem2rbd_with(model, segs, ConcreteIntegration::Implicit)
+}
+
+/// [`fem2rbd`] with the concrete layers integrated by `integration`.
+fn fem2rbd_with(
+    model: &Model,
+    segs: &[(f64, usize)],
+    integration: ConcreteIntegration,
+) -> (Vec<f64>, Option<usize>) {
     let (top, axial) = top_row(model);
-    let mut built = build_domain(model, &BuildOptions::default()).unwrap();
+    let options = BuildOptions {
+        concrete_integration: integration,
+        ..Default::default()
+    };
+    let mut built = build_domain(model, &options).unwrap();
     let d = &mut built.domain;
     for (t, a) in top.iter().zip(&axial) {
         d.add_nodal_load(built.node_index[t], [0.0, 0.0, -a, 0.0, 0.0, 0.0])
@@ -253,4 +267,45 @@ fn rw2_axial_load_and_cracking_match_opensees() {
     // (measured 0.75).
     assert!(os[6] - os[5] < 0.85 * os[0], "{os:?}");
     assert!(worst < 0.01, "worst {worst:.3e} of the peak");
+}
+
+/// Peak (N) of a base-shear curve and its step index.
+fn peak(v: &[f64]) -> (usize, f64) {
+    v.iter()
+        .enumerate()
+        .fold((0, 0.0f64), |a, (k, x)| if *x > a.1 { (k, *x) } else { a })
+}
+
+/// IMPL-EX monotonic push of RW2, study (`--ignored`): to 2.2 % drift in 0.25 mm steps,
+/// and the first 40 mm again in 0.125 mm steps (step convergence), printed.
+#[test]
+#[ignore]
+fn rw2_implex_monotonic_study() {
+    let model = model();
+    for step in [0.5e-3, 0.25e-3, 0.125e-3] {
+        let n = (0.022 * H / step).round() as usize;
+        let t0 = std::time::Instant::now();
+        let (fr, fail) = fem2rbd_with(&model, &[(step, n)], ConcreteIntegration::Implex);
+        let (k, p) = peak(&fr);
+        eprintln!(
+            "implex, {:.3} mm steps: {} of {n} steps (failed {fail:?}) in {:.1} s; peak {:.2} kN at {:.2} mm ({:.3} % drift)",
+            step * 1e3,
+            fr.len(),
+            t0.elapsed().as_secs_f64(),
+            p / 1e3,
+            (k + 1) as f64 * step * 1e3,
+            (k + 1) as f64 * step / H * 100.0
+        );
+        for (j, v) in fr.iter().enumerate() {
+            let d = (j + 1) as f64 * step;
+            if ((d * 1e3) % 5.0).abs() < 1e-6 || ((d * 1e3) % 5.0 - 5.0).abs() < 1e-6 {
+                eprintln!(
+                    "  {:6.2} mm ({:.3} %): {:8.2} kN",
+                    d * 1e3,
+                    d / H * 100.0,
+                    v / 1e3
+                );
+            }
+        }
+    }
 }
