@@ -250,23 +250,39 @@ enum {
 // per unit of work of each. Both modes give the same bits, so the choice changes only the
 // speed: on a machine whose cores are busy with other work a thread that must wait for
 // another is often not running, and the threaded phase can be slower than the sequential
-// one (docs/performance.md). Every kExplore-th call tries the mode not in favour.
+// one (docs/performance.md). Now and then the mode not in favour is tried again: after 16
+// calls, and after twice as many each time it loses again (up to 1024), so on a machine
+// where the threads keep losing the trials cost little.
 struct ThreadChooser {
-    static constexpr long long kExplore = 16;
     bool always = false;        // always mode 1 (SWEEP_PACKED_THREADS: tests, benchmarks)
     double avg[2] = {-1, -1};   // s per unit of work, exponential average (-1: none yet)
     long long calls = 0;
-    long long used[2] = {0, 0};
+    long long period = 16;      // calls between trials of the mode not in favour
+    long long next_trial = 16;
+    int trial_of = -1;          // the mode on trial in the current call, else -1
     int pick() {
         if (always) return 1;
         ++calls;
+        trial_of = -1;
         if (avg[1] < 0) return 1;
         if (avg[0] < 0) return 0;
         const int best = avg[1] < avg[0] ? 1 : 0;
-        return (calls % kExplore == 0) ? 1 - best : best;
+        if (calls >= next_trial) {
+            trial_of = 1 - best;
+            return trial_of;
+        }
+        return best;
     }
     void record(int mode, double seconds_per_unit) {
-        used[mode] += 1;
+        if (trial_of == mode) {
+            // A trial replaces the mode's stale average with what it measures now.
+            avg[mode] = seconds_per_unit;
+            const bool won = avg[mode] < avg[1 - mode];
+            period = won ? 16 : std::min<long long>(2 * period, 1024);
+            next_trial = calls + period;
+            trial_of = -1;
+            return;
+        }
         avg[mode] = avg[mode] < 0 ? seconds_per_unit : 0.75 * avg[mode] + 0.25 * seconds_per_unit;
     }
 };
