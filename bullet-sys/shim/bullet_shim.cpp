@@ -245,9 +245,8 @@ enum {
     SWEEP_PACKED_THREADS = BS_SWEEP_PACKED_THREADS
 };
 
-// Chooses, substep by substep, whether a phase (the joints' set-up, the one-island sweep)
-// runs on one thread (mode 0) or on the solver threads (mode 1), by the measured wall time
-// per unit of work of each. Both modes give the same bits, so the choice changes only the
+// Chooses, substep by substep, whether the joints' set-up runs on one thread (mode 0) or on
+// the solver threads (mode 1), by the measured wall time per unit of work of each. Both modes give the same bits, so the choice changes only the
 // speed: on a machine whose cores are busy with other work a thread that must wait for
 // another is often not running, and the threaded phase can be slower than the sequential
 // one (docs/performance.md). Now and then the mode not in favour is tried again: after 16
@@ -327,7 +326,6 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     long long *parallel_setups = nullptr;  // counts the joint set-ups run on threads
     long long *parallel_sweeps = nullptr;  // counts the packed sweeps run on threads
     ThreadChooser *setup_chooser = nullptr;  // null: threads whenever eligible
-    ThreadChooser *sweep_chooser = nullptr;
     bool packed() const { return sweep == SWEEP_PACKED || sweep == SWEEP_PACKED_THREADS; }
 
     btScalar solveSingleIteration(int iteration, btCollisionObject **bodies, int numBodies,
@@ -376,27 +374,25 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
         const int maxIterations = m_maxOverrideNumSolverIterations > infoGlobal.m_numIterations
                                       ? m_maxOverrideNumSolverIterations
                                       : infoGlobal.m_numIterations;
-        const bool eligible = sweep_threads > 1 && m_tmpSolverNonContactConstraintPool.size() >= kThreadedSweepRows;
-        const int mode = eligible ? (sweep_chooser ? sweep_chooser->pick() : 1) : 0;
-        const auto t0 = std::chrono::steady_clock::now();
-        pack(mode ? sweep_threads : 1);
-        int used = maxIterations;
+        // The sweep on the threads only when asked for (SWEEP_PACKED_THREADS): measured on a
+        // shared machine, one substep of it could cost as much as hundreds of sequential
+        // ones, too much for even a single trial (docs/performance.md).
+        const bool threaded = sweep == SWEEP_PACKED_THREADS && sweep_threads > 1 &&
+                              m_tmpSolverNonContactConstraintPool.size() >= kThreadedSweepRows;
+        pack(threaded ? sweep_threads : 1);
         if (segments_ > 1) {
             if (parallel_sweeps) ++*parallel_sweeps;
-            used = threaded_iterations(maxIterations, numBodies, bodies, numManifolds, infoGlobal);
+            threaded_iterations(maxIterations, numBodies, bodies, numManifolds, infoGlobal);
         } else {
             for (int iteration = 0; iteration < maxIterations; iteration++) {
                 m_leastSquaresResidual = packed_iteration(iteration, infoGlobal);
                 if (m_leastSquaresResidual <= infoGlobal.m_leastSquaresResidualThreshold ||
                     (iteration >= (maxIterations - 1))) {
                     analytics(iteration, numBodies, bodies, numManifolds);
-                    used = iteration + 1;
                     break;
                 }
             }
         }
-        if (eligible && sweep_chooser)
-            sweep_chooser->record(mode, seconds_since(t0) / (double(rows_.size()) * std::max(used, 1)));
         unpack();
         return 0.f;
     }
@@ -485,6 +481,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     std::vector<std::pair<int, int>> body_ids_;
     std::vector<PackedRow> rows_;
     std::vector<PackedBody> pbodies_;
+    std::vector<int> contact_bodies_;  // solver bodies of the contact rows (sync_bodies)
     std::vector<int> body_level_, level_, level_next_;
     int levels_ = 0;
     // Threaded sweep (segments_ > 1): rows_ holds segment 0's rows, then segment 1's, ...
@@ -575,6 +572,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     }
 
     void pack(int threads) {
+        find_contact_bodies();
         const int nb = m_tmpSolverBodyPool.size();
         pbodies_.resize(static_cast<size_t>(nb));
         for (int i = 0; i < nb; i++) {
@@ -739,9 +737,12 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
     }
 
     // Packed body velocity changes -> Bullet's solver bodies (to = true) or back.
-    void sync_bodies(bool to_bullet) {
-        const int nb = m_tmpSolverBodyPool.size();
-        for (int i = 0; i < nb; i++) {
+    // The packed bodies' velocity changes -> Bullet's solver bodies (to_bullet) or back:
+    // every body (all = true, before the finish) or only those the contact rows touch.
+    void sync_bodies(bool to_bullet, bool all = false) {
+        const int nb = all ? m_tmpSolverBodyPool.size() : static_cast<int>(contact_bodies_.size());
+        for (int j = 0; j < nb; j++) {
+            const int i = all ? j : contact_bodies_[j];
             btSolverBody &s = m_tmpSolverBodyPool[i];
             PackedBody &p = pbodies_[i];
             for (int k = 0; k < 3; k++) {
@@ -756,8 +757,26 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
         }
     }
 
+    // The solver bodies of the contact, friction and rolling-friction rows, each once.
+    void find_contact_bodies() {
+        const int nb = m_tmpSolverBodyPool.size();
+        std::vector<char> seen(static_cast<size_t>(nb), 0);
+        contact_bodies_.clear();
+        auto add = [&](const btAlignedObjectArray<btSolverConstraint> &pool) {
+            for (int j = 0; j < pool.size(); j++)
+                for (int x : {pool[j].m_solverBodyIdA, pool[j].m_solverBodyIdB})
+                    if (x >= 0 && x < nb && !seen[x]) {
+                        seen[x] = 1;
+                        contact_bodies_.push_back(x);
+                    }
+        };
+        add(m_tmpSolverContactConstraintPool);
+        add(m_tmpSolverContactFrictionConstraintPool);
+        add(m_tmpSolverContactRollingFrictionConstraintPool);
+    }
+
     void unpack() {
-        sync_bodies(true);
+        sync_bodies(true, true);
         const int n = m_tmpSolverNonContactConstraintPool.size();
         for (int j = 0; j < n; j++)
             m_tmpSolverNonContactConstraintPool[m_orderNonContactConstraintPool[rows_[j].orig]].m_appliedImpulse =
@@ -1097,7 +1116,7 @@ class ParallelIslandSolver : public WarmJointSolver {
     bs_island_stats stats{};
     long long parallel_setups = 0;  // joint set-ups of batches run on the solver threads
     long long parallel_sweeps = 0;  // packed sweeps of batches run on the solver threads
-    ThreadChooser setup_chooser, sweep_chooser;  // shared by the batches' solvers
+    ThreadChooser setup_chooser;  // shared by the batches' solvers
 
     void prepareSolve(int a, int b) override {
         btSequentialImpulseConstraintSolver::prepareSolve(a, b);
@@ -1169,9 +1188,7 @@ class ParallelIslandSolver : public WarmJointSolver {
             solvers_[i]->setup_threads = threads;
             solvers_[i]->parallel_setups = &parallel_setups;
             setup_chooser.always = sweep == SWEEP_PACKED_THREADS;
-            sweep_chooser.always = sweep == SWEEP_PACKED_THREADS;
             solvers_[i]->setup_chooser = &setup_chooser;
-            solvers_[i]->sweep_chooser = &sweep_chooser;
         }
         {
             BT_PROFILE("parallelSolverSetup");

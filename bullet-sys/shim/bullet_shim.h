@@ -200,11 +200,11 @@ int bs_world_get_solver_threads(const bs_world *w, int *n);
  * BS_SWEEP_PACKED (the default): the lean sweep over packed copies of the joint rows (208
  *   instead of 288 bytes a row, 128 bytes a solver body) in dependency-level order (every
  *   body's rows keep Bullet's order), the same arithmetic; with solver threads n > 1 the
- *   joints' set-up (getInfo1/getInfo2 and Bullet's convertJoint of every constraint) and
- *   the sweep of a batch holding most of the substep's rows (slabs of bodies, one per thread,
- *   a row waiting for the rows before it on its bodies) may run on n threads: each substep
- *   takes whichever of one thread and n threads has measured faster (the bits are the same);
- * BS_SWEEP_PACKED_THREADS: as packed, always on the threads where eligible.
+ *   joints' set-up (getInfo1/getInfo2 and Bullet's convertJoint of every constraint) runs on
+ *   one or n threads, whichever has measured faster (the bits are the same);
+ * BS_SWEEP_PACKED_THREADS: as packed, the set-up always on the n threads, and the sweep of a
+ *   batch holding most of the substep's rows on n threads too (slabs of bodies, one per
+ *   thread, a row waiting for the rows before it on its bodies).
  * All give the same bits, for any number of solver threads. */
 enum bs_sweep { BS_SWEEP_BULLET = 0, BS_SWEEP_LEAN = 1, BS_SWEEP_PACKED = 2, BS_SWEEP_PACKED_THREADS = 3 };
 int bs_world_set_sweep(bs_world *w, int sweep);

@@ -60,14 +60,15 @@ pub enum Sweep {
     /// 128 bytes a solver body), in dependency-level order (every body's rows keep Bullet's
     /// order), the same arithmetic. With more than one solver thread the joints' set-up
     /// (Bullet's `getInfo1`/`getInfo2`/`convertJoint` of every constraint, each writing only
-    /// its own rows) and the sweep of a batch holding most of the substep's rows (slabs of
-    /// bodies, one per thread; a row waits for the rows before it on its bodies) may run on
-    /// the threads: each substep takes whichever of one thread and the threads has measured
+    /// its own rows) runs on one thread or on the solver threads, whichever has measured
     /// faster per unit of work (on a machine busy with other work a waiting thread is often
     /// not running).
     #[default]
     Packed,
-    /// As [`Sweep::Packed`], always on the threads where eligible (tests, benchmarks).
+    /// As [`Sweep::Packed`], with the set-up always on the solver threads and the sweep of a
+    /// batch holding most of the substep's rows on the threads too (slabs of bodies, one per
+    /// thread; a row waits for the rows before it on its bodies). Same bits; on a loaded
+    /// machine far slower (docs/performance.md), so only on request.
     PackedThreads,
 }
 
@@ -183,9 +184,10 @@ impl World {
     }
 
     /// Joint set-ups and packed sweeps (one each per solver batch and substep) that ran on
-    /// the solver threads so far ([`Sweep::Packed`] or [`Sweep::PackedThreads`] with more
-    /// than one thread: the set-up of a batch of at least 64 constraints, the sweep of a
-    /// batch with more than half of the substep's rows and at least 256 joint rows).
+    /// the solver threads so far (with more than one thread: the set-up of a batch of at
+    /// least 64 constraints under [`Sweep::Packed`] when it measures faster, or always under
+    /// [`Sweep::PackedThreads`]; the sweep of a batch with more than half of the substep's
+    /// rows and at least 256 joint rows under [`Sweep::PackedThreads`]).
     pub fn parallel_counts(&self) -> Result<ParallelCounts, PhysicsError> {
         let (mut setups, mut sweeps) = (0i64, 0i64);
         // SAFETY: live world, writable integers.

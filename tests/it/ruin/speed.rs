@@ -181,8 +181,8 @@ fn island_parallel_solver_gives_the_same_bits_for_any_thread_count() {
 /// every constraint for the empty `solveConstraintObsolete`) and the packed sweep (the same
 /// row arithmetic over packed copies of the rows, level by level; with more than one thread
 /// the joints' set-up on the threads and, for a batch with most of the rows, the sweep on
-/// the threads with waits that keep every body's rows in Bullet's order; `PackedThreads`
-/// always, `Packed` where it measures faster) give the bits of
+/// the threads with waits that keep every body's rows in Bullet's order: `PackedThreads`;
+/// `Packed` takes the threads for the set-up where they measure faster) give the bits of
 /// Bullet's own `solveSingleIteration`: joint rows, contacts with the kinematic ground and
 /// between bodies, friction, breaking, joints to the kinematic ground that have no rows in a
 /// substep (locked exactly in place at the start). Six towers (separate islands, every
@@ -235,6 +235,12 @@ fn lean_and_packed_sweeps_give_bullets_bits() {
                     assert!(
                         counts.sweeps > 0,
                         "{name}: the sweep never ran on the threads"
+                    );
+                }
+                if sweep != Sweep::PackedThreads {
+                    assert_eq!(
+                        counts.sweeps, 0,
+                        "the sweep on threads without PackedThreads"
                     );
                 }
                 if threads == 1 || sweep == Sweep::Lean {
