@@ -354,6 +354,10 @@ pub struct ConstraintSpec {
     pub breaking_impulse: f64,
     /// Enabled at creation.
     pub enabled: bool,
+    /// The row's strength is zero (an FE-derived residual capacity gone in this sense):
+    /// it never carries load, so no state enables it (threshold kept at the smallest
+    /// positive value Bullet accepts).
+    pub no_strength: bool,
 }
 
 impl ConstraintSpec {
@@ -451,7 +455,7 @@ impl ConnectionSpec {
         for (i, c) in self.constraints.iter_mut().enumerate() {
             let generic = i < GENERIC_COUNT;
             c.enabled = match state {
-                ConnectionState::Elastic => generic,
+                ConnectionState::Elastic => generic && !c.no_strength,
                 ConnectionState::Plastic => !generic && has_spring,
                 ConnectionState::Broken => false,
             };
@@ -930,7 +934,18 @@ fn constraint_specs(
     let dt = s.substep();
     let lin = |force: f64| force * s.linear_correction * dt;
     let ang = |moment: f64| moment * s.bending_correction * dt;
+    // A row whose strength is zero (an FE-derived residual capacity that is gone in
+    // that sense only, e.g. shear friction across a section pulled apart, or a residual
+    // moment about one axis; docs/handoff.md §3) can carry nothing: it starts broken
+    // (disabled), like a row Bullet broke in the first substep. Bullet takes only a
+    // positive threshold, so the disabled row keeps the smallest one.
     let generic = |role, locks: &[(usize, f64, f64)], impulse: f64| {
+        let no_strength = impulse == 0.0;
+        let impulse = if no_strength {
+            f64::MIN_POSITIVE
+        } else {
+            impulse
+        };
         let mut lower = [FREE.0; 6];
         let mut upper = [FREE.1; 6];
         for &(i, lo, hi) in locks {
@@ -948,7 +963,8 @@ fn constraint_specs(
             stiffness: [0.0; 6],
             damping: [0.0; 6],
             breaking_impulse: impulse,
-            enabled: true,
+            enabled: !no_strength,
+            no_strength,
         }
     };
     let mut v = vec![
@@ -997,8 +1013,10 @@ fn constraint_specs(
             spring: [true; 6],
             stiffness: spring_stiffness_axes(k, c, s.angular_spring),
             damping: [s.spring_damping; 6],
-            breaking_impulse: p * s.spring_correction * dt,
+            // A zero plastic strength: the spring breaks as soon as it is switched on.
+            breaking_impulse: (p * s.spring_correction * dt).max(f64::MIN_POSITIVE),
             enabled: false,
+            no_strength: false,
         });
     }
     v
@@ -1107,6 +1125,80 @@ mod tests {
         c.h_axis = 1;
         c.w_axis = 2;
         assert!(!col.cut_by(&c));
+    }
+
+    /// A row whose strength is zero starts broken (disabled) with a positive threshold
+    /// Bullet accepts; the others keep their impulse F·correction·h.
+    #[test]
+    fn a_zero_strength_row_starts_broken() {
+        let s = RuinSettings::default();
+        let geom = |z: f64| BodyGeom {
+            name: format!("Column:1:{z}"),
+            group: "1".into(),
+            centre: [0.0, 0.0, z],
+            rotation: UnitQuaternion::identity(),
+            half_extents: [0.1, 0.1, 0.5],
+            passive: false,
+        };
+        let (ba, bb) = (geom(0.5), geom(1.5));
+        let c = Contact {
+            a: 0,
+            b: 1,
+            pivot: [0.0, 0.0, 1.0],
+            normal_axis: 2,
+            normal_sign: 1.0,
+            h_axis: 0,
+            w_axis: 1,
+            h: 0.2,
+            w: 0.2,
+            normal_overlap: 0.0,
+            area: 0.04,
+            centre_distance: 1.0,
+        };
+        let f = ConnectionForces {
+            compression_n: 3.0e6,
+            tension_n: 0.0,
+            shear_h_n: 1.0e5,
+            shear_w_n: 0.0,
+            bend_h_nm: 2.0e5,
+            bend_w_nm: 2.0e5,
+            plastic_n: Some(0.0),
+            spring_stiffness: Some(1.0e6),
+        };
+        let specs = constraint_specs(&c, &ba, &bb, &ba.pose(), &bb.pose(), &f, &s);
+        assert_eq!(specs.len(), 7);
+        let dt = s.substep();
+        for (spec, force) in specs.iter().zip([3.0e6, 0.0, 1.0e5, 0.0]) {
+            assert_eq!(spec.enabled, force > 0.0, "{:?}", spec.role);
+            assert_eq!(spec.no_strength, force == 0.0, "{:?}", spec.role);
+            assert!(spec.breaking_impulse > 0.0, "{:?}", spec.role);
+            if force > 0.0 {
+                assert_eq!(spec.breaking_impulse, force * s.linear_correction * dt);
+            }
+        }
+        assert!(specs[6].breaking_impulse > 0.0 && !specs[6].enabled);
+        // An elastic start keeps the zero-strength rows off.
+        let mut conn = ConnectionSpec {
+            a: 0,
+            b: 1,
+            contact: c,
+            group: "1".into(),
+            forces: f,
+            tolerances: ResolvedTolerances {
+                dist1: None,
+                rot1: None,
+                dist2: None,
+                rot2: None,
+            },
+            spring_length: 1.0,
+            disable_collisions: true,
+            constraints: specs,
+            lost_at_start: false,
+            ductile: true,
+        };
+        conn.set_state(ConnectionState::Elastic);
+        let on: Vec<bool> = conn.constraints.iter().map(|c| c.enabled).collect();
+        assert_eq!(on, [true, false, true, false, true, true, false]);
     }
 
     #[test]

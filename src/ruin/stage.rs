@@ -811,7 +811,15 @@ impl RuinStage {
                 if spec.kind == SpecKind::Generic6Dof {
                     desc.override_solver_iterations = settings.joint_iterations;
                 }
-                let hnd = world.add_constraint(&desc)?;
+                let hnd = world.add_constraint(&desc).map_err(|e| {
+                    bad(
+                        &format!(
+                            "connection {} – {} ({:?} row)",
+                            input.bodies[c.a].name, input.bodies[c.b].name, spec.role
+                        ),
+                        e.to_string(),
+                    )
+                })?;
                 if let (
                     JointRows::Member {
                         modulus_pa,
@@ -1092,6 +1100,9 @@ impl RuinStage {
                 continue;
             }
             for k in BENDING_ROWS {
+                if c.constraints.get(k).is_some_and(|s| s.no_strength) {
+                    continue;
+                }
                 if let Some(&h) = self.constraint_handles[i].get(k) {
                     if !enabled[h.index()] {
                         if self.settings.hinge_keeps_rotation {
