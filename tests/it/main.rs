@@ -35,6 +35,7 @@ mod physics {
     mod world;
 }
 mod pipeline {
+    mod concrete_integration;
     mod ensemble;
     mod groups_measures;
     mod handoff_continuity;

@@ -209,6 +209,11 @@ struct DamageState {
 /// d⁻ = 1 − √(r⁻₀ / r⁻) (1 − A⁻) − A⁻ exp(B⁻ (1 − √(r⁻ / r⁻₀))), r⁻₀ = (√2 − k) fc / √3,
 /// r⁺₀ = ft; σ = (1 − d⁻) σ̄⁻ + (1 − d⁺) σ̄⁺ rotated back. The tangent is the derivative
 /// of this map (the same chain of derivatives as OpenSees, times C, plus 1e-12 C).
+///
+/// That is the default, [`ConcreteIntegration::Implicit`]. With
+/// [`ConcreteIntegration::Implex`] ([`Self::with_integration`]) the iterations use r⁺, r⁻
+/// and εᵖ extrapolated from the last two commits and the map above runs once per step, at
+/// the commit, on the converged strain.
 #[derive(Debug, Clone)]
 pub struct DamageConcreteFiber {
     e: f64,

@@ -309,3 +309,41 @@ fn rw2_implex_monotonic_study() {
         }
     }
 }
+
+/// RW2 with IMPL-EX concrete layers (docs/shell-verification.md §10), pushed in 0.5 mm
+/// steps to 2.2 % drift (161 steps, about 10 s in the debug build): the push completes
+/// and its largest base shear — at the end of the push, still rising — is within 5 % of
+/// the test's measured peak, 163.284 kN (source and caveats in §9; measured here
+/// 161.5 kN, 0.99 of it). Before the first crack (to 1.0 mm) IMPL-EX equals the implicit
+/// law (no damage to extrapolate). Not a claim for every step size: in 0.25 mm steps the
+/// push stops at 0.49 % drift, where yielded Steel02 bar layers switch between loading and
+/// unloading from one iteration to the next (§10).
+#[test]
+fn rw2_implex_push_reaches_the_measured_peak() {
+    let model = model();
+    let step = 0.5e-3;
+    let n = (0.022 * H / step).round() as usize;
+    let (fr, fail) = fem2rbd_with(&model, &[(step, n)], ConcreteIntegration::Implex);
+    assert_eq!(fail, None, "IMPL-EX push stopped at step {fail:?}");
+    let (imp, _) = fem2rbd_with(&model, &[(step, 2)], ConcreteIntegration::Implicit);
+    for k in 0..2 {
+        assert!(
+            (fr[k] - imp[k]).abs() <= 1e-9 * imp[k].abs(),
+            "{} mm: {} vs {}",
+            (k + 1) as f64 * 0.5,
+            fr[k],
+            imp[k]
+        );
+    }
+    let (k, p) = peak(&fr);
+    let measured = 163.284e3;
+    eprintln!(
+        "RW2 IMPL-EX: peak {:.2} kN at {:.2} mm ({:.3} % drift) = {:.3} of the measured {:.3} kN",
+        p / 1e3,
+        (k + 1) as f64 * step * 1e3,
+        (k + 1) as f64 * step / H * 100.0,
+        p / measured,
+        measured / 1e3
+    );
+    assert!((p / measured - 1.0).abs() < 0.05, "peak {p}");
+}
