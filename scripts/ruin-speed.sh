@@ -10,7 +10,8 @@
 #   (defaults: out/ruin-speed, 1, 3, "t1+bullet,t1,t2", frame7)
 #
 # CONFIGS: tN = N solver threads, +bullet = Bullet's own solver sweep (the "before" of the
-# lean iterations), +sleep = sleeping on (bench_ruin's docs). BUILDING = library runs the
+# lean iterations), +lean = the lean sweep (the "before" of the packed one), +threads = the
+# packed sweep always on the threads, +sleep = sleeping on (bench_ruin's docs). BUILDING = library runs the
 # same benchmark on the library stand-in's physics-only scenario
 # (data/library/elcentro-4g-physics.toml: 2 703 bodies, 9 095 connections) instead.
 # Run it under `nice -n 10` on a shared machine; compare the CPU columns.

@@ -193,11 +193,25 @@ int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *r
 int bs_world_set_solver_threads(bs_world *w, int n);
 int bs_world_get_solver_threads(const bs_world *w, int *n);
 
-/* Lean iterations (on by default): the solver's Gauss-Seidel sweep without Bullet's
- * per-iteration walk over every constraint for btTypedConstraint::solveConstraintObsolete,
- * which is empty for every constraint type the shim creates; the same rows in the same
- * order, so the same bits. 0 = Bullet's own solveSingleIteration (for benchmarks). */
-int bs_world_set_lean_iterations(bs_world *w, int on);
+/* The solver's sweep (the Gauss-Seidel iterations) and joint set-up:
+ * BS_SWEEP_BULLET: Bullet's own solveSingleIteration (for benchmarks);
+ * BS_SWEEP_LEAN: Bullet's sweep without its per-iteration walk over every constraint for
+ *   btTypedConstraint::solveConstraintObsolete, which is empty for every constraint type the
+ *   shim creates: the same rows in the same order through Bullet's row functions;
+ * BS_SWEEP_PACKED (the default): the lean sweep over packed copies of the joint rows (208
+ *   instead of 288 bytes a row, 128 bytes a solver body) in dependency-level order (every
+ *   body's rows keep Bullet's order), the same arithmetic; with solver threads n > 1 the
+ *   joints' set-up (getInfo1/getInfo2 and Bullet's convertJoint of every constraint) runs on
+ *   one or n threads, whichever has measured faster (the bits are the same);
+ * BS_SWEEP_PACKED_THREADS: as packed, the set-up always on the n threads, and the sweep of a
+ *   batch holding most of the substep's rows on n threads too (slabs of bodies, one per
+ *   thread, a row waiting for the rows before it on its bodies).
+ * All give the same bits, for any number of solver threads. */
+enum bs_sweep { BS_SWEEP_BULLET = 0, BS_SWEEP_LEAN = 1, BS_SWEEP_PACKED = 2, BS_SWEEP_PACKED_THREADS = 3 };
+int bs_world_set_sweep(bs_world *w, int sweep);
+/* Joint set-ups and packed sweeps (one each per solver batch and substep) run on the solver
+ * threads so far. */
+int bs_world_parallel_counts(const bs_world *w, long long *setups, long long *sweeps);
 
 /* Island statistics of the last substep's solve: the number of solver batches (island
  * groups passed to solveGroup), the solver rows of the largest batch and of all batches

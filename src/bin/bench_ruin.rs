@@ -11,8 +11,11 @@
 //! start + S and `stop_at_rest` off); default 1. `--rounds N`: runs of each setting (default
 //! 3; the median is reported). `--configs`: comma-separated settings, each `tN` (N solver
 //! threads) optionally followed by `+sleep` (Bullet's sleeping on) and `+bullet` (Bullet's
-//! own `solveSingleIteration` instead of the shim's lean sweep, the "before" of
-//! docs/performance.md); default `t1,t2`. CPU time per simulated second is the process's
+//! own `solveSingleIteration` instead of the shim's packed sweep, the "before" of session 6)
+//! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the "before" of
+//! session 7; docs/performance.md) or `+threads` (the packed sweep always on the threads where
+//! eligible, instead of whichever of one thread and the threads measures faster); default
+//! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
 //! first setting is the baseline of the ratios. Every setting's final poses are compared
 //! bit for bit with the baseline's ("same bits"), which holds for thread counts and is
@@ -60,8 +63,9 @@ struct Config {
     name: String,
     threads: usize,
     sleeping: bool,
-    /// Lean solver iterations (`+bullet` = off: Bullet's own `solveSingleIteration`).
-    lean: bool,
+    /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`), `threads` (`+threads`)
+    /// or `packed` (default).
+    sweep: &'static str,
 }
 
 struct Sample {
@@ -87,18 +91,24 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
                 .strip_prefix('t')
                 .and_then(|n| n.parse().ok())
                 .filter(|&n| n >= 1)
-                .with_context(|| format!("--configs: '{c}' must be tN[+sleep][+bullet]"))?;
+                .with_context(|| {
+                    format!("--configs: '{c}' must be tN[+sleep][+bullet|+lean|+threads]")
+                })?;
             let mut cfg = Config {
                 name: c.to_string(),
                 threads,
                 sleeping: false,
-                lean: true,
+                sweep: "packed",
             };
             for o in parts {
                 match o {
                     "sleep" => cfg.sleeping = true,
-                    "bullet" => cfg.lean = false,
-                    _ => bail!("--configs: '{c}': unknown option '{o}' (+sleep, +bullet)"),
+                    "bullet" => cfg.sweep = "bullet",
+                    "lean" => cfg.sweep = "lean",
+                    "threads" => cfg.sweep = "threads",
+                    _ => bail!(
+                        "--configs: '{c}': unknown option '{o}' (+sleep, +bullet, +lean, +threads)"
+                    ),
                 }
             }
             Ok(cfg)
@@ -114,7 +124,7 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
     // The stage reads its solver threads from FEM2RBD_THREADS (as the FE); this program
     // is single-threaded here, so setting the variable is sound.
     std::env::set_var("FEM2RBD_THREADS", cfg.threads.to_string());
-    std::env::set_var("FEM2RBD_LEAN_ITERATIONS", if cfg.lean { "1" } else { "0" });
+    std::env::set_var("FEM2RBD_SWEEP", cfg.sweep);
     profile_start()?;
     let clock = CpuClock::default();
     let rec = run(&sc, &clock)?;

@@ -178,10 +178,10 @@ pub struct StageSettings {
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
-    /// Lean solver iterations ([`crate::physics::World::set_lean_iterations`]): the same
-    /// bits, about half the CPU time on the library stand-in. Default on;
-    /// `FEM2RBD_LEAN_ITERATIONS=0` switches it off (for `bench_ruin`'s before/after).
-    pub lean_iterations: bool,
+    /// The solver's sweep ([`crate::physics::World::set_sweep`]): every kind gives the same
+    /// bits. Default [`crate::physics::Sweep::Packed`]; `FEM2RBD_SWEEP=bullet`, `lean` or
+    /// `threads` selects another (for `bench_ruin`'s before/after).
+    pub sweep: crate::physics::Sweep,
 }
 
 /// The error correction of the connections' locked (generic) rows.
@@ -246,10 +246,12 @@ impl Default for StageSettings {
             joint_iterations: None,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
-            lean_iterations: !matches!(
-                std::env::var("FEM2RBD_LEAN_ITERATIONS").as_deref(),
-                Ok("0")
-            ),
+            sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
+                Ok("bullet") => crate::physics::Sweep::Bullet,
+                Ok("lean") => crate::physics::Sweep::Lean,
+                Ok("threads") => crate::physics::Sweep::PackedThreads,
+                _ => crate::physics::Sweep::Packed,
+            },
         }
     }
 }
@@ -621,7 +623,7 @@ impl RuinStage {
             return Err(bad("joint_iterations", "must be >= 1".into()));
         }
         world.set_joint_warmstart(settings.joint_warmstart)?;
-        world.set_lean_iterations(settings.lean_iterations)?;
+        world.set_sweep(settings.sweep)?;
 
         // 1. Ground.
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);

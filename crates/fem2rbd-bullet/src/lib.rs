@@ -25,7 +25,7 @@ pub use settings::{
 };
 pub use speed::{
     global_deactivation_time, profile_read, profile_start, profile_stop,
-    set_global_deactivation_time, IslandStats, ProfileZone,
+    set_global_deactivation_time, IslandStats, ParallelCounts, ProfileZone, Sweep,
 };
 pub use types::{
     BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind,

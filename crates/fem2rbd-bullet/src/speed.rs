@@ -46,6 +46,41 @@ impl IslandStats {
     }
 }
 
+/// How the solver runs its Gauss–Seidel iterations and sets up the joints' rows
+/// ([`World::set_sweep`]). All three give the same bits (docs/performance.md, "Ruin stage").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Sweep {
+    /// Bullet 3.24's own `solveSingleIteration` (the "before" of the benchmarks).
+    Bullet,
+    /// Bullet's sweep without its per-iteration walk over every constraint for the empty
+    /// `solveConstraintObsolete`: the same rows in the same order through Bullet's row
+    /// functions.
+    Lean,
+    /// The lean sweep over packed copies of the joint rows (208 instead of 288 bytes a row,
+    /// 128 bytes a solver body), in dependency-level order (every body's rows keep Bullet's
+    /// order), the same arithmetic. With more than one solver thread the joints' set-up
+    /// (Bullet's `getInfo1`/`getInfo2`/`convertJoint` of every constraint, each writing only
+    /// its own rows) runs on one thread or on the solver threads, whichever has measured
+    /// faster per unit of work (on a machine busy with other work a waiting thread is often
+    /// not running).
+    #[default]
+    Packed,
+    /// As [`Sweep::Packed`], with the set-up always on the solver threads and the sweep of a
+    /// batch holding most of the substep's rows on the threads too (slabs of bodies, one per
+    /// thread; a row waits for the rows before it on its bodies). Same bits; on a loaded
+    /// machine far slower (docs/performance.md), so only on request.
+    PackedThreads,
+}
+
+/// Solver work that ran on the solver threads ([`World::parallel_counts`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ParallelCounts {
+    /// Joint set-ups (Bullet's `convertJoints` of one batch) run on the threads.
+    pub joint_setups: u64,
+    /// Packed sweeps (the iterations of one batch) run on the threads.
+    pub sweeps: u64,
+}
+
 /// Wall time of one Bullet profile zone (`BT_PROFILE`), inclusive of the zones inside it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ProfileZone {
@@ -133,15 +168,35 @@ impl World {
         })
     }
 
-    /// Lean solver iterations (on by default): the Gauss–Seidel sweep without Bullet's
-    /// per-iteration walk over every constraint for `solveConstraintObsolete` (empty for
-    /// every constraint type of this wrapper). The same rows in the same order, so the same
-    /// bits; the walk was about half of the ruin stage's CPU time on the library stand-in
-    /// (docs/performance.md). `false` = Bullet's own `solveSingleIteration`, for benchmarks.
-    pub fn set_lean_iterations(&mut self, on: bool) -> Result<(), PhysicsError> {
-        // SAFETY: live world.
-        check("set_lean_iterations", unsafe {
-            sys::bs_world_set_lean_iterations(self.raw_ptr(), i32::from(on))
+    /// The solver's sweep and joint set-up ([`Sweep`]; [`Sweep::Packed`] by default). Every
+    /// kind gives the same bits, for any number of solver threads.
+    pub fn set_sweep(&mut self, sweep: Sweep) -> Result<(), PhysicsError> {
+        let code = match sweep {
+            Sweep::Bullet => sys::BS_SWEEP_BULLET,
+            Sweep::Lean => sys::BS_SWEEP_LEAN,
+            Sweep::Packed => sys::BS_SWEEP_PACKED,
+            Sweep::PackedThreads => sys::BS_SWEEP_PACKED_THREADS,
+        };
+        // SAFETY: live world; the shim validates the code.
+        check("set_sweep", unsafe {
+            sys::bs_world_set_sweep(self.raw_ptr(), code as i32)
+        })
+    }
+
+    /// Joint set-ups and packed sweeps (one each per solver batch and substep) that ran on
+    /// the solver threads so far (with more than one thread: the set-up of a batch of at
+    /// least 64 constraints under [`Sweep::Packed`] when it measures faster, or always under
+    /// [`Sweep::PackedThreads`]; the sweep of a batch with more than half of the substep's
+    /// rows and at least 256 joint rows under [`Sweep::PackedThreads`]).
+    pub fn parallel_counts(&self) -> Result<ParallelCounts, PhysicsError> {
+        let (mut setups, mut sweeps) = (0i64, 0i64);
+        // SAFETY: live world, writable integers.
+        check("parallel_counts", unsafe {
+            sys::bs_world_parallel_counts(self.raw_ptr(), &mut setups, &mut sweeps)
+        })?;
+        Ok(ParallelCounts {
+            joint_setups: setups.max(0) as u64,
+            sweeps: sweeps.max(0) as u64,
         })
     }
 

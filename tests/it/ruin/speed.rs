@@ -2,7 +2,7 @@
 //! solver gives the same bytes for any thread count, and sleeping bodies wake when hit.
 
 use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
-use fem2rbd::physics::{BodyKind, BoxDesc, Pose, World, WorldSettings};
+use fem2rbd::physics::{BodyKind, BoxDesc, ParallelCounts, Pose, Sweep, World, WorldSettings};
 use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{RuinResult, RuinStage, StageInput, StageSettings, StopRule};
@@ -56,22 +56,57 @@ fn towers() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
     (bodies, masses, groups, hist)
 }
 
+/// A wall of 8 × 6 boxes of 0.3 × 0.5 × 0.5 m (CT 22 at 5 % of its strength between
+/// neighbours),
+/// joined side by side (along Y) and on top of each other, on a ground shaken across its
+/// plane (X) at 1 g, 2 Hz: one island of about 80 connections (more than 256 joint rows, so the packed
+/// sweep runs on the solver threads) that cracks, breaks and falls.
+fn wall() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
+    let (_, _, mut groups, hist) = towers();
+    groups[0].threshold_multiplier = 0.05;
+    let mut bodies = Vec::new();
+    for k in 0..6 {
+        for i in 0..8 {
+            bodies.push(BodyGeom {
+                name: format!("w{i}_{k}"),
+                group: "rc".into(),
+                centre: [0.0, 0.5 * i as f64, 0.25 + 0.5 * k as f64],
+                rotation: UnitQuaternion::identity(),
+                half_extents: [0.15, 0.25, 0.25],
+                passive: false,
+            });
+        }
+    }
+    let masses = vec![187.5; bodies.len()];
+    (bodies, masses, groups, hist)
+}
+
+type Scene = (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory);
+type SceneFn = fn() -> Scene;
+
 fn run_towers(threads: usize, batch: u32) -> (RuinResult, fem2rbd::physics::IslandStats) {
-    let (r, s, _) = run_towers_with(threads, batch, true);
+    let (r, s, _, _) = run_scene(towers(), threads, batch, Sweep::Packed);
     (r, s)
 }
 
-/// The towers' run, its island statistics and the contact pairs touching at the end.
-fn run_towers_with(
+/// A scene's run (2 s), its island statistics, the contact pairs touching at the end and
+/// the solver work that ran on the threads.
+fn run_scene(
+    scene: Scene,
     threads: usize,
     batch: u32,
-    lean: bool,
-) -> (RuinResult, fem2rbd::physics::IslandStats, usize) {
-    let (bodies, masses, groups, hist) = towers();
+    sweep: Sweep,
+) -> (
+    RuinResult,
+    fem2rbd::physics::IslandStats,
+    usize,
+    ParallelCounts,
+) {
+    let (bodies, masses, groups, hist) = scene;
     let input = StageInput::physics_only(&bodies, &masses, &groups);
     let mut settings = StageSettings {
         solver_threads: threads,
-        lean_iterations: lean,
+        sweep,
         ..StageSettings::default()
     };
     settings.world.solver.minimum_solver_batch_size = batch;
@@ -83,7 +118,8 @@ fn run_towers_with(
         })
         .unwrap();
     let contacts = stage.world().contact_pairs().unwrap().len();
-    (r, stage.world().island_stats().unwrap(), contacts)
+    let counts = stage.world().parallel_counts().unwrap();
+    (r, stage.world().island_stats().unwrap(), contacts, counts)
 }
 
 fn bits(r: &RuinResult) -> Vec<u64> {
@@ -142,29 +178,81 @@ fn island_parallel_solver_gives_the_same_bits_for_any_thread_count() {
 }
 
 /// The lean solver iterations (the shim's sweep without Bullet's per-iteration walk over
-/// every constraint for the empty `solveConstraintObsolete`) give the bits of Bullet's own
-/// `solveSingleIteration`: joint rows, contacts with the kinematic ground and between
-/// towers, friction, breaking, joints to the kinematic ground that have no rows in a substep
-/// (locked exactly in place at the start), on the sequential path (1 thread) and the
-/// island-parallel one (2 threads).
+/// every constraint for the empty `solveConstraintObsolete`) and the packed sweep (the same
+/// row arithmetic over packed copies of the rows, level by level; with more than one thread
+/// the joints' set-up on the threads and, for a batch with most of the rows, the sweep on
+/// the threads with waits that keep every body's rows in Bullet's order: `PackedThreads`;
+/// `Packed` takes the threads for the set-up where they measure faster) give the bits of
+/// Bullet's own `solveSingleIteration`: joint rows, contacts with the kinematic ground and
+/// between bodies, friction, breaking, joints to the kinematic ground that have no rows in a
+/// substep (locked exactly in place at the start). Six towers (separate islands, every
+/// island its own batch and Bullet's batching up to 128 constraints and manifolds) and one
+/// wall (one island), on 1, 2 and 3 threads.
 #[test]
-fn lean_iterations_give_bullets_bits() {
-    for threads in [1, 2] {
-        let (lean, sl, contacts) = run_towers_with(threads, 1, true);
-        let (bullet, sb, _) = run_towers_with(threads, 1, false);
+fn lean_and_packed_sweeps_give_bullets_bits() {
+    let scenes: [(&str, SceneFn, u32); 3] = [
+        ("towers", towers, 1),
+        ("towers", towers, 128),
+        ("wall", wall, 128),
+    ];
+    for (name, scene, batch) in scenes {
+        let (bullet, sb, _, _) = run_scene(scene(), 1, batch, Sweep::Bullet);
+        let broken = bullet
+            .connections
+            .iter()
+            .filter(|c| c.state == ConnectionState::Broken)
+            .count();
         eprintln!(
-            "{threads} thread(s): {} rows in {} substeps, {contacts} contact pairs at the end",
-            sl.rows_total, sl.substeps
+            "{name}: {} connections, {broken} broken",
+            bullet.connections.len()
         );
-        assert!(
-            contacts > 0,
-            "no contacts: the scene does not exercise the contact rows"
-        );
-        assert_eq!(sl, sb, "same islands and rows");
-        assert!(
-            bits(&lean) == bits(&bullet),
-            "lean iterations differ from Bullet's ({threads} thread(s))"
-        );
+        assert!(broken > 0, "{name}: nothing broke");
+        for threads in [1, 2, 3] {
+            for sweep in [Sweep::Lean, Sweep::Packed, Sweep::PackedThreads] {
+                if sweep != Sweep::PackedThreads && threads == 3 {
+                    continue;
+                }
+                let (r, s, contacts, counts) = run_scene(scene(), threads, batch, sweep);
+                eprintln!(
+                    "{name}, batch {batch}, {threads} thread(s), {sweep:?}: {} rows in {} \
+                     substeps (largest batch {:.2}), {contacts} contact pairs at the end, \
+                     {broken} broken, on threads: {counts:?}",
+                    s.rows_total,
+                    s.substeps,
+                    s.largest_share()
+                );
+                assert!(
+                    contacts > 0,
+                    "no contacts: the scene does not exercise the contact rows"
+                );
+                if sweep == Sweep::PackedThreads && threads > 1 && batch == 128 {
+                    assert!(
+                        counts.joint_setups > 0,
+                        "{name}: the joints' set-up never ran on the threads"
+                    );
+                }
+                if sweep == Sweep::PackedThreads && threads > 1 && name == "wall" {
+                    assert!(
+                        counts.sweeps > 0,
+                        "{name}: the sweep never ran on the threads"
+                    );
+                }
+                if sweep != Sweep::PackedThreads {
+                    assert_eq!(
+                        counts.sweeps, 0,
+                        "the sweep on threads without PackedThreads"
+                    );
+                }
+                if threads == 1 || sweep == Sweep::Lean {
+                    assert_eq!(counts, ParallelCounts::default());
+                }
+                assert_eq!(s, sb, "same islands and rows");
+                assert!(
+                    bits(&r) == bits(&bullet),
+                    "{name}: {sweep:?} differs from Bullet's sweep ({threads} thread(s), batch {batch})"
+                );
+            }
+        }
     }
 }
 
