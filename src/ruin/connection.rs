@@ -1153,11 +1153,9 @@ mod tests {
         assert!(!col.cut_by(&c));
     }
 
-    /// A row whose strength is zero starts broken (disabled) with a positive threshold
-    /// Bullet accepts; the others keep their impulse F·correction·h.
-    #[test]
-    fn a_zero_strength_row_starts_broken() {
-        let s = RuinSettings::default();
+    /// Two 0.2 × 0.2 × 1 m column pieces stacked on Z and their contact at z = 1 m
+    /// (normal Z, h along X, w along Y).
+    fn stacked_columns() -> (BodyGeom, BodyGeom, Contact) {
         let geom = |z: f64| BodyGeom {
             name: format!("Column:1:{z}"),
             group: "1".into(),
@@ -1181,6 +1179,15 @@ mod tests {
             area: 0.04,
             centre_distance: 1.0,
         };
+        (ba, bb, c)
+    }
+
+    /// A row whose strength is zero starts broken (disabled) with a positive threshold
+    /// Bullet accepts; the others keep their impulse F·correction·h.
+    #[test]
+    fn a_zero_strength_row_starts_broken() {
+        let s = RuinSettings::default();
+        let (ba, bb, c) = stacked_columns();
         let f = ConnectionForces {
             compression_n: 3.0e6,
             tension_n: 0.0,
@@ -1236,29 +1243,7 @@ mod tests {
             axial_rows: super::super::axial::AxialRows::TwoWay,
             ..RuinSettings::default()
         };
-        let geom = |z: f64| BodyGeom {
-            name: format!("Column:1:{z}"),
-            group: "1".into(),
-            centre: [0.0, 0.0, z],
-            rotation: UnitQuaternion::identity(),
-            half_extents: [0.1, 0.1, 0.5],
-            passive: false,
-        };
-        let (ba, bb) = (geom(0.5), geom(1.5));
-        let c = Contact {
-            a: 0,
-            b: 1,
-            pivot: [0.0, 0.0, 1.0],
-            normal_axis: 2,
-            normal_sign: 1.0,
-            h_axis: 0,
-            w_axis: 1,
-            h: 0.2,
-            w: 0.2,
-            normal_overlap: 0.0,
-            area: 0.04,
-            centre_distance: 1.0,
-        };
+        let (ba, bb, c) = stacked_columns();
         let forces = |t: f64| ConnectionForces {
             compression_n: 3.0e6,
             tension_n: t,

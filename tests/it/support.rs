@@ -40,3 +40,21 @@ pub fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
         }
     }
 }
+
+/// An axis-aligned box for the ruin-stage tests: group "rc" (active) or "base" (passive),
+/// centre and half extents in m.
+pub fn rc_box(
+    name: &str,
+    centre: [f64; 3],
+    he: [f64; 3],
+    passive: bool,
+) -> fem2rbd::ruin::BodyGeom {
+    fem2rbd::ruin::BodyGeom {
+        name: name.into(),
+        group: if passive { "base" } else { "rc" }.into(),
+        centre,
+        rotation: nalgebra::UnitQuaternion::identity(),
+        half_extents: he,
+        passive,
+    }
+}

@@ -10,21 +10,10 @@ use fem2rbd::ruin::connection::{GroupStrength, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{to_isometry, RuinStage, StageInput, StageSettings};
 use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
-use fem2rbd::ruin::BodyGeom;
-use nalgebra::UnitQuaternion;
 
 const G: f64 = 9.81;
 
-fn body(name: &str, centre: [f64; 3], he: [f64; 3], passive: bool) -> BodyGeom {
-    BodyGeom {
-        name: name.into(),
-        group: if passive { "base" } else { "rc" }.into(),
-        centre,
-        rotation: UnitQuaternion::identity(),
-        half_extents: he,
-        passive,
-    }
-}
+use crate::support::rc_box as body;
 
 fn group(name: &str, t: f64) -> GroupStrength {
     GroupStrength {

@@ -14,16 +14,7 @@ use nalgebra::UnitQuaternion;
 
 const G: f64 = 9.81;
 
-fn body(name: &str, centre: [f64; 3], he: [f64; 3], passive: bool) -> BodyGeom {
-    BodyGeom {
-        name: name.into(),
-        group: if passive { "base" } else { "rc" }.into(),
-        centre,
-        rotation: UnitQuaternion::identity(),
-        half_extents: he,
-        passive,
-    }
-}
+use crate::support::rc_box as body;
 
 fn group(name: &str, b: f64, p: Option<f64>) -> GroupStrength {
     GroupStrength {
