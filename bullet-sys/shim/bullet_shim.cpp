@@ -1220,37 +1220,16 @@ class ParallelIslandSolver : public WarmJointSolver {
             for (size_t i = 0; i < n; ++i) order[i] = i;
             std::stable_sort(order.begin(), order.end(),
                              [&](size_t a, size_t b) { return jobs_[a].rows > jobs_[b].rows; });
-            std::atomic<size_t> next{0};
-            std::atomic<bool> failed{false};
-            std::string error;
-            std::mutex error_mutex;
-            auto work = [&]() {
-                for (;;) {
-                    size_t k = next.fetch_add(1);
-                    if (k >= n || failed.load()) return;
+            // One batch per work item, handed out in that order (parallel_chunks: the
+            // first exception of any thread is rethrown here after all have stopped).
+            parallel_chunks(static_cast<int>(n), threads, 1, [&](int b, int e) {
+                for (int k = b; k < e; ++k) {
                     SolverJob &j = jobs_[order[k]];
-                    try {
-                        solvers_[order[k]]->iterate(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
-                                                    static_cast<int>(j.manifolds.size()), ptr(j.constraints),
-                                                    static_cast<int>(j.constraints.size()), info, dd);
-                    } catch (const std::exception &e) {
-                        std::lock_guard<std::mutex> lock(error_mutex);
-                        error = e.what();
-                        failed.store(true);
-                    } catch (...) {
-                        std::lock_guard<std::mutex> lock(error_mutex);
-                        error = "unknown C++ exception";
-                        failed.store(true);
-                    }
+                    solvers_[order[k]]->iterate(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
+                                                static_cast<int>(j.manifolds.size()), ptr(j.constraints),
+                                                static_cast<int>(j.constraints.size()), info, dd);
                 }
-            };
-            size_t extra = std::min(n, static_cast<size_t>(threads)) - 1;
-            std::vector<std::thread> pool;
-            pool.reserve(extra);
-            for (size_t t = 0; t < extra; ++t) pool.emplace_back(work);
-            work();
-            for (auto &t : pool) t.join();
-            if (failed.load()) throw std::runtime_error("solver thread: " + error);
+            });
         }
         {
             BT_PROFILE("parallelSolverFinish");
