@@ -859,6 +859,9 @@ pub fn ruin_stage(
             error: Box::new(error),
         })?;
     progress.done();
+    if let Some((path, text)) = stage.axial_trace_report() {
+        crate::output::write_atomic(&path, text.as_bytes())?;
+    }
     check_finite(&result, &inputs.bodies, sc)?;
     Ok((result, t0.elapsed()))
 }

@@ -50,12 +50,12 @@
 //! tension row) and the **kicks** — a dynamic body whose centre velocity changes by more
 //! than `FEM2RBD_AXIAL_TRACE_KICK` m/s (default 0.1) in one substep — and whether a
 //! connection of that body changed sign just before (the rows of the kicked substep were
-//! chosen on a new sign). Written when the stage is dropped.
+//! chosen on a new sign). Written by the pipeline after the ruin stage (`RuinStage::axial_trace_report`).
 
 use nalgebra::Isometry3;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::io::Write;
+use std::fmt::Write;
 
 /// How a connection's axial (normal) direction is held while it is elastic (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -238,8 +238,16 @@ impl AxialTrace {
         ));
     }
 
-    fn write(&self, pairs: &[(usize, usize)]) -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&self.path)?;
+    /// Where the trace goes and its text (`pairs`: each connection's bodies). The
+    /// pipeline writes it (`crate::pipeline::ruin_stage`): only `output` writes files.
+    pub(crate) fn report(&self, pairs: &[(usize, usize)]) -> (std::path::PathBuf, String) {
+        let mut f = String::new();
+        // Writing into a String cannot fail.
+        let _ = self.write_into(&mut f, pairs);
+        (self.path.clone(), f)
+    }
+
+    fn write_into(&self, f: &mut String, pairs: &[(usize, usize)]) -> std::fmt::Result {
         let total: u64 = self.switches.values().sum();
         let rate = |a: u64, b: u64| if b > 0 { a as f64 / b as f64 } else { f64::NAN };
         writeln!(
@@ -285,13 +293,6 @@ impl AxialTrace {
             writeln!(f, "{r}")?;
         }
         Ok(())
-    }
-
-    /// Writes the summary (errors go to stderr: a debug aid must not fail a run).
-    pub(crate) fn finish(&self, pairs: &[(usize, usize)]) {
-        if let Err(e) = self.write(pairs) {
-            eprintln!("axial trace {}: {e}", self.path.display());
-        }
     }
 }
 

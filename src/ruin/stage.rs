@@ -480,15 +480,6 @@ pub struct RuinStage {
     axial_threshold: Vec<f64>,
 }
 
-impl Drop for RuinStage {
-    fn drop(&mut self) {
-        if let Some(t) = &self.axial_trace {
-            let pairs: Vec<(usize, usize)> = self.connections.iter().map(|c| (c.a, c.b)).collect();
-            t.finish(&pairs);
-        }
-    }
-}
-
 /// Bullet's activation state `ISLAND_SLEEPING`.
 const ISLAND_SLEEPING: i32 = 2;
 
@@ -1264,6 +1255,13 @@ impl RuinStage {
             }
         }
         Ok(())
+    }
+
+    /// The debug trace of the axial rows (`super::axial`, on only with
+    /// `FEM2RBD_AXIAL_TRACE=<file>`): its file and text, for the caller to write.
+    pub fn axial_trace_report(&self) -> Option<(std::path::PathBuf, String)> {
+        let pairs: Vec<(usize, usize)> = self.connections.iter().map(|c| (c.a, c.b)).collect();
+        self.axial_trace.as_ref().map(|t| t.report(&pairs))
     }
 
     /// The energy ledger now ([`super::energy`]).
