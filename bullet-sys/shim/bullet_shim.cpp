@@ -497,6 +497,18 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
 
     // The contact, friction and rolling-friction rows of one iteration (Bullet's order).
     void contact_rows(int iteration, const btContactSolverInfo &infoGlobal, btScalar &leastSquaresResidual) {
+        // A friction row bounded by friction × its contact's impulse (Bullet's code in both
+        // of its branches below).
+        auto solve_friction = [&](btSolverConstraint &solveManifold, btScalar totalImpulse) {
+            if (totalImpulse > btScalar(0)) {
+                solveManifold.m_lowerLimit = -(solveManifold.m_friction * totalImpulse);
+                solveManifold.m_upperLimit = solveManifold.m_friction * totalImpulse;
+                btScalar residual = m_resolveSingleConstraintRowGeneric(
+                    m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
+                    m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
+                leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
+            }
+        };
         if (iteration < infoGlobal.m_numIterations) {
             const int numPoolConstraints = m_tmpSolverContactConstraintPool.size();
             if (infoGlobal.m_solverMode & SOLVER_INTERLEAVE_CONTACT_AND_FRICTION_CONSTRAINTS) {
@@ -514,14 +526,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
                     for (int k = 0; k < multiplier; ++k) {
                         btSolverConstraint &solveManifold =
                             m_tmpSolverContactFrictionConstraintPool[m_orderFrictionConstraintPool[c * multiplier + k]];
-                        if (totalImpulse > btScalar(0)) {
-                            solveManifold.m_lowerLimit = -(solveManifold.m_friction * totalImpulse);
-                            solveManifold.m_upperLimit = solveManifold.m_friction * totalImpulse;
-                            btScalar residual = m_resolveSingleConstraintRowGeneric(
-                                m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
-                                m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
-                            leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
-                        }
+                        solve_friction(solveManifold, totalImpulse);
                     }
                 }
             } else {
@@ -536,14 +541,7 @@ class LeanSolver : public btSequentialImpulseConstraintSolver {
                 for (int j = 0; j < numFrictionPoolConstraints; j++) {
                     btSolverConstraint &solveManifold = m_tmpSolverContactFrictionConstraintPool[m_orderFrictionConstraintPool[j]];
                     btScalar totalImpulse = m_tmpSolverContactConstraintPool[solveManifold.m_frictionIndex].m_appliedImpulse;
-                    if (totalImpulse > btScalar(0)) {
-                        solveManifold.m_lowerLimit = -(solveManifold.m_friction * totalImpulse);
-                        solveManifold.m_upperLimit = solveManifold.m_friction * totalImpulse;
-                        btScalar residual = m_resolveSingleConstraintRowGeneric(
-                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdA],
-                            m_tmpSolverBodyPool[solveManifold.m_solverBodyIdB], solveManifold);
-                        leastSquaresResidual = btMax(leastSquaresResidual, residual * residual);
-                    }
+                    solve_friction(solveManifold, totalImpulse);
                 }
             }
             const int numRollingFrictionPoolConstraints = m_tmpSolverContactRollingFrictionConstraintPool.size();
