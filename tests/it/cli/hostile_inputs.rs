@@ -178,6 +178,13 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\njoint_iterations = 0")),
         case(
+            "axial_rows sideways",
+            run,
+            1,
+            &["s.toml:", "unknown variant `sideways`", "two_way"],
+        )
+        .with("s.toml", scenario("", "[physics]\naxial_rows = \"sideways\"")),
+        case(
             "time_limit_s 1e9",
             run,
             1,
