@@ -16,6 +16,7 @@ and the FE-derived one ("fe"). Usage:
 
   python3 scripts/handoff-continuity.py [--model data/frame3/model.toml]
       [--time-scale 0.5] [--out out/handoff] [--ruins] [--reuse] [--connections fe]
+      [--physics 'linear_correction = 1; bending_correction = 1']
 
 --reuse keeps every run folder that already has a summary.json (rerun by deleting it);
 --connections limits (a)-(c) to the listed connection models (default: formula,fe).
@@ -36,6 +37,7 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("FEM2RBD", os.path.join(ROOT, "target", "release", "fem2rbd"))
 REUSE = False
+EXTRA = ""  # extra [physics] lines of every Bullet run (--physics)
 GM = os.path.join(ROOT, "data", "ground-motions")
 LC5 = [("RSN6_IMPVALL.I_I-ELC180.AT2", "X", 0.93),
        ("RSN6_IMPVALL.I_I-ELC270.AT2", "Y", 1.19),
@@ -55,7 +57,7 @@ def scenario(path, model, out, mode, ts, collapse, physics, zeros=None, fe_extra
             lines += ["[[ground_motion]]", f'file = "{os.path.join(GM, f)}"',
                       f'direction = "{d}"', f"pga_g = {g}", f"time_scale = {ts}", ""]
     lines += ["[fe]", "dt = 0.005", fe_extra, "", "[collapse]", collapse, "",
-              "[physics]", physics, ""]
+              "[physics]", physics, EXTRA if mode != "fe" else "", ""]
     with open(path, "w") as fh:
         fh.write("\n".join(lines))
 
@@ -109,7 +111,12 @@ def main():
     ap.add_argument("--ruins", action="store_true", help="(d): full ruin runs at 200/400/800")
     ap.add_argument("--reuse", action="store_true", help="keep run folders with a summary.json")
     ap.add_argument("--connections", default="formula,fe", help="connection models of (a)-(c)")
+    ap.add_argument("--physics", default="",
+                    help="extra [physics] keys for every Bullet run, ';'-separated, "
+                         "e.g. 'linear_correction = 1; bending_correction = 1'")
     a = ap.parse_args()
+    global EXTRA
+    EXTRA = "\n".join(k.strip() for k in a.physics.split(";") if k.strip())
     global REUSE
     REUSE = a.reuse
     cms = [c for c in a.connections.split(",") if c]

@@ -311,6 +311,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.linear_damping = p.linear_damping;
     s.body.angular_damping = p.angular_damping;
     s.ruin.spring_correction = p.spring_correction;
+    s.ruin.linear_correction = p.linear_correction;
+    s.ruin.bending_correction = p.bending_correction;
     s.ruin.spring_damping = p.spring_damping;
     s.ruin.spring_limit_if_needed = p.spring_limit;
     s.ruin.angular_spring = p.angular_spring;

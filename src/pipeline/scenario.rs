@@ -181,6 +181,13 @@ pub struct PhysicsSpec {
     pub angular_damping: f64,
     /// BCB's spring correction factor of the plastic-spring stiffness (2).
     pub spring_correction: f64,
+    /// BCB's empirical correction of the linear generic rows' breaking impulses (2.2:
+    /// threshold = force · 2.2 · Δt; docs/bcb.md §3.1): `crate::ruin::connection::
+    /// RuinSettings::linear_correction`.
+    pub linear_correction: f64,
+    /// BCB's correction of the bending rows' breaking impulses (1.5):
+    /// `crate::ruin::connection::RuinSettings::bending_correction`.
+    pub bending_correction: f64,
     /// Plastic-spring damping (BCB 20).
     pub spring_damping: f64,
     /// Bullet's per-substep cap of the plastic springs' stiffness and damping (true, as
@@ -308,6 +315,8 @@ impl Default for PhysicsSpec {
             linear_damping: 0.04,
             angular_damping: 0.1,
             spring_correction: 2.0,
+            linear_correction: 2.2,
+            bending_correction: 1.5,
             spring_damping: 20.0,
             spring_limit: true,
             angular_spring: crate::ruin::connection::AngularSpring::Lever,
@@ -482,6 +491,22 @@ impl PhysicsSpec {
             self.spring_correction,
             0.0,
             false,
+            100.0,
+            "",
+        )?;
+        r(
+            "physics.linear_correction",
+            self.linear_correction,
+            0.0,
+            true,
+            100.0,
+            "",
+        )?;
+        r(
+            "physics.bending_correction",
+            self.bending_correction,
+            0.0,
+            true,
             100.0,
             "",
         )?;

@@ -178,6 +178,13 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\njoint_iterations = 0")),
         case(
+            "linear_correction 0",
+            run,
+            1,
+            &["s.toml", "physics.linear_correction = 0"],
+        )
+        .with("s.toml", scenario("", "[physics]\nlinear_correction = 0.0")),
+        case(
             "axial_rows sideways",
             run,
             1,
