@@ -39,6 +39,24 @@ fn main() {
         );
     }
 
+    // Eigen (header-only) for the shim's direct joint solve (Eigen::SimplicialLDLT).
+    let eigen = match pkg_config::Config::new()
+        .cargo_metadata(false)
+        .probe("eigen3")
+    {
+        Ok(e) => e.include_paths,
+        Err(_) => {
+            let dir = PathBuf::from("/usr/include/eigen3");
+            if !dir.join("Eigen/SparseCholesky").exists() {
+                panic!(
+                    "Eigen 3 not found (pkg-config `eigen3`, nor /usr/include/eigen3): the shim's \
+                     direct joint solve needs it:\n    apt-get install libeigen3-dev"
+                );
+            }
+            vec![dir]
+        }
+    };
+
     let mut build = cc::Build::new();
     build
         .cpp(true)
@@ -48,7 +66,7 @@ fn main() {
         // The packed sweep repeats Bullet's row arithmetic operation for operation; no fused
         // multiply-adds, so it stays the same bits as the library's own function.
         .flag("-ffp-contract=off");
-    for p in &lib.include_paths {
+    for p in lib.include_paths.iter().chain(&eigen) {
         build.include(p);
     }
     // Forward the package's defines (BT_USE_DOUBLE_PRECISION) so the shim's btScalar

@@ -3,6 +3,7 @@
 # only installs what is missing, so a second run takes a second or two.
 #
 #   apt: libbullet-dev (Bullet 3.24, double-precision libs + bullet-float64.pc),
+#        libeigen3-dev (header-only; the shim's direct joint solve, SimplicialLDLT),
 #        pkg-config, libclang-dev and clang (bindgen at build time), g++ (the C++
 #        shim; gcc links Rust binaries), python3 + pip,
 #        slurmctld slurmd slurm-client munge (tests/it/study/slurm.rs brings up a
@@ -37,7 +38,7 @@ apt_missing() {
 }
 
 # g++ compiles the C++ shim (the cc crate calls `c++`) and gcc links Rust binaries.
-APT_PACKAGES=(libbullet-dev libclang-dev clang pkg-config g++)
+APT_PACKAGES=(libbullet-dev libeigen3-dev libclang-dev clang pkg-config g++)
 # A python3 with pip from elsewhere (pyenv, venv) is fine; otherwise take Debian's.
 if ! { command -v python3 >/dev/null 2>&1 && python3 -m pip --version >/dev/null 2>&1; }; then
     APT_PACKAGES+=(python3 python3-pip)

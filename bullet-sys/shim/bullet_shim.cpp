@@ -3,6 +3,11 @@
 // BS_ERR_EXCEPTION and records a message for bs_last_error().
 #include "bullet_shim.h"
 
+// Eigen before Bullet: the direct joint solve (DirectJointSolver) factors with
+// Eigen::SimplicialLDLT (Debian: libeigen3-dev, header-only).
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
 #include <btBulletDynamicsCommon.h>
 #include <BulletDynamics/ConstraintSolver/btFixedConstraint.h>
 #include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
@@ -1060,6 +1065,174 @@ class WarmJointSolver : public LeanSolver {
     }
 };
 
+// ---- direct solve of the joints' bilateral rows -----------------------------------------
+//
+// Bullet 3.24's projected Gauss-Seidel row update (btSequentialImpulseConstraintSolver.cpp,
+// gResolveSingleConstraintRowGeneric_scalar_reference) is, for a row i between solver bodies
+// a and b with D_i = m_jacDiagABInv, C_i = m_cfm (convertJoint keeps the joint's own CFM, not
+// multiplied by D_i, unlike a contact's) and the bodies' velocity changes dv so far:
+//   dlambda_i = m_rhs_i - lambda_i C_i - D_i (J_i . dv),   J_i = (n1, r1 x n1 | n2, r2 x n2)
+// (m_contactNormal1, m_relpos1CrossNormal, m_contactNormal2, m_relpos2CrossNormal), clamped so
+// that lambda_i stays in [m_lowerLimit, m_upperLimit], then applied to both bodies by
+// btSolverBody::internalApplyImpulse: dv_lin += n * invMass * dlambda * linearFactor and
+// dv_ang += m_angularComponent * dlambda * angularFactor, where invMass = 1/m * linearFactor
+// (initSolverBody) and m_angularComponentA = I_A^-1 (r1 x n1) * angularFactor_A (convertJoint).
+// Its fixed point for the rows that are bilateral (m_lowerLimit < 0 < m_upperLimit) and not
+// clamped is the linear system
+//   (A + diag(C_i / D_i)) lambda = m_rhs_i / D_i - J_i . dv0,
+//   A_ij = sum over the bodies rows i and j share of J_i^b . u_j^b,
+//   u_j^b = (n_j^b * invMass_b * linearFactor_b, m_angularComponent_j^b * angularFactor_b),
+// the response of body b's velocity to a unit impulse of row j (dynamic bodies only: a static
+// or kinematic body has invMass 0 and zero inverse inertia). With uniform angular factors
+// (the shim never sets any) A = J M^-1 J^T is symmetric positive semi-definite. The solver
+// below assembles it sparse (rows couple only through shared bodies), adds eps * A_ii to its
+// diagonal (redundant locked rows in closed frame loops make A singular when C = 0), factors
+// it with Eigen's SimplicialLDLT and solves for the increment over the rows' present impulses
+// (0 or a warm start) in residual form,
+//   (A + diag(C_i/D_i) + eps diag(A_ii)) delta = (m_rhs_i - lambda_i C_i)/D_i - J_i . dv,
+// so the result replaces a warm start rather than adding to it. Each new impulse is clamped
+// to the row's bounds (its breaking threshold), stored as m_appliedImpulse and the change
+// applied to both solver bodies as the row update does; Bullet's iterations then run as
+// usual from there (contacts, one-sided limit rows, and the clamped rows). If the
+// factorisation fails or a result is not finite the substep stays with PGS (a fallback).
+// Runs in the batch's set-up on the calling thread; all scratch state is the solver's own.
+struct JointDirectSolve {
+    int mode = 0;                   // BS_JOINT_SOLVE_PGS or BS_JOINT_SOLVE_DIRECT
+    double regularisation = 1e-8;   // eps
+    long long solves = 0;           // batches solved directly
+    long long fallbacks = 0;        // batches left to PGS (factorisation failed, non-finite)
+    long long rows = 0;             // rows solved directly (diagnostics)
+};
+
+class DirectJointSolver : public WarmJointSolver {
+   public:
+    JointDirectSolve *direct = nullptr;
+
+   protected:
+    void convertJoints(btTypedConstraint **constraints, int numConstraints, const btContactSolverInfo &info) override {
+        WarmJointSolver::convertJoints(constraints, numConstraints, info);
+        if (direct && direct->mode == BS_JOINT_SOLVE_DIRECT) direct_solve();
+    }
+
+   private:
+    struct Side {
+        int body = -1;  // solver body, -1: no response (static, kinematic)
+        btVector3 jl, ja, ul, ua;
+    };
+    std::vector<int> rows_;                  // pool index of each bilateral row
+    std::vector<Side> sides_;                // 2 per row (A, B)
+    std::vector<std::vector<int>> touching_; // per solver body: 2 * local row + side
+    std::vector<Eigen::Triplet<double>> trip_;
+    Eigen::SparseMatrix<double> m_;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
+    Eigen::VectorXd rhs_, delta_;
+
+    bool responds(const btSolverBody &b) const {
+        return b.m_originalBody && b.m_originalBody->getInvMass() > 0;
+    }
+
+    void direct_solve() {
+        const int n = m_tmpSolverNonContactConstraintPool.size();
+        const int nb = m_tmpSolverBodyPool.size();
+        rows_.clear();
+        for (int r = 0; r < n; ++r) {
+            const btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[r];
+            if (!(c.m_lowerLimit < 0 && c.m_upperLimit > 0)) continue;  // one-sided: PGS
+            if (!(std::isfinite(c.m_jacDiagABInv) && c.m_jacDiagABInv > 0)) continue;
+            if (!responds(m_tmpSolverBodyPool[c.m_solverBodyIdA]) && !responds(m_tmpSolverBodyPool[c.m_solverBodyIdB]))
+                continue;
+            rows_.push_back(r);
+        }
+        const int m = static_cast<int>(rows_.size());
+        if (m == 0) return;
+        if (static_cast<int>(touching_.size()) < nb) touching_.resize(static_cast<size_t>(nb));
+        for (int b = 0; b < nb; ++b) touching_[b].clear();
+        sides_.assign(static_cast<size_t>(2 * m), Side());
+        for (int p = 0; p < m; ++p) {
+            const btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[rows_[p]];
+            for (int s = 0; s < 2; ++s) {
+                const int id = s == 0 ? c.m_solverBodyIdA : c.m_solverBodyIdB;
+                const btSolverBody &b = m_tmpSolverBodyPool[id];
+                if (!responds(b)) continue;
+                // internalApplyImpulse multiplies the angular response by the body's angular
+                // factor elementwise: A stays symmetric only for a uniform factor.
+                if (!(b.m_angularFactor.x() == b.m_angularFactor.y() && b.m_angularFactor.y() == b.m_angularFactor.z())) {
+                    direct->fallbacks += 1;
+                    return;
+                }
+                Side &sd = sides_[static_cast<size_t>(2 * p + s)];
+                sd.body = id;
+                sd.jl = s == 0 ? c.m_contactNormal1 : c.m_contactNormal2;
+                sd.ja = s == 0 ? c.m_relpos1CrossNormal : c.m_relpos2CrossNormal;
+                sd.ul = sd.jl * b.internalGetInvMass() * b.m_linearFactor;
+                sd.ua = (s == 0 ? c.m_angularComponentA : c.m_angularComponentB) * b.m_angularFactor;
+                touching_[id].push_back(2 * p + s);
+            }
+        }
+        // Lower triangle, in row order then side order (A, B) of the later row, so the sums
+        // do not depend on the solver bodies' numbering.
+        trip_.clear();
+        rhs_.resize(m);
+        const double eps = direct->regularisation;
+        for (int p = 0; p < m; ++p) {
+            const btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[rows_[p]];
+            double diag = 0;
+            for (int s = 0; s < 2; ++s) {
+                const Side &sp = sides_[static_cast<size_t>(2 * p + s)];
+                if (sp.body < 0) continue;
+                for (int e : touching_[sp.body]) {
+                    const int q = e / 2;
+                    if (q > p) break;  // touching_ lists are in row order
+                    const Side &sq = sides_[static_cast<size_t>(e)];
+                    const double v = sp.jl.dot(sq.ul) + sp.ja.dot(sq.ua);
+                    trip_.emplace_back(p, q, v);
+                    if (q == p && e == 2 * p + s) diag += v;
+                }
+            }
+            const double d = c.m_jacDiagABInv;
+            trip_.emplace_back(p, p, c.m_cfm / d + eps * diag);
+            const btSolverBody &a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
+            const btSolverBody &b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
+            const double jdv = c.m_contactNormal1.dot(a.m_deltaLinearVelocity) +
+                               c.m_relpos1CrossNormal.dot(a.m_deltaAngularVelocity) +
+                               c.m_contactNormal2.dot(b.m_deltaLinearVelocity) +
+                               c.m_relpos2CrossNormal.dot(b.m_deltaAngularVelocity);
+            rhs_[p] = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / d - jdv;
+        }
+        m_.resize(m, m);
+        m_.setFromTriplets(trip_.begin(), trip_.end());
+        ldlt_.compute(m_);
+        if (ldlt_.info() != Eigen::Success) {
+            direct->fallbacks += 1;
+            return;
+        }
+        delta_ = ldlt_.solve(rhs_);
+        if (ldlt_.info() != Eigen::Success) {
+            direct->fallbacks += 1;
+            return;
+        }
+        for (int p = 0; p < m; ++p)
+            if (!std::isfinite(delta_[p])) {
+                direct->fallbacks += 1;
+                return;
+            }
+        for (int p = 0; p < m; ++p) {
+            btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[rows_[p]];
+            const btScalar old = c.m_appliedImpulse;
+            const btScalar lambda = btMax(c.m_lowerLimit, btMin(c.m_upperLimit, old + btScalar(delta_[p])));
+            const btScalar dl = lambda - old;
+            c.m_appliedImpulse = lambda;
+            if (dl == 0) continue;
+            btSolverBody &a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
+            btSolverBody &b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
+            a.internalApplyImpulse(c.m_contactNormal1 * a.internalGetInvMass(), c.m_angularComponentA, dl);
+            b.internalApplyImpulse(c.m_contactNormal2 * b.internalGetInvMass(), c.m_angularComponentB, dl);
+        }
+        direct->solves += 1;
+        direct->rows += m;
+    }
+};
+
 // ---- island-parallel solving -------------------------------------------------------------
 //
 // btDiscreteDynamicsWorld::solveConstraints hands the solver one batch of islands at a time
@@ -1080,7 +1253,7 @@ class WarmJointSolver : public LeanSolver {
 // batches on up to n threads (a batch is one task; the assignment does not matter, the
 // batches are independent), then the finish of every batch in batch order (write-back of
 // velocities, contact and joint impulses, joint feedback, breaking).
-class JobSolver : public WarmJointSolver {
+class JobSolver : public DirectJointSolver {
    public:
     btScalar setup(btCollisionObject **b, int nb, btPersistentManifold **m, int nm, btTypedConstraint **c, int nc,
                    const btContactSolverInfo &info, btIDebugDraw *dd) {
@@ -1107,7 +1280,7 @@ struct SolverJob {
     long long rows = 0;
 };
 
-class ParallelIslandSolver : public WarmJointSolver {
+class ParallelIslandSolver : public DirectJointSolver {
    public:
     int threads = 1;
     std::vector<btCollisionObject *> kinematic;  // set by the world before each step
@@ -1193,6 +1366,7 @@ class ParallelIslandSolver : public WarmJointSolver {
             for (size_t i = 0; i < n; ++i) {
                 SolverJob &j = jobs_[i];
                 solvers_[i]->warm = warm;
+                solvers_[i]->direct = direct;
                 solvers_[i]->setup(ptr(j.bodies), static_cast<int>(j.bodies.size()), ptr(j.manifolds),
                                    static_cast<int>(j.manifolds.size()), ptr(j.constraints),
                                    static_cast<int>(j.constraints.size()), info, dd);
@@ -1288,6 +1462,7 @@ struct bs_world {
     std::unique_ptr<ParallelIslandSolver> solver;
     std::unique_ptr<btDiscreteDynamicsWorld> world;
     JointWarmStart warm;
+    JointDirectSolve direct;
     std::vector<Body> bodies;
     std::vector<std::unique_ptr<Constraint>> constraints;  // stable addresses for feedback
 
@@ -1418,6 +1593,7 @@ int bs_world_new(const double gravity[3], bs_world **out) {
         w->broadphase.reset(new btDbvtBroadphase());
         w->solver.reset(new ParallelIslandSolver());
         w->solver->warm = &w->warm;
+        w->solver->direct = &w->direct;
         w->world.reset(new btDiscreteDynamicsWorld(w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get()));
         w->world->setGravity(vec(gravity));
         w->world->setInternalTickCallback(pre_tick, w.get(), true);
@@ -1987,6 +2163,33 @@ int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *r
         if (!factor || !rows_started) return fail(BS_ERR_NULL, "null output");
         *factor = w->warm.factor;
         *rows_started = w->warm.rows_started;
+        return BS_OK;
+    });
+}
+
+int bs_world_set_joint_solve(bs_world *w, int mode, double regularisation) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (mode != BS_JOINT_SOLVE_PGS && mode != BS_JOINT_SOLVE_DIRECT)
+            return fail(BS_ERR_BAD_ARG, "joint solve mode must be 0 (pgs) or 1 (direct), got " + std::to_string(mode));
+        if (!(std::isfinite(regularisation) && regularisation >= 0 && regularisation <= 1))
+            return fail(BS_ERR_BAD_ARG, "joint solve regularisation must be in [0, 1], got " + std::to_string(regularisation));
+        w->direct.mode = mode;
+        w->direct.regularisation = regularisation;
+        return BS_OK;
+    });
+}
+
+int bs_world_get_joint_solve(const bs_world *w, int *mode, double *regularisation, long long *solves,
+                             long long *fallbacks, long long *rows) {
+    return guard([&]() -> int {
+        if (int e = check_world(w)) return e;
+        if (!mode || !regularisation || !solves || !fallbacks || !rows) return fail(BS_ERR_NULL, "null output");
+        *mode = w->direct.mode;
+        *regularisation = w->direct.regularisation;
+        *solves = w->direct.solves;
+        *fallbacks = w->direct.fallbacks;
+        *rows = w->direct.rows;
         return BS_OK;
     });
 }

@@ -182,6 +182,22 @@ int bs_world_set_joint_warmstart(bs_world *w, double factor);
 /* The factor and the number of rows warm-started so far. */
 int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *rows_started);
 
+/* Direct solve of the joints' bilateral rows (Bullet 3.24 solves them by projected
+ * Gauss-Seidel only). With BS_JOINT_SOLVE_DIRECT, at every substep's set-up of every batch
+ * (after the rows are built and any joint warm start applied) the rows of the joint pool
+ * that are bilateral now (lower < 0 < upper) get the impulses of the linear system their
+ * Gauss-Seidel iterations converge to, (A + diag(cfm/D) + eps diag(A)) lambda = rhs/D - J dv,
+ * A = J M^-1 J^T, solved by a sparse LDL^T factorisation (Eigen's SimplicialLDLT), clamped to
+ * each row's bounds and applied to both bodies; the usual iterations then follow (contacts,
+ * one-sided limits, clamped rows). A failed factorisation or a non-finite result leaves that
+ * batch's substep to Gauss-Seidel (counted as a fallback). regularisation = eps in [0, 1]. */
+#define BS_JOINT_SOLVE_PGS 0
+#define BS_JOINT_SOLVE_DIRECT 1
+int bs_world_set_joint_solve(bs_world *w, int mode, double regularisation);
+/* The mode, eps, and the batches solved directly, the fallbacks and the rows solved so far. */
+int bs_world_get_joint_solve(const bs_world *w, int *mode, double *regularisation, long long *solves,
+                             long long *fallbacks, long long *rows);
+
 /* ---- speed: island-parallel solving, sleeping, phase timing --------------------------- */
 /* Solver threads of this world (>= 1; 1 = Bullet's own sequential path). With n > 1 every
  * batch of islands that btDiscreteDynamicsWorld hands the solver is set up in order on the

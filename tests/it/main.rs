@@ -30,6 +30,7 @@ mod output {
     mod gltf_vtk;
 }
 mod physics {
+    mod jointsolve;
     mod pybullet_debris;
     mod pybullet_scenes;
     mod world;

@@ -13,12 +13,14 @@
 //!   [`set_global_dbvt_margin`], [`set_global_contact_breaking_threshold`]).
 #![warn(missing_docs)]
 
+pub mod jointsolve;
 pub mod settings;
 pub mod speed;
 pub mod types;
 mod warmstart;
 pub mod world;
 
+pub use jointsolve::{JointSolve, JointSolveStats};
 pub use settings::{
     SolverSettings, WorldSettings, SOLVER_SIMD, SOLVER_USE_2_FRICTION_DIRECTIONS,
     SOLVER_USE_WARMSTARTING,
