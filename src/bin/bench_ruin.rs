@@ -14,7 +14,9 @@
 //! own `solveSingleIteration` instead of the shim's packed sweep, the "before" of session 6)
 //! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the "before" of
 //! session 7; docs/performance.md) or `+threads` (the packed sweep always on the threads where
-//! eligible, instead of whichever of one thread and the threads measures faster); default
+//! eligible, instead of whichever of one thread and the threads measures faster) and/or
+//! `+direct` (`[physics] joint_solve = "direct"`: the joints' bilateral rows solved by a
+//! sparse LDLᵀ factorisation first, docs/ruin-numerics.md §11.1); default
 //! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
 //! first setting is the baseline of the ratios. Every setting's final poses are compared
@@ -66,6 +68,8 @@ struct Config {
     /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`), `threads` (`+threads`)
     /// or `packed` (default).
     sweep: &'static str,
+    /// `[physics] joint_solve = "direct"` (`+direct`).
+    direct: bool,
 }
 
 struct Sample {
@@ -77,6 +81,8 @@ struct Sample {
     largest_share: f64,
     rows_per_substep: f64,
     sleeping: usize,
+    /// Direct joint solves and fallbacks to PGS over the run.
+    direct: (u64, u64),
     bits: Vec<u64>,
     profile: Vec<ProfileZone>,
 }
@@ -92,13 +98,14 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
                 .and_then(|n| n.parse().ok())
                 .filter(|&n| n >= 1)
                 .with_context(|| {
-                    format!("--configs: '{c}' must be tN[+sleep][+bullet|+lean|+threads]")
+                    format!("--configs: '{c}' must be tN[+sleep][+bullet|+lean|+threads][+direct]")
                 })?;
             let mut cfg = Config {
                 name: c.to_string(),
                 threads,
                 sleeping: false,
                 sweep: "packed",
+                direct: false,
             };
             for o in parts {
                 match o {
@@ -106,8 +113,9 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
                     "bullet" => cfg.sweep = "bullet",
                     "lean" => cfg.sweep = "lean",
                     "threads" => cfg.sweep = "threads",
+                    "direct" => cfg.direct = true,
                     _ => bail!(
-                        "--configs: '{c}': unknown option '{o}' (+sleep, +bullet, +lean, +threads)"
+                        "--configs: '{c}': unknown option '{o}' (+sleep, +bullet, +lean, +threads, +direct)"
                     ),
                 }
             }
@@ -119,6 +127,9 @@ fn parse_configs(s: &str) -> Result<Vec<Config>> {
 fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
     let mut sc = base.clone();
     sc.physics.sleeping = cfg.sleeping;
+    if cfg.direct {
+        sc.physics.joint_solve = fem2rbd::pipeline::scenario::JointSolveSpec::Direct;
+    }
     sc.physics.stop_at_rest = false;
     sc.physics.time_limit_s = Some(time_s);
     // The stage reads its solver threads from FEM2RBD_THREADS (as the FE); this program
@@ -149,6 +160,7 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
         largest_share: st.largest_share(),
         rows_per_substep: st.rows_total as f64 / st.substeps.max(1) as f64,
         sleeping: r.sleeping_at_end,
+        direct: (r.joint_solve.solves, r.joint_solve.fallbacks),
         bits,
         profile,
     })
@@ -234,8 +246,8 @@ fn main() -> Result<()> {
         }
     }
     println!();
-    println!("| setting | CPU s per simulated s (median) | CPU ratio to {0} (median of rounds) | wall s per simulated s (median) | wall ratio to {0} | in Bullet | largest island's share of rows | rows per substep | asleep at end | same bits as {0} |", configs[0].name);
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("| setting | CPU s per simulated s (median) | CPU ratio to {0} (median of rounds) | wall s per simulated s (median) | wall ratio to {0} | in Bullet | largest island's share of rows | rows per substep | asleep at end | same bits as {0} | direct solves / fallbacks |", configs[0].name);
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for (k, cfg) in configs.iter().enumerate() {
         let per = median(samples[k].iter().map(|s| s.wall_s / s.sim_s).collect());
         let ratio = median(
@@ -253,13 +265,15 @@ fn main() -> Result<()> {
         let s0 = &samples[k][0];
         let same = samples[k].iter().all(|s| s.bits == samples[0][0].bits);
         println!(
-            "| {} | {cpu:.2} | {cpu_ratio:.3} | {per:.2} | {ratio:.3} | {:.1} % | {:.3} | {:.0} | {} | {} |",
+            "| {} | {cpu:.2} | {cpu_ratio:.3} | {per:.2} | {ratio:.3} | {:.1} % | {:.3} | {:.0} | {} | {} | {} / {} |",
             cfg.name,
             100.0 * share,
             s0.largest_share,
             s0.rows_per_substep,
             s0.sleeping,
-            if same { "yes" } else { "no" }
+            if same { "yes" } else { "no" },
+            s0.direct.0,
+            s0.direct.1
         );
     }
     for (k, cfg) in configs.iter().enumerate() {

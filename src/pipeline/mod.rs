@@ -336,6 +336,11 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.disable_deactivation = !p.sleeping;
     s.joint_warmstart = p.joint_warmstart_for(sc.mode);
     s.joint_iterations = p.joint_iterations;
+    s.joint_solve = match p.joint_solve {
+        scenario::JointSolveSpec::Pgs => crate::physics::JointSolve::Pgs,
+        scenario::JointSolveSpec::Direct => crate::physics::JointSolve::Direct,
+    };
+    s.joint_solve_regularisation = p.joint_solve_regularisation;
     s.ruin.axial_rows = p.axial_rows_for(sc.mode);
     s
 }

@@ -163,6 +163,18 @@ pub enum JointRowsSpec {
     Member,
 }
 
+/// How the joints' bilateral rows are solved at each substep
+/// (`crate::physics::JointSolve`, docs/ruin-numerics.md §11.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JointSolveSpec {
+    /// Bullet's projected Gauss–Seidel only.
+    #[default]
+    Pgs,
+    /// A sparse LDLᵀ solve of the bilateral rows first, then Gauss–Seidel.
+    Direct,
+}
+
 /// Physics (Bullet) settings; defaults are BCB's.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -240,6 +252,13 @@ pub struct PhysicsSpec {
     /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
     /// `solver_iterations`): `crate::ruin::stage::StageSettings::joint_iterations`.
     pub joint_iterations: Option<u32>,
+    /// How the joints' bilateral rows are solved: `"pgs"` (Bullet's Gauss–Seidel, the
+    /// default) or `"direct"` (a sparse LDLᵀ solve first):
+    /// `crate::ruin::stage::StageSettings::joint_solve`.
+    pub joint_solve: JointSolveSpec,
+    /// Regularisation ε of the direct solve, in [0, 1] (ε·Aᵢᵢ added to each diagonal
+    /// entry; 1e-8): `crate::ruin::stage::StageSettings::joint_solve_regularisation`.
+    pub joint_solve_regularisation: f64,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
     /// or `"two_way"` (one two-way row, broken in the sense it pushes):
     /// `crate::ruin::axial::AxialRows`. Absent: `"two_way"` with FE-derived connections,
@@ -333,6 +352,8 @@ impl Default for PhysicsSpec {
             joint_damping_ratio: 1.0,
             joint_warmstart: None,
             joint_iterations: None,
+            joint_solve: JointSolveSpec::Pgs,
+            joint_solve_regularisation: 1e-8,
             axial_rows: None,
             spring_cap_per_body: true,
             search_distance_m: 0.02,
@@ -545,6 +566,14 @@ impl PhysicsSpec {
         if let Some(f) = self.joint_warmstart {
             r("physics.joint_warmstart", f, 0.0, false, 1.0, "")?;
         }
+        r(
+            "physics.joint_solve_regularisation",
+            self.joint_solve_regularisation,
+            0.0,
+            false,
+            1.0,
+            "",
+        )?;
         if let Some(n) = self.joint_iterations {
             r(
                 "physics.joint_iterations",

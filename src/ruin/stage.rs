@@ -168,6 +168,14 @@ pub struct StageSettings {
     /// max(this, `solver_iterations`) sweeps, contacts only in the first
     /// `solver_iterations`). `None` (BCB): the world's `solver_iterations`.
     pub joint_iterations: Option<u32>,
+    /// How the joints' bilateral rows are solved at each substep
+    /// ([`crate::physics::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
+    /// ([`crate::physics::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
+    /// linear system those iterations converge to, (A + diag(Cᵢ/Dᵢ)) λ = rhsᵢ/Dᵢ − Jᵢ·Δv₀
+    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md §11.1).
+    pub joint_solve: crate::physics::JointSolve,
+    /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry), [0, 1].
+    pub joint_solve_regularisation: f64,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
     /// lighter body it acts on, counting all springs on that body ([`body_spring_cap`]).
     /// `false` (BCB/Blender): only Bullet's per-spring `limitIfNeeded` cap, which takes
@@ -244,6 +252,8 @@ impl Default for StageSettings {
             joint_rows: JointRows::Locked,
             joint_warmstart: 0.0,
             joint_iterations: None,
+            joint_solve: crate::physics::JointSolve::Pgs,
+            joint_solve_regularisation: 1e-8,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
@@ -413,6 +423,9 @@ pub struct RuinResult {
     pub islands: crate::physics::IslandStats,
     /// Dynamic bodies asleep at the end (0 unless sleeping is on).
     pub sleeping_at_end: usize,
+    /// The direct joint solve's mode and counts over the run
+    /// ([`StageSettings::joint_solve`]).
+    pub joint_solve: crate::physics::JointSolveStats,
 }
 
 /// Energy and speed figures of a run ([`super::energy`]; the bounds of docs/ruin-numerics.md).
@@ -614,6 +627,15 @@ impl RuinStage {
             return Err(bad("joint_iterations", "must be >= 1".into()));
         }
         world.set_joint_warmstart(settings.joint_warmstart)?;
+        if !(settings.joint_solve_regularisation.is_finite()
+            && (0.0..=1.0).contains(&settings.joint_solve_regularisation))
+        {
+            return Err(bad(
+                "joint_solve_regularisation",
+                format!("{} must be in [0, 1]", settings.joint_solve_regularisation),
+            ));
+        }
+        world.set_joint_solve(settings.joint_solve, settings.joint_solve_regularisation)?;
         world.set_sweep(settings.sweep)?;
 
         // 1. Ground.
@@ -1480,6 +1502,7 @@ impl RuinStage {
             },
             islands: self.world.island_stats()?,
             sleeping_at_end: self.world.num_sleeping()?,
+            joint_solve: self.world.joint_solve()?,
         })
     }
 }

@@ -192,6 +192,23 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\naxial_rows = \"sideways\"")),
         case(
+            "joint_solve cholesky",
+            run,
+            1,
+            &["s.toml:", "unknown variant `cholesky`", "pgs", "direct"],
+        )
+        .with("s.toml", scenario("", "[physics]\njoint_solve = \"cholesky\"")),
+        case(
+            "joint_solve_regularisation -1",
+            run,
+            1,
+            &["s.toml", "physics.joint_solve_regularisation"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics]\njoint_solve_regularisation = -1.0"),
+        ),
+        case(
             "time_limit_s 1e9",
             run,
             1,
