@@ -1090,15 +1090,21 @@ class WarmJointSolver : public LeanSolver {
 // it with Eigen's SimplicialLDLT and solves for the increment over the rows' present impulses
 // (0 or a warm start) in residual form,
 //   (A + diag(C_i/D_i) + eps diag(A_ii)) delta = (m_rhs_i - lambda_i C_i)/D_i - J_i . dv,
-// so the result replaces a warm start rather than adding to it. Each new impulse is clamped
-// to the row's bounds (its breaking threshold), stored as m_appliedImpulse and the change
-// applied to both solver bodies as the row update does; Bullet's iterations then run as
+// so the result replaces a warm start rather than adding to it. A row whose impulse would
+// leave its bounds (its breaking threshold) is held at the bound and the others solved
+// again with it (an active set, at most kActivePasses re-solves: the box-constrained
+// solution the projected iterations converge to). eps * A_ii on the diagonal is a relative
+// CFM of eps on every row (Bullet's joint convention, C_i/D_i with D_i = 1/A_ii): it bounds
+// the impulses a geometrically inconsistent right-hand side on redundant rows would
+// otherwise drive to ~1/eps (measured on frame3: eps <= 3e-6 breaks the building under
+// gravity, docs/ruin-numerics.md §11.1). Each new impulse is stored as m_appliedImpulse
+// and the change applied to both solver bodies as the row update does; Bullet's iterations then run as
 // usual from there (contacts, one-sided limit rows, and the clamped rows). If the
 // factorisation fails or a result is not finite the substep stays with PGS (a fallback).
 // Runs in the batch's set-up on the calling thread; all scratch state is the solver's own.
 struct JointDirectSolve {
     int mode = 0;                   // BS_JOINT_SOLVE_PGS or BS_JOINT_SOLVE_DIRECT
-    double regularisation = 1e-8;   // eps
+    double regularisation = 1e-5;   // eps
     long long solves = 0;           // batches solved directly
     long long fallbacks = 0;        // batches left to PGS (factorisation failed, non-finite)
     long long rows = 0;             // rows solved directly (diagnostics)
@@ -1125,7 +1131,11 @@ class DirectJointSolver : public WarmJointSolver {
     std::vector<Eigen::Triplet<double>> trip_;
     Eigen::SparseMatrix<double> m_;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt_;
-    Eigen::VectorXd rhs_, delta_;
+    Eigen::VectorXd rhs_, delta_, rhs2_;
+    std::vector<Eigen::Triplet<double>> trip2_;
+    std::vector<char> fixed_;
+    std::vector<double> dfix_;
+    static constexpr int kActivePasses = 8;
 
     bool responds(const btSolverBody &b) const {
         return b.m_originalBody && b.m_originalBody->getInvMass() > 0;
@@ -1210,6 +1220,57 @@ class DirectJointSolver : public WarmJointSolver {
         if (ldlt_.info() != Eigen::Success) {
             direct->fallbacks += 1;
             return;
+        }
+        // Active set: a row whose new impulse would leave its bounds is held at the bound
+        // and the other rows are solved again with it (the box-constrained solution the
+        // projected iterations converge to), at most kActivePasses times.
+        fixed_.assign(static_cast<size_t>(m), 0);
+        dfix_.assign(static_cast<size_t>(m), 0.0);
+        for (int pass = 0; pass < kActivePasses; ++pass) {
+            for (int p = 0; p < m; ++p)
+                if (!std::isfinite(delta_[p])) {
+                    direct->fallbacks += 1;
+                    return;
+                }
+            int added = 0;
+            for (int p = 0; p < m; ++p) {
+                if (fixed_[p]) continue;
+                const btSolverConstraint &c = m_tmpSolverNonContactConstraintPool[rows_[p]];
+                const double t = c.m_appliedImpulse + delta_[p];
+                if (t < c.m_lowerLimit || t > c.m_upperLimit) {
+                    fixed_[p] = 1;
+                    dfix_[p] = (t < c.m_lowerLimit ? c.m_lowerLimit : c.m_upperLimit) - c.m_appliedImpulse;
+                    ++added;
+                }
+            }
+            if (added == 0) break;
+            // The reduced system: the held rows' known increments move to the right-hand
+            // side (each stored entry (p, q), p >= q, stands for (p, q) and (q, p)); a held
+            // row's own equation becomes delta_p = its increment to the bound.
+            trip2_.clear();
+            rhs2_ = rhs_;
+            for (const auto &t : trip_) {
+                const int p = t.row(), q = t.col();
+                const bool fp = fixed_[p], fq = fixed_[q];
+                if (!fp && !fq)
+                    trip2_.push_back(t);
+                else if (p != q) {
+                    if (!fp) rhs2_[p] -= t.value() * dfix_[q];
+                    if (!fq) rhs2_[q] -= t.value() * dfix_[p];
+                }
+            }
+            for (int p = 0; p < m; ++p)
+                if (fixed_[p]) {
+                    trip2_.emplace_back(p, p, 1.0);
+                    rhs2_[p] = dfix_[p];
+                }
+            m_.setFromTriplets(trip2_.begin(), trip2_.end());
+            ldlt_.compute(m_);
+            if (ldlt_.info() != Eigen::Success) {
+                direct->fallbacks += 1;
+                return;
+            }
+            delta_ = ldlt_.solve(rhs2_);
         }
         for (int p = 0; p < m; ++p)
             if (!std::isfinite(delta_[p])) {

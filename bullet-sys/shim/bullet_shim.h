@@ -187,10 +187,12 @@ int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *r
  * (after the rows are built and any joint warm start applied) the rows of the joint pool
  * that are bilateral now (lower < 0 < upper) get the impulses of the linear system their
  * Gauss-Seidel iterations converge to, (A + diag(cfm/D) + eps diag(A)) lambda = rhs/D - J dv,
- * A = J M^-1 J^T, solved by a sparse LDL^T factorisation (Eigen's SimplicialLDLT), clamped to
- * each row's bounds and applied to both bodies; the usual iterations then follow (contacts,
+ * A = J M^-1 J^T, solved by a sparse LDL^T factorisation (Eigen's SimplicialLDLT), rows that
+ * would leave their bounds held at them and the rest solved again (an active set), then
+ * applied to both bodies; the usual iterations then follow (contacts,
  * one-sided limits, clamped rows). A failed factorisation or a non-finite result leaves that
- * batch's substep to Gauss-Seidel (counted as a fallback). regularisation = eps in [0, 1]. */
+ * batch's substep to Gauss-Seidel (counted as a fallback). regularisation = eps in [0, 1]
+ * (default 1e-5: eps * A_ii on the diagonal is a relative CFM of eps on every row). */
 #define BS_JOINT_SOLVE_PGS 0
 #define BS_JOINT_SOLVE_DIRECT 1
 int bs_world_set_joint_solve(bs_world *w, int mode, double regularisation);

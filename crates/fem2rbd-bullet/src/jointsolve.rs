@@ -18,12 +18,19 @@
 //! assembles that sparse system at every substep's set-up (after `convertJoints` and any
 //! joint warm start), adds ε·Aᵢᵢ to the diagonal (redundant locked rows in closed frame
 //! loops make A singular when C = 0; an inconsistent right-hand side on such rows gives
-//! impulses ∝ 1/ε), factors it with Eigen's `SimplicialLDLT`, solves for the increment over
-//! the rows' present impulses (so a warm start is replaced, not added to), clamps each
-//! impulse to the row's bounds (its breaking threshold) and applies it to both bodies.
+//! impulses ∝ 1/ε; ε·Aᵢᵢ is a relative CFM of ε on every row in Bullet's joint convention),
+//! factors it with Eigen's `SimplicialLDLT`, solves for the increment over the rows' present
+//! impulses (so a warm start is replaced, not added to), holds every row whose impulse would
+//! leave its bounds (its breaking threshold) at the bound and solves the others again (an
+//! active set, at most 8 passes: the box-constrained solution the projected iterations
+//! converge to), and applies the impulses to both bodies.
 //! Bullet's usual sweeps then run from there (contacts, one-sided limit rows, clamped rows).
 //! A failed factorisation or a non-finite impulse leaves that substep to PGS (counted as a
 //! fallback). The result is the same bits for any number of solver threads.
+//!
+//! ε: frame3 under gravity with locked rows (docs/ruin-numerics.md §11.1) stands with
+//! ε ≥ 1e-5 and breaks up with ε ≤ 3e-6 (the redundant rows' impulses reach the breaking
+//! thresholds); with the member rows' CFM any ε from 1e-8 works. Default 1e-5.
 use super::types::PhysicsError;
 use super::world::{check, World};
 use bullet_sys as sys;
@@ -55,7 +62,7 @@ pub struct JointSolveStats {
 
 impl World {
     /// Selects how the joints' bilateral rows are solved (module docs); `regularisation` ε
-    /// in \[0, 1\] (1e-8 is a sensible value; it is unused with [`JointSolve::Pgs`]).
+    /// in \[0, 1\] (the shim's default 1e-5; unused with [`JointSolve::Pgs`]).
     pub fn set_joint_solve(
         &mut self,
         mode: JointSolve,
