@@ -1136,6 +1136,8 @@ class DirectJointSolver : public WarmJointSolver {
     std::vector<char> fixed_;
     std::vector<double> dfix_;
     static constexpr int kActivePasses = 8;
+    int pattern_n_ = -1;  // the pattern ldlt_'s analysis belongs to
+    std::vector<int> pattern_outer_, pattern_inner_;
 
     bool responds(const btSolverBody &b) const {
         return b.m_originalBody && b.m_originalBody->getInvMass() > 0;
@@ -1211,7 +1213,20 @@ class DirectJointSolver : public WarmJointSolver {
         }
         m_.resize(m, m);
         m_.setFromTriplets(trip_.begin(), trip_.end());
-        ldlt_.compute(m_);
+        // The fill-reducing ordering and the symbolic factorisation depend on the pattern
+        // only: kept while the rows' pattern is that of the last substep's first solve.
+        const int nnz = static_cast<int>(m_.nonZeros());
+        const bool same = m == pattern_n_ && pattern_outer_.size() == static_cast<size_t>(m + 1) &&
+                          std::equal(pattern_outer_.begin(), pattern_outer_.end(), m_.outerIndexPtr()) &&
+                          pattern_inner_.size() == static_cast<size_t>(nnz) &&
+                          std::equal(pattern_inner_.begin(), pattern_inner_.end(), m_.innerIndexPtr());
+        if (!same) {
+            ldlt_.analyzePattern(m_);
+            pattern_n_ = m;
+            pattern_outer_.assign(m_.outerIndexPtr(), m_.outerIndexPtr() + m + 1);
+            pattern_inner_.assign(m_.innerIndexPtr(), m_.innerIndexPtr() + nnz);
+        }
+        ldlt_.factorize(m_);
         if (ldlt_.info() != Eigen::Success) {
             direct->fallbacks += 1;
             return;
@@ -1266,6 +1281,7 @@ class DirectJointSolver : public WarmJointSolver {
                 }
             m_.setFromTriplets(trip2_.begin(), trip2_.end());
             ldlt_.compute(m_);
+            pattern_n_ = -1;  // the kept analysis is of another pattern now
             if (ldlt_.info() != Eigen::Success) {
                 direct->fallbacks += 1;
                 return;
