@@ -1097,14 +1097,15 @@ class WarmJointSolver : public LeanSolver {
 // CFM of eps on every row (Bullet's joint convention, C_i/D_i with D_i = 1/A_ii): it bounds
 // the impulses a geometrically inconsistent right-hand side on redundant rows would
 // otherwise drive to ~1/eps (measured on frame3: eps <= 3e-6 breaks the building under
-// gravity, docs/ruin-numerics.md §11.1). Each new impulse is stored as m_appliedImpulse
+// gravity, 1e-5 and 1e-4 inject energy into the LC5 debris; 1e-3, the default, neither;
+// docs/ruin-numerics.md §11.1). Each new impulse is stored as m_appliedImpulse
 // and the change applied to both solver bodies as the row update does; Bullet's iterations then run as
 // usual from there (contacts, one-sided limit rows, and the clamped rows). If the
 // factorisation fails or a result is not finite the substep stays with PGS (a fallback).
 // Runs in the batch's set-up on the calling thread; all scratch state is the solver's own.
 struct JointDirectSolve {
     int mode = 0;                   // BS_JOINT_SOLVE_PGS or BS_JOINT_SOLVE_DIRECT
-    double regularisation = 1e-5;   // eps
+    double regularisation = 1e-3;   // eps
     long long solves = 0;           // batches solved directly
     long long fallbacks = 0;        // batches left to PGS (factorisation failed, non-finite)
     long long rows = 0;             // rows solved directly (diagnostics)
@@ -1269,9 +1270,13 @@ class DirectJointSolver : public WarmJointSolver {
                 const bool fp = fixed_[p], fq = fixed_[q];
                 if (!fp && !fq)
                     trip2_.push_back(t);
-                else if (p != q) {
-                    if (!fp) rhs2_[p] -= t.value() * dfix_[q];
-                    if (!fq) rhs2_[q] -= t.value() * dfix_[p];
+                else {
+                    // An explicit zero keeps the pattern, hence the kept analysis.
+                    trip2_.emplace_back(p, q, 0.0);
+                    if (p != q) {
+                        if (!fp) rhs2_[p] -= t.value() * dfix_[q];
+                        if (!fq) rhs2_[q] -= t.value() * dfix_[p];
+                    }
                 }
             }
             for (int p = 0; p < m; ++p)
@@ -1280,8 +1285,7 @@ class DirectJointSolver : public WarmJointSolver {
                     rhs2_[p] = dfix_[p];
                 }
             m_.setFromTriplets(trip2_.begin(), trip2_.end());
-            ldlt_.compute(m_);
-            pattern_n_ = -1;  // the kept analysis is of another pattern now
+            ldlt_.factorize(m_);
             if (ldlt_.info() != Eigen::Success) {
                 direct->fallbacks += 1;
                 return;

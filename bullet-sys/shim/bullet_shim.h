@@ -192,7 +192,7 @@ int bs_world_get_joint_warmstart(const bs_world *w, double *factor, long long *r
  * applied to both bodies; the usual iterations then follow (contacts,
  * one-sided limits, clamped rows). A failed factorisation or a non-finite result leaves that
  * batch's substep to Gauss-Seidel (counted as a fallback). regularisation = eps in [0, 1]
- * (default 1e-5: eps * A_ii on the diagonal is a relative CFM of eps on every row). */
+ * (default 1e-3: eps * A_ii on the diagonal is a relative CFM of eps on every row). */
 #define BS_JOINT_SOLVE_PGS 0
 #define BS_JOINT_SOLVE_DIRECT 1
 int bs_world_set_joint_solve(bs_world *w, int mode, double regularisation);

@@ -257,7 +257,7 @@ pub struct PhysicsSpec {
     /// `crate::ruin::stage::StageSettings::joint_solve`.
     pub joint_solve: JointSolveSpec,
     /// Regularisation ε of the direct solve, in [0, 1] (ε·Aᵢᵢ added to each diagonal
-    /// entry, a relative CFM ε on every row; 1e-5, docs/ruin-numerics.md §11.1):
+    /// entry, a relative CFM ε on every row; 1e-3, docs/ruin-numerics.md §11.1):
     /// `crate::ruin::stage::StageSettings::joint_solve_regularisation`.
     pub joint_solve_regularisation: f64,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
@@ -354,7 +354,7 @@ impl Default for PhysicsSpec {
             joint_warmstart: None,
             joint_iterations: None,
             joint_solve: JointSolveSpec::Pgs,
-            joint_solve_regularisation: 1e-5,
+            joint_solve_regularisation: 1e-3,
             axial_rows: None,
             spring_cap_per_body: true,
             search_distance_m: 0.02,

@@ -175,7 +175,7 @@ pub struct StageSettings {
     /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md §11.1).
     pub joint_solve: crate::physics::JointSolve,
     /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
-    /// CFM ε on every row), [0, 1]; default 1e-5 (frame3's locked rows need ε ≥ 1e-5).
+    /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md §11.1).
     pub joint_solve_regularisation: f64,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
     /// lighter body it acts on, counting all springs on that body ([`body_spring_cap`]).
@@ -254,7 +254,7 @@ impl Default for StageSettings {
             joint_warmstart: 0.0,
             joint_iterations: None,
             joint_solve: crate::physics::JointSolve::Pgs,
-            joint_solve_regularisation: 1e-5,
+            joint_solve_regularisation: 1e-3,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {

@@ -28,9 +28,12 @@
 //! A failed factorisation or a non-finite impulse leaves that substep to PGS (counted as a
 //! fallback). The result is the same bits for any number of solver threads.
 //!
-//! ε: frame3 under gravity with locked rows (docs/ruin-numerics.md §11.1) stands with
-//! ε ≥ 1e-5 and breaks up with ε ≤ 3e-6 (the redundant rows' impulses reach the breaking
-//! thresholds); with the member rows' CFM any ε from 1e-8 works. Default 1e-5.
+//! ε (docs/ruin-numerics.md §11.1): frame3 under gravity with locked rows stands with
+//! ε ≥ 1e-5 (sag 0.27 mm at 1e-5, 3.3 mm at 1e-3) and breaks up with ε ≤ 3e-6 (the
+//! redundant rows' impulses reach the breaking thresholds); in the LC5 debris ε = 1e-5 and
+//! 1e-4 inject energy (a body at 210 m/s at 1e-5), 1e-3 does not. Default 1e-3. ε acts on
+//! the increment over the warm start, so it is a compliance of the joints: a locked row
+//! carrying λ gives way by about ε·λ·Aᵢᵢ·h/ERP per substep's correction.
 use super::types::PhysicsError;
 use super::world::{check, World};
 use bullet_sys as sys;
@@ -62,7 +65,7 @@ pub struct JointSolveStats {
 
 impl World {
     /// Selects how the joints' bilateral rows are solved (module docs); `regularisation` ε
-    /// in \[0, 1\] (the shim's default 1e-5; unused with [`JointSolve::Pgs`]).
+    /// in \[0, 1\] (the shim's default 1e-3; unused with [`JointSolve::Pgs`]).
     pub fn set_joint_solve(
         &mut self,
         mode: JointSolve,
