@@ -223,6 +223,42 @@ fn gravity_alone_default_rows_at_200_substeps() {
     );
 }
 
+/// Target (c) with the defaults of FE-derived connections and `joint_solve = "direct"`
+/// (the joints' bilateral rows solved by a sparse LDLᵀ factorisation at every substep,
+/// ε = 1e-3; docs/ruin-numerics.md §11.1), 200 substeps/s, 100 iterations, through the
+/// pipeline and the ruin stage. Measured 3 s runs (release): 3.33 mm peak sag, 0.0110 %
+/// peak drift, 28 J injected (PGS: 28.34 mm, 0.0197 %, 1159 J). Both targets are met; the
+/// sag is also asserted at less than a fifth of the PGS run's on the same building. 1 s.
+#[test]
+fn gravity_alone_direct_joint_solve_meets_target_c() {
+    let run = |extra: &str| {
+        let rows = gravity_only(
+            "physics",
+            &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
+            "",
+            1.0,
+        );
+        let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+        let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+        let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
+        (sag, drift, plastic + broken)
+    };
+    let (sag, drift, lost) = run("joint_solve = \"direct\"");
+    let (sag_pgs, drift_pgs, _) = run("");
+    eprintln!(
+        "gravity alone 1 s, 200 substeps/s: direct sag {:.2} mm, drift {:.4} %; \
+         PGS {:.2} mm, {:.4} %",
+        sag * 1e3,
+        drift * 100.0,
+        sag_pgs * 1e3,
+        drift_pgs * 100.0
+    );
+    assert_eq!(lost, 0, "connections gave way under gravity");
+    assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
+    assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
+    assert!(sag < 0.2 * sag_pgs, "sag {sag} vs PGS's {sag_pgs}");
+}
+
 /// Target (b) of issue 11 with the 1/50-drift hand-off (GB 50011), at the default 200
 /// substeps/s: Bullet does not reach the 0.25 m drop before half-way between the
 /// hand-off and the FE's Tc, and no connection starts broken merely from cover spalling
