@@ -57,21 +57,27 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     out.push(("history.csv", history_text.into_bytes()));
     out.push(("bodies.csv", bodies_text.into_bytes()));
     if let Some(r) = &rec.ruin {
-        let mut s = String::from("a,b,start_state,final_state,time_broken_s\n");
+        let mut s = String::from(
+            "a,b,start_state,final_state,time_broken_s,time_plastic_s,first_row_lost,time_first_row_lost_s\n",
+        );
         let st = |c: ConnectionState| match c {
             ConnectionState::Elastic => "intact",
             ConnectionState::Plastic => "plastic",
             ConnectionState::Broken => "broken",
         };
+        let time = |t: Option<f64>| t.map_or(String::new(), |t| format!("{t:.4}"));
         for c in &r.connections {
             let _ = writeln!(
                 s,
-                "{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{}",
                 field(&rec.bodies[c.a].id.name()),
                 field(&rec.bodies[c.b].id.name()),
                 st(c.start_state),
                 st(c.state),
-                c.broke_at_s.map_or(String::new(), |t| format!("{t:.4}"))
+                time(c.broke_at_s),
+                time(c.plastic_at_s),
+                c.first_row_lost.map_or("", |(r, _)| r.name()),
+                time(c.first_row_lost.map(|(_, t)| t)),
             );
         }
         out.push(("connections.csv", s.into_bytes()));

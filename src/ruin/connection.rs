@@ -332,6 +332,22 @@ pub enum ConstraintRole {
     PlasticSpring,
 }
 
+impl ConstraintRole {
+    /// Its name in the outputs (`connections.csv`): `compression`, `tension`, `shear_h`,
+    /// `shear_w`, `bend_h`, `bend_w`, `spring`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Compression => "compression",
+            Self::Tension => "tension",
+            Self::ShearH => "shear_h",
+            Self::ShearW => "shear_w",
+            Self::BendH => "bend_h",
+            Self::BendW => "bend_w",
+            Self::PlasticSpring => "spring",
+        }
+    }
+}
+
 /// One Bullet constraint as plain data. Axis index i: 0–2 linear X, Y, Z, 3–5 angular X,
 /// Y, Z of the constraint frame. `lower[i] > upper[i]` means free.
 #[derive(Debug, Clone, PartialEq)]

@@ -45,7 +45,8 @@
 
 use super::connection::{
     build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
-    ConstraintClass as SpecKind, GroupStrength, RuinSettings, BENDING_ROWS,
+    ConstraintClass as SpecKind, ConstraintRole, GroupStrength, RuinSettings, BENDING_ROWS,
+    GENERIC_COUNT,
 };
 use super::energy::{mechanical, substep_balance, EnergyFrame, MassProps};
 use super::ground::GroundSpec;
@@ -369,6 +370,12 @@ pub struct ConnectionOutcome {
     pub broke_at_s: Option<f64>,
     /// Time it became plastic, s.
     pub plastic_at_s: Option<f64>,
+    /// The first of its generic rows that Bullet let go while the connection was elastic
+    /// (the row's impulse reached its breaking threshold: a brittle row broke, or a ductile
+    /// bending row first yielded), and the end time of that substep, s. `None`: no row
+    /// reached its threshold (the connection never was elastic, or turned plastic or broke
+    /// by the monitor's tolerances first).
+    pub first_row_lost: Option<(ConstraintRole, f64)>,
 }
 
 /// Wall-clock time of a run.
@@ -478,6 +485,9 @@ pub struct RuinStage {
     substeps_done: u64,
     in_bullet: Duration,
     any_ductile: bool,
+    /// Per connection, the first generic row Bullet disabled while the connection was
+    /// elastic: (constraint index, time s) — [`ConnectionOutcome::first_row_lost`].
+    first_lost: Vec<Option<(usize, f64)>>,
     props: Vec<Option<MassProps>>,
     ground_reference: [f64; 3],
     ground_work_j: f64,
@@ -882,6 +892,7 @@ impl RuinStage {
         )?;
         let model_height_m = (hi[2] - lo[2]).max(0.0);
         let any_ductile = connections.iter().any(|c| c.ductile);
+        let connections_len = connections.len();
         let props: Vec<Option<MassProps>> = rest_bodies
             .iter()
             .map(|r| {
@@ -930,6 +941,7 @@ impl RuinStage {
             substeps_done: 0,
             in_bullet: Duration::ZERO,
             any_ductile,
+            first_lost: vec![None; connections_len],
             props,
             ground_reference,
             ground_work_j: 0.0,
@@ -1100,8 +1112,10 @@ impl RuinStage {
             self.world.step(h, 1)?;
             self.in_bullet += t.elapsed();
             self.substeps_done += 1;
-            self.restore_ductile_rows()?;
-            self.check_two_way_axial()?;
+            let enabled = self.world.constraints_enabled()?;
+            self.note_lost_rows(&enabled, t_next);
+            self.restore_ductile_rows(&enabled)?;
+            self.check_two_way_axial(&enabled, t_next)?;
             let vels1 = self.body_velocities()?;
             let b = substep_balance(&self.props, &poses0, &vels0, &vels1, h, g, vg, ld, ad);
             self.ground_work_j += b.ground_work_j;
@@ -1149,13 +1163,14 @@ impl RuinStage {
     /// enabled again; the Bullet threshold (and clamp) of the next substep is the breaking
     /// impulse of the sense the row pushed in (the smaller one after a substep without
     /// impulse).
-    fn check_two_way_axial(&mut self) -> Result<(), StageError> {
+    ///
+    /// `enabled`: every constraint's flag right after the substep; `t`: its end time, s.
+    fn check_two_way_axial(&mut self, enabled: &[bool], t: f64) -> Result<(), StageError> {
         use super::axial::{two_way_breaks, AxialLeft, COMPRESSION_SIGN};
         use super::connection::BCB_UNLIMITED;
         if self.settings.ruin.axial_rows != super::axial::AxialRows::TwoWay {
             return Ok(());
         }
-        let enabled = self.world.constraints_enabled()?;
         let kappa_h = self.settings.ruin.linear_correction * self.substep_s;
         for (i, c) in self.connections.iter().enumerate() {
             if self.monitor.state(i) != ConnectionState::Elastic {
@@ -1175,9 +1190,10 @@ impl RuinStage {
                     let pushing = lambda * COMPRESSION_SIGN;
                     if two_way_breaks(lambda, c_ns, t_ns) {
                         if let Some(tr) = self.axial_trace.as_mut() {
-                            let t = self.start_time_s + self.substeps_done as f64 * self.substep_s;
                             tr.note_break(t, i, lambda, c_ns, t_ns);
                         }
+                        let role = if pushing > 0.0 { 0 } else { 1 };
+                        self.first_lost[i].get_or_insert((role, t));
                         let (lo, hi, t, left) = if pushing > 0.0 {
                             (-BCB_UNLIMITED, 0.0, t_ns, AxialLeft::Tension)
                         } else {
@@ -1209,6 +1225,12 @@ impl RuinStage {
                 }
                 AxialLeft::Compression | AxialLeft::Tension => {
                     if !enabled[h0.index()] {
+                        let role = if self.axial_left[i] == AxialLeft::Compression {
+                            0
+                        } else {
+                            1
+                        };
+                        self.first_lost[i].get_or_insert((role, t));
                         self.axial_left[i] = AxialLeft::None;
                         if enabled[h1.index()] {
                             self.world.set_constraint_enabled(h1, false)?;
@@ -1247,14 +1269,40 @@ impl RuinStage {
         }
         Ok(())
     }
+    /// Records, per elastic connection, the first generic row that Bullet disabled in the
+    /// substep just taken (its impulse reached the breaking threshold,
+    /// `btTypedConstraint::m_breakingImpulseThreshold`): a brittle row's break, or a ductile
+    /// bending row's first yield (the row is enabled again by
+    /// [`Self::restore_ductile_rows`]). The two-way axial row is recorded by
+    /// [`Self::check_two_way_axial`], which tells its breaks from Bullet's sign-blind test.
+    /// `enabled`: every constraint's flag after the substep; `t`: its end time, s.
+    fn note_lost_rows(&mut self, enabled: &[bool], t: f64) {
+        let two_way = self.settings.ruin.axial_rows == super::axial::AxialRows::TwoWay;
+        for (i, c) in self.connections.iter().enumerate() {
+            if self.first_lost[i].is_some() || self.monitor.state(i) != ConnectionState::Elastic {
+                continue;
+            }
+            for (k, spec) in c.constraints.iter().enumerate().take(GENERIC_COUNT) {
+                if !spec.enabled || spec.no_strength || (two_way && k < 2) {
+                    continue;
+                }
+                if self.constraint_handles[i]
+                    .get(k)
+                    .is_some_and(|h| !enabled[h.index()])
+                {
+                    self.first_lost[i] = Some((k, t));
+                    break;
+                }
+            }
+        }
+    }
 
     /// Ductile bending rows of elastic connections that Bullet disabled in the last
     /// substep are enabled again ([`ConnectionSpec::ductile`]).
-    fn restore_ductile_rows(&mut self) -> Result<(), StageError> {
+    fn restore_ductile_rows(&mut self, enabled: &[bool]) -> Result<(), StageError> {
         if !self.any_ductile {
             return Ok(());
         }
-        let enabled = self.world.constraints_enabled()?;
         for (i, c) in self.connections.iter().enumerate() {
             if !c.ductile || self.monitor.state(i) != ConnectionState::Elastic {
                 continue;
@@ -1418,6 +1466,7 @@ impl RuinStage {
                 state: self.monitor.state(i),
                 broke_at_s: None,
                 plastic_at_s: None,
+                first_row_lost: None,
             })
             .collect();
         let mut frames = vec![Frame {
@@ -1467,6 +1516,8 @@ impl RuinStage {
         }
         for (i, o) in outcomes.iter_mut().enumerate() {
             o.state = self.monitor.state(i);
+            o.first_row_lost = self.first_lost[i]
+                .and_then(|(k, t)| self.connections[i].constraints.get(k).map(|c| (c.role, t)));
         }
         let (_, _, speeds) = self.motion_measures()?;
         let vtol = rest.unwrap_or_default().max_speed_mps;

@@ -4,7 +4,7 @@
 //! moment its bending row's breaking impulse stands for.
 
 use fem2rbd::physics::Velocity;
-use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
+use fem2rbd::ruin::connection::{ConnectionState, ConstraintRole, GroupStrength, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::monitor::FeDamage;
 use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings, StopRule};
@@ -228,6 +228,27 @@ fn cantilever_breaks_above_the_threshold_moment_and_not_below() {
     assert_eq!(out.state, ConnectionState::Broken);
     assert!(out.broke_at_s.unwrap() < 1.5);
     assert!(3.0 - res.final_poses[1].position[2] > 0.5);
+    // connections.csv's first_row_lost: the bending row, inside the same band as above.
+    let (role, t) = out.first_row_lost.expect("a row reached its threshold");
+    let p = WARMUP * smoothstep_inverse(1.0 / 1.2);
+    assert!(
+        matches!(role, ConstraintRole::BendH | ConstraintRole::BendW),
+        "first row lost {role:?}"
+    );
+    assert!(
+        t <= p + 0.04 && t >= 0.5 * p,
+        "first row lost at {t} s, predicted {p} s"
+    );
+    // Below half the limit no row reaches its threshold.
+    let (mut stage, _) = cantilever(0.45 * m_star);
+    let res = stage
+        .run(&StopRule {
+            max_time_s: 2.0,
+            rest: None,
+        })
+        .unwrap();
+    assert_eq!(res.connections[0].first_row_lost, None);
+    assert_eq!(res.connections[0].state, ConnectionState::Elastic);
 }
 
 #[test]
