@@ -58,3 +58,47 @@ pub fn rc_box(
         passive,
     }
 }
+
+/// The hanging chain of the joint-solver tests: a static anchor at z = 5 m, a 1 kg box
+/// 1 m below it and a 100 kg box 1 m below that (0.2 m cubes), each link a Generic6Dof
+/// constraint locked in all six axes with its pivot at the lower box's centre. Returns
+/// (light, heavy, top link).
+pub fn hanging_chain(
+    w: &mut fem2rbd::physics::World,
+) -> (
+    fem2rbd::physics::BodyHandle,
+    fem2rbd::physics::BodyHandle,
+    fem2rbd::physics::ConstraintHandle,
+) {
+    use fem2rbd::physics::{BodyHandle, BoxDesc, ConstraintDesc, ConstraintKind, Pose, World};
+    let link = |w: &mut World, a: BodyHandle, b: BodyHandle| {
+        let mut d = ConstraintDesc::new(
+            ConstraintKind::Generic6Dof {
+                use_linear_reference_frame_a: true,
+            },
+            a,
+            b,
+            Pose::at([0.0, 0.0, -1.0]),
+            Pose::IDENTITY,
+        );
+        d.limits = [Some((0.0, 0.0)); 6];
+        d.disable_collisions_between = true;
+        w.add_constraint(&d).unwrap()
+    };
+    let anchor = w
+        .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
+        .unwrap();
+    let light = w
+        .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.0, 0.0, 4.0])))
+        .unwrap();
+    let heavy = w
+        .add_box(&BoxDesc::dynamic(
+            [0.1; 3],
+            100.0,
+            Pose::at([0.0, 0.0, 3.0]),
+        ))
+        .unwrap();
+    let top = link(w, anchor, light);
+    link(w, light, heavy);
+    (light, heavy, top)
+}

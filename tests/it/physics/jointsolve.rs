@@ -39,21 +39,7 @@ fn heavy_chain(mode: JointSolve, iterations: u32, warmstart: f64) -> (f64, f64, 
     let mut w = World::new(&s).unwrap();
     w.set_joint_solve(mode, 1e-8).unwrap();
     w.set_joint_warmstart(warmstart).unwrap();
-    let anchor = w
-        .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
-        .unwrap();
-    let light = w
-        .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.0, 0.0, 4.0])))
-        .unwrap();
-    let heavy = w
-        .add_box(&BoxDesc::dynamic(
-            [0.1; 3],
-            100.0,
-            Pose::at([0.0, 0.0, 3.0]),
-        ))
-        .unwrap();
-    let top = locked(&mut w, anchor, light, [0.0, 0.0, -1.0], [0.0; 3]);
-    locked(&mut w, light, heavy, [0.0, 0.0, -1.0], [0.0; 3]);
+    let (_, heavy, top) = crate::support::hanging_chain(&mut w);
     w.step(H, 200).unwrap();
     let impulse = w.joint_feedback(top).unwrap().force_b[2] * H;
     (

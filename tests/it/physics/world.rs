@@ -598,21 +598,7 @@ fn generic6dof_warm_start_scales_the_unconverged_sag() {
         s.solver.num_iterations = 4;
         let mut w = World::new(&s).unwrap();
         w.set_joint_warmstart(factor).unwrap();
-        let anchor = w
-            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
-            .unwrap();
-        let light = w
-            .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.0, 0.0, 4.0])))
-            .unwrap();
-        let heavy = w
-            .add_box(&BoxDesc::dynamic(
-                [0.1; 3],
-                100.0,
-                Pose::at([0.0, 0.0, 3.0]),
-            ))
-            .unwrap();
-        locked_hanger(&mut w, anchor, light);
-        locked_hanger(&mut w, light, heavy);
+        let (_, heavy, _) = crate::support::hanging_chain(&mut w);
         w.step(h, 400).unwrap();
         let v = w.velocity(heavy).unwrap().linear[2].abs();
         let (f, started) = w.joint_warmstart().unwrap();

@@ -178,6 +178,22 @@ fn gravity_alone_member_rows_at_200_substeps() {
     );
 }
 
+/// Frame3 with FE-derived connections under gravity alone for 1 s at 200 substeps/s,
+/// physics-only, with the extra `[physics]` lines: (peak sag m, peak roof drift ratio,
+/// connections plastic or broken at the end).
+fn gravity_peaks_1s(extra: &str) -> (f64, f64, usize) {
+    let rows = gravity_only(
+        "physics",
+        &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
+        "",
+        1.0,
+    );
+    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
+    (sag, drift, plastic + broken)
+}
+
 /// Target (c) with the defaults of FE-derived connections (session 7: the two-way axial
 /// row and `joint_warmstart = 0.5`, docs/handoff.md §4.1) at BCB's 200 substeps/s and
 /// 100 iterations, against BCB's two one-way rows without warm start on the same
@@ -188,18 +204,7 @@ fn gravity_alone_member_rows_at_200_substeps() {
 /// than half of BCB's rows. 1 s (both peaks come before 0.7 s).
 #[test]
 fn gravity_alone_default_rows_at_200_substeps() {
-    let run = |extra: &str| {
-        let rows = gravity_only(
-            "physics",
-            &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
-            "",
-            1.0,
-        );
-        let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
-        let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
-        let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
-        (sag, drift, plastic + broken)
-    };
+    let run = gravity_peaks_1s;
     let (sag, drift, lost) = run("");
     let (sag_bcb, drift_bcb, _) = run("axial_rows = \"bcb\"\njoint_warmstart = 0.0");
     eprintln!(
@@ -231,18 +236,7 @@ fn gravity_alone_default_rows_at_200_substeps() {
 /// sag is also asserted at less than a fifth of the PGS run's on the same building. 1 s.
 #[test]
 fn gravity_alone_direct_joint_solve_meets_target_c() {
-    let run = |extra: &str| {
-        let rows = gravity_only(
-            "physics",
-            &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
-            "",
-            1.0,
-        );
-        let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
-        let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
-        let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
-        (sag, drift, plastic + broken)
-    };
+    let run = gravity_peaks_1s;
     let (sag, drift, lost) = run("joint_solve = \"direct\"");
     let (sag_pgs, drift_pgs, _) = run("");
     eprintln!(
