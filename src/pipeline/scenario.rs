@@ -327,6 +327,8 @@ impl PhysicsSpec {
 
 impl Default for PhysicsSpec {
     fn default() -> Self {
+        // BCB's correction factors, as the ruin stage's own defaults.
+        let bcb = crate::ruin::connection::RuinSettings::default();
         PhysicsSpec {
             steps_per_second: 200.0,
             solver_iterations: 100,
@@ -334,9 +336,9 @@ impl Default for PhysicsSpec {
             restitution: 0.0,
             linear_damping: 0.04,
             angular_damping: 0.1,
-            spring_correction: 2.0,
-            linear_correction: 2.2,
-            bending_correction: 1.5,
+            spring_correction: bcb.spring_correction,
+            linear_correction: bcb.linear_correction,
+            bending_correction: bcb.bending_correction,
             spring_damping: 20.0,
             spring_limit: true,
             angular_spring: crate::ruin::connection::AngularSpring::Lever,
@@ -354,7 +356,7 @@ impl Default for PhysicsSpec {
             joint_warmstart: None,
             joint_iterations: None,
             joint_solve: JointSolveSpec::Pgs,
-            joint_solve_regularisation: 1e-3,
+            joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
             axial_rows: None,
             spring_cap_per_body: true,
             search_distance_m: 0.02,

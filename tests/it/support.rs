@@ -59,46 +59,53 @@ pub fn rc_box(
     }
 }
 
-/// The hanging chain of the joint-solver tests: a static anchor at z = 5 m, a 1 kg box
-/// 1 m below it and a 100 kg box 1 m below that (0.2 m cubes), each link a Generic6Dof
-/// constraint locked in all six axes with its pivot at the lower box's centre. Returns
-/// (light, heavy, top link).
+/// A Generic6Dof constraint locked in all six axes between `a` and `b`, pivot at `pivot_a`
+/// in A's frame and `pivot_b` in B's frame, no collisions between the two.
+pub fn locked_joint(
+    w: &mut fem2rbd::physics::World,
+    a: fem2rbd::physics::BodyHandle,
+    b: fem2rbd::physics::BodyHandle,
+    pivot_a: [f64; 3],
+    pivot_b: [f64; 3],
+) -> fem2rbd::physics::ConstraintHandle {
+    use fem2rbd::physics::{ConstraintDesc, ConstraintKind, Pose};
+    let mut d = ConstraintDesc::new(
+        ConstraintKind::Generic6Dof {
+            use_linear_reference_frame_a: true,
+        },
+        a,
+        b,
+        Pose::at(pivot_a),
+        Pose::at(pivot_b),
+    );
+    d.limits = [Some((0.0, 0.0)); 6];
+    d.disable_collisions_between = true;
+    w.add_constraint(&d).unwrap()
+}
+
+/// The hanging chain of the joint-solver tests: a static anchor at (x, 0, 5) m, a 1 kg box
+/// 1 m below it and a 100 kg box 1 m below that (0.2 m cubes), each link a
+/// [`locked_joint`] with its pivot at the lower box's centre. Returns (light, heavy, top
+/// link).
 pub fn hanging_chain(
     w: &mut fem2rbd::physics::World,
+    x: f64,
 ) -> (
     fem2rbd::physics::BodyHandle,
     fem2rbd::physics::BodyHandle,
     fem2rbd::physics::ConstraintHandle,
 ) {
-    use fem2rbd::physics::{BodyHandle, BoxDesc, ConstraintDesc, ConstraintKind, Pose, World};
-    let link = |w: &mut World, a: BodyHandle, b: BodyHandle| {
-        let mut d = ConstraintDesc::new(
-            ConstraintKind::Generic6Dof {
-                use_linear_reference_frame_a: true,
-            },
-            a,
-            b,
-            Pose::at([0.0, 0.0, -1.0]),
-            Pose::IDENTITY,
-        );
-        d.limits = [Some((0.0, 0.0)); 6];
-        d.disable_collisions_between = true;
-        w.add_constraint(&d).unwrap()
-    };
+    use fem2rbd::physics::{BoxDesc, Pose};
     let anchor = w
-        .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
+        .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([x, 0.0, 5.0])))
         .unwrap();
     let light = w
-        .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.0, 0.0, 4.0])))
+        .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([x, 0.0, 4.0])))
         .unwrap();
     let heavy = w
-        .add_box(&BoxDesc::dynamic(
-            [0.1; 3],
-            100.0,
-            Pose::at([0.0, 0.0, 3.0]),
-        ))
+        .add_box(&BoxDesc::dynamic([0.1; 3], 100.0, Pose::at([x, 0.0, 3.0])))
         .unwrap();
-    let top = link(w, anchor, light);
-    link(w, light, heavy);
+    let top = locked_joint(w, anchor, light, [0.0, 0.0, -1.0], [0.0; 3]);
+    locked_joint(w, light, heavy, [0.0, 0.0, -1.0], [0.0; 3]);
     (light, heavy, top)
 }

@@ -38,6 +38,10 @@ use super::types::PhysicsError;
 use super::world::{check, World};
 use bullet_sys as sys;
 
+/// The default regularisation ε (module docs: the smallest value measured safe on frame3
+/// under gravity and in the LC5 debris; the shim's own default is the same).
+pub const DEFAULT_REGULARISATION: f64 = 1e-3;
+
 /// How the joints' bilateral rows are solved at each substep (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum JointSolve {

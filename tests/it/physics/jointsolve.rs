@@ -6,28 +6,7 @@ use fem2rbd::physics::*;
 const G: f64 = 9.81;
 const H: f64 = 1.0 / 200.0;
 
-/// A Generic6Dof constraint locked in all six axes, pivot at `pivot_a` in A's frame and
-/// `pivot_b` in B's frame.
-fn locked(
-    w: &mut World,
-    a: BodyHandle,
-    b: BodyHandle,
-    pivot_a: [f64; 3],
-    pivot_b: [f64; 3],
-) -> ConstraintHandle {
-    let mut d = ConstraintDesc::new(
-        ConstraintKind::Generic6Dof {
-            use_linear_reference_frame_a: true,
-        },
-        a,
-        b,
-        Pose::at(pivot_a),
-        Pose::at(pivot_b),
-    );
-    d.limits = [Some((0.0, 0.0)); 6];
-    d.disable_collisions_between = true;
-    w.add_constraint(&d).unwrap()
-}
+use crate::support::locked_joint as locked;
 
 /// A 1 kg box hangs 1 m below a static anchor and a 100 kg box 1 m below it, both links
 /// locked Generic6Dof constraints (pivots at the lower box's centre), h = 1/200 s.
@@ -39,7 +18,7 @@ fn heavy_chain(mode: JointSolve, iterations: u32, warmstart: f64) -> (f64, f64, 
     let mut w = World::new(&s).unwrap();
     w.set_joint_solve(mode, 1e-8).unwrap();
     w.set_joint_warmstart(warmstart).unwrap();
-    let (_, heavy, top) = crate::support::hanging_chain(&mut w);
+    let (_, heavy, top) = crate::support::hanging_chain(&mut w, 0.0);
     w.step(H, 200).unwrap();
     let impulse = w.joint_feedback(top).unwrap().force_b[2] * H;
     (
@@ -192,21 +171,7 @@ fn direct_joint_solve_is_deterministic_across_threads() {
         locked(&mut w, ground, c2, [1.0, 0.0, 0.5], [0.0, 0.0, -1.0]);
         locked(&mut w, c1, beam, [0.0, 0.0, 1.0], [-1.0, 0.0, -0.1]);
         locked(&mut w, c2, beam, [0.0, 0.0, 1.0], [1.0, 0.0, -0.1]);
-        let anchor = w
-            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([3.0, 0.0, 5.0])))
-            .unwrap();
-        let a = w
-            .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([3.0, 0.0, 4.0])))
-            .unwrap();
-        let b = w
-            .add_box(&BoxDesc::dynamic(
-                [0.1; 3],
-                100.0,
-                Pose::at([3.0, 0.0, 3.0]),
-            ))
-            .unwrap();
-        locked(&mut w, anchor, a, [0.0, 0.0, -1.0], [0.0; 3]);
-        locked(&mut w, a, b, [0.0, 0.0, -1.0], [0.0; 3]);
+        crate::support::hanging_chain(&mut w, 3.0);
         w.add_box(&BoxDesc::dynamic(
             [0.2; 3],
             10.0,

@@ -470,18 +470,7 @@ fn six_dof_linear_limit_stops_the_fall_at_the_limit() {
 
 /// A Generic6Dof constraint with all six axes locked, `b` hanging 1 m below `anchor`.
 fn locked_hanger(w: &mut World, anchor: BodyHandle, b: BodyHandle) -> ConstraintHandle {
-    let mut d = ConstraintDesc::new(
-        ConstraintKind::Generic6Dof {
-            use_linear_reference_frame_a: true,
-        },
-        anchor,
-        b,
-        Pose::at([0.0, 0.0, -1.0]),
-        Pose::IDENTITY,
-    );
-    d.limits = [Some((0.0, 0.0)); 6];
-    d.disable_collisions_between = true;
-    w.add_constraint(&d).unwrap()
+    crate::support::locked_joint(w, anchor, b, [0.0, 0.0, -1.0], [0.0; 3])
 }
 
 /// A Generic6Dof row given ERP and CFM from a target stiffness k and damping ratio ζ
@@ -598,7 +587,7 @@ fn generic6dof_warm_start_scales_the_unconverged_sag() {
         s.solver.num_iterations = 4;
         let mut w = World::new(&s).unwrap();
         w.set_joint_warmstart(factor).unwrap();
-        let (_, heavy, _) = crate::support::hanging_chain(&mut w);
+        let (_, heavy, _) = crate::support::hanging_chain(&mut w, 0.0);
         w.step(h, 400).unwrap();
         let v = w.velocity(heavy).unwrap().linear[2].abs();
         let (f, started) = w.joint_warmstart().unwrap();
