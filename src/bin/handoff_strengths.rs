@@ -58,7 +58,7 @@ fn main() -> Result<()> {
         rot[rot.len() - 1].0,
         rot.iter().map(|r| r.1).fold(f64::INFINITY, f64::min)
     );
-    let strengths = body_strengths(&bodies, &caps);
+    let strengths = body_strengths(&model, &bodies, &caps, true);
     let fe = build_connections_with(&g, &groups, &contacts, &poses, &settings, &strengths)?;
     println!(
         "{path}: {} connections, {} members' capacities in {wall:.2} s",

@@ -342,6 +342,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     };
     s.joint_solve_regularisation = p.joint_solve_regularisation;
     s.ruin.axial_rows = p.axial_rows_for(sc.mode);
+    s.ruin.hinge_end = p.hinge_end;
     s
 }
 
@@ -922,7 +923,12 @@ pub(crate) fn run_perturbed(
                         error: Box::new(error),
                     }
                 })?;
-            start.body_strengths = strengths::body_strengths(bodies, &caps);
+            start.body_strengths = strengths::body_strengths(
+                &inputs.model,
+                bodies,
+                &caps,
+                sc.physics.panel_connections == scenario::PanelConnections::Elastic,
+            );
             Some(FeStrengths {
                 gravity_n: loads,
                 gravity_caps: caps,
@@ -970,7 +976,12 @@ pub(crate) fn run_perturbed(
                 stage: "FE-derived connection strengths at Tc",
                 error: Box::new(error),
             })?;
-            start.body_strengths = strengths::body_strengths(bodies, &caps);
+            start.body_strengths = strengths::body_strengths(
+                &inputs.model,
+                bodies,
+                &caps,
+                sc.physics.panel_connections == scenario::PanelConnections::Elastic,
+            );
         }
         start.start_damage = if gravity.is_some() {
             // Walls have no member-end capacities: a wall body's connections start broken

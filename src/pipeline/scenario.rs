@@ -287,6 +287,27 @@ pub struct PhysicsSpec {
     /// Connection strengths: `"formula"` (BCB) or `"fe"`; absent = `"fe"` in the hybrid
     /// mode, `"formula"` in the physics mode ([`PhysicsSpec::connection_model`]).
     pub connections: Option<ConnectionModel>,
+    /// How the slab panels' connections are limited with FE-derived connections:
+    /// `"group"` (the panels' group strengths, the default) or `"elastic"` (the FE's slab
+    /// is elastic, so a panel never limits a connection; needs `connections = "fe"`).
+    pub panel_connections: PanelConnections,
+    /// What a ductile hinge (FE-derived connections) becomes past its 1st rotation
+    /// tolerance: `"spring"` (BCB's plastic spring, the default) or `"rupture"` (it holds
+    /// to BCB's 2nd tolerances, then breaks): `crate::ruin::connection::HingeEnd`.
+    pub hinge_end: crate::ruin::connection::HingeEnd,
+}
+
+/// How slab panels limit their connections with FE-derived connections
+/// (`[physics] panel_connections`, docs/handoff.md §2.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PanelConnections {
+    /// As the FE's slab: elastic, never the weak link
+    /// (`crate::ruin::connection::BodyCapacity::Elastic`).
+    Elastic,
+    /// The panels' group strengths (BCB's Formula Assistant).
+    #[default]
+    Group,
 }
 
 impl PhysicsSpec {
@@ -366,6 +387,8 @@ impl Default for PhysicsSpec {
             stop_at_rest: true,
             rest: RestTest::default(),
             connections: None,
+            panel_connections: PanelConnections::Group,
+            hinge_end: crate::ruin::connection::HingeEnd::Spring,
         }
     }
 }
@@ -782,6 +805,16 @@ impl Scenario {
             file: p.to_string(),
             error,
         })?;
+        if raw.physics.panel_connections == PanelConnections::Elastic
+            && raw.physics.connection_model(raw.mode) == ConnectionModel::Formula
+        {
+            return Err(invalid(
+                "physics.panel_connections = \"elastic\" needs FE-derived connections \
+                 (connections = \"fe\"); BCB's Formula Assistant limits every connection \
+                 by its groups"
+                    .into(),
+            ));
+        }
         if raw
             .output
             .as_ref()

@@ -244,8 +244,30 @@ pub struct RuinSettings {
     /// The axial rows: BCB's one-way compression and tension rows (default) or one
     /// two-way row broken by the stage in the sense it pushes ([`super::axial`]).
     pub axial_rows: super::axial::AxialRows,
+    /// What a ductile hinge (FE-derived connections) becomes past its 1st rotation
+    /// tolerance ([`HingeEnd`]; default [`HingeEnd::Spring`], BCB's sequence).
+    pub hinge_end: HingeEnd,
     /// The connection search.
     pub search: super::search::SearchSettings,
+}
+
+/// What a ductile hinge of an FE-derived connection ([`ConnectionSpec::ductile`]) does
+/// once it has turned past its 1st rotation tolerance (docs/handoff.md §2.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HingeEnd {
+    /// The hinge goes on holding its moment, and the connection's axial and shear rows
+    /// their strengths, until BCB's 2nd tolerances (the Formula Assistant's bar-rupture
+    /// rotation tol2R = atan(elu/100·L/(h/2)) and distance tol2D = elu/100, docs/bcb.md
+    /// §4), where the connection breaks: the FE's fibre sections carry their gravity load
+    /// far beyond the 80 %-moment rotation (Concrete02 keeps a residual strength, the bars
+    /// have no rupture strain), so the FE building has no plastic-spring state. The
+    /// connection has no plastic spring. Option (session 10, docs/handoff.md §2.6).
+    Rupture,
+    /// BCB's sequence (the default): at the 1st tolerance every generic row is switched
+    /// off and BCB's plastic spring (P = f_su·ρ·A/4) takes over until the 2nd tolerances.
+    #[default]
+    Spring,
 }
 
 impl Default for RuinSettings {
@@ -265,6 +287,7 @@ impl Default for RuinSettings {
             angular_spring: AngularSpring::Lever,
             disable_collisions: true,
             axial_rows: super::axial::AxialRows::Bcb,
+            hinge_end: HingeEnd::Spring,
             search: super::search::SearchSettings::default(),
         }
     }
@@ -619,6 +642,32 @@ impl BodyStrength {
     }
 }
 
+/// What limits the connections of one body when the strengths are FE-derived
+/// ([`build_connections_with`]; docs/handoff.md §2.3, §2.6).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BodyCapacity {
+    /// Its group's strength (BCB's Formula Assistant, or ACI per area for walls): bodies
+    /// the FE gives no member-end capacities for, and foundation blocks.
+    Group,
+    /// A beam-column member: its fibre sections' capacities where a contact cuts it.
+    Member(Box<BodyStrength>),
+    /// A part the FE models as elastic (slab panels: in the FE lumped mass on elastic
+    /// strips, or nothing): it never limits a connection. A connection that nothing
+    /// limits (two panels, a panel on a member's side) is unbreakable and has no
+    /// tolerances: the FE building's slab does not fail.
+    Elastic,
+}
+
+impl BodyCapacity {
+    /// The member strengths, if this is a member.
+    pub fn member(&self) -> Option<&BodyStrength> {
+        match self {
+            BodyCapacity::Member(s) => Some(s),
+            _ => None,
+        }
+    }
+}
+
 /// Builds the CT 22 connection of every contact ([`build_connections_with`] without
 /// FE-derived strengths: BCB's group strengths throughout).
 pub fn build_connections(
@@ -633,7 +682,7 @@ pub fn build_connections(
 
 /// Builds the CT 22 connection of every contact.
 ///
-/// **FE-derived strengths** (`strengths`, one entry per body or empty; issue 11,
+/// **FE-derived strengths** (`strengths`, one [`BodyCapacity`] per body or empty; issue 11,
 /// docs/handoff.md): a connection whose body (or bodies) has a [`BodyStrength`] and is
 /// cut by the contact (the contact is at the member's end face, [`BodyStrength::cut_by`])
 /// takes its compression, tension, shear and bending capacities from the member end
@@ -646,9 +695,17 @@ pub fn build_connections(
 /// FE strengths and a passive partner (foundation): the FE value, without BCB's ×2
 /// boundary multiplier (the column's base section is the weak link the FE computed).
 /// BCB's corrections 2.2 / 1.5 still convert the forces to Bullet thresholds. The bending
-/// rows are ductile ([`ConnectionSpec::ductile`]) and the 1st rotation tolerance becomes
-/// the smaller remaining rotation capacity of the ends where given. The plastic spring
-/// keeps BCB's P and k and BCB's 2nd tolerances.
+/// rows are ductile ([`ConnectionSpec::ductile`]). With [`HingeEnd::Spring`] the 1st
+/// rotation tolerance becomes the larger of BCB's and the smaller remaining rotation
+/// capacity of the ends where given, and the plastic spring keeps BCB's P and k and BCB's
+/// 2nd tolerances; with [`HingeEnd::Rupture`] the 1st tolerances are the 2nd ones (the
+/// rotation the larger of tol2R and the rotation left) and there is no spring.
+///
+/// An [`BodyCapacity::Elastic`] body (a slab panel the FE carries elastically) never
+/// limits: against a group body that group's value alone, against a member it cuts the
+/// member's values alone; against another elastic body, a member it does not cut or a
+/// passive body nothing limits, and the connection is unbreakable (infinite strengths, no
+/// tolerances, no spring; docs/handoff.md §2.6).
 ///
 /// * `bodies`: the geometry the contacts were found on (undeformed).
 /// * `groups`: strength definitions, looked up by [`BodyGeom::group`].
@@ -664,7 +721,7 @@ pub fn build_connections_with(
     contacts: &[Contact],
     poses_at_start: &[Isometry3<f64>],
     settings: &RuinSettings,
-    strengths: &[Option<BodyStrength>],
+    strengths: &[BodyCapacity],
 ) -> Result<Vec<ConnectionSpec>, RuinError> {
     settings.validate()?;
     if !strengths.is_empty() && strengths.len() != bodies.len() {
@@ -674,7 +731,10 @@ pub fn build_connections_with(
             got: strengths.len(),
         });
     }
-    let strength_of = |i: usize| strengths.get(i).and_then(|s| s.as_ref());
+    let strength_of = |i: usize| strengths.get(i).and_then(BodyCapacity::member);
+    let elastic = |i: usize| matches!(strengths.get(i), Some(BodyCapacity::Elastic));
+    // An active body whose own group strength limits its connections.
+    let group_limited = |i: usize| !bodies[i].passive && !elastic(i) && strength_of(i).is_none();
     if poses_at_start.len() != bodies.len() {
         return Err(RuinError::LengthMismatch {
             what: "poses at the start of the ruin stage".into(),
@@ -721,6 +781,15 @@ pub fn build_connections_with(
                 g,
                 g.strength.per_area(h_mm, w_mm),
                 g.threshold_multiplier * settings.passive_multiplier,
+                g.plastic_length,
+            )
+        } else if elastic(c.a) != elastic(c.b) {
+            // An elastic panel does not limit: the partner's group alone.
+            let g = lookup(if elastic(c.a) { c.b } else { c.a })?;
+            (
+                g,
+                g.strength.per_area(h_mm, w_mm),
+                g.threshold_multiplier,
                 g.plastic_length,
             )
         } else {
@@ -835,8 +904,7 @@ pub fn build_connections_with(
             }
             // An active partner without FE strengths: also its group value.
             // (A member with FE strengths touched on its side does not limit it.)
-            let other_active_without = (strength_of(c.a).is_none() && !ba.passive)
-                || (strength_of(c.b).is_none() && !bb.passive);
+            let other_active_without = group_limited(c.a) || group_limited(c.b);
             let group_vals = [
                 forces.compression_n,
                 forces.tension_n,
@@ -870,6 +938,43 @@ pub fn build_connections_with(
             }
         }
         let ductile = !strengths.is_empty() && (fa.is_some() || fb.is_some());
+        if ductile && settings.hinge_end == HingeEnd::Rupture {
+            // The hinge holds to BCB's 2nd tolerances (bar rupture), then breaks; no spring.
+            let rot_left = [fa, fb]
+                .into_iter()
+                .flatten()
+                .filter_map(|sd| sd.end_near(c.pivot).rotation_left)
+                .reduce(f64::min);
+            tolerances.dist1 = tolerances.dist2;
+            tolerances.rot1 = tolerances.rot2.map(|r2| rot_left.map_or(r2, |r| r.max(r2)));
+            forces.plastic_n = None;
+            forces.spring_stiffness = None;
+        }
+        // Nothing limits a connection of an elastic panel with another panel or with a
+        // member it does not cut: unbreakable, no tolerances (the FE's slab is elastic).
+        let unlimited = (elastic(c.a) || elastic(c.b))
+            && fa.is_none()
+            && fb.is_none()
+            && !group_limited(c.a)
+            && !group_limited(c.b);
+        if unlimited {
+            forces = ConnectionForces {
+                compression_n: f64::INFINITY,
+                tension_n: f64::INFINITY,
+                shear_h_n: f64::INFINITY,
+                shear_w_n: f64::INFINITY,
+                bend_h_nm: f64::INFINITY,
+                bend_w_nm: f64::INFINITY,
+                plastic_n: None,
+                spring_stiffness: None,
+            };
+            tolerances = ResolvedTolerances {
+                dist1: None,
+                rot1: None,
+                dist2: None,
+                rot2: None,
+            };
+        }
 
         let constraints = constraint_specs(
             c,
@@ -1123,20 +1228,26 @@ mod tests {
         );
     }
 
-    /// The FE-derived mapping by hand: a vertical column (local x = Z, y = X, z = Y)
-    /// cut by a horizontal contact at its top end (normal Z, h along X, w along Y) gives
-    /// C, T along its axis, the sliding shears, and bending about Y (local z → Mz) and X
-    /// (local y → My); a contact on its side (normal X) does not cut it.
-    #[test]
-    fn fe_strengths_map_onto_the_contact_axes() {
-        let end = EndStrength {
+    /// A member end with C 300 N, T 50 N, shears 40 / 45 N, moments 2 / 3 N·m and 0.05 rad
+    /// of rotation left.
+    fn test_end() -> EndStrength {
+        EndStrength {
             compression_n: 300.0,
             tension_n: 50.0,
             shear_n: [40.0, 45.0],
             moment_nm: [2.0, 3.0],
             rotation_left: Some(0.05),
             lost: false,
-        };
+        }
+    }
+
+    /// The FE-derived mapping by hand: a vertical column (local x = Z, y = X, z = Y)
+    /// cut by a horizontal contact at its top end (normal Z, h along X, w along Y) gives
+    /// C, T along its axis, the sliding shears, and bending about Y (local z → Mz) and X
+    /// (local y → My); a contact on its side (normal X) does not cut it.
+    #[test]
+    fn fe_strengths_map_onto_the_contact_axes() {
+        let end = test_end();
         let lost = EndStrength { lost: true, ..end };
         let col = BodyStrength {
             axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
@@ -1278,6 +1389,111 @@ mod tests {
         let bcb = constraint_specs(&c, &ba, &bb, &ba.pose(), &bb.pose(), &forces(0.0), &s);
         assert_eq!((bcb[0].lower[0], bcb[0].upper[0]), (0.0, BCB_UNLIMITED));
         assert!(bcb[0].enabled && !bcb[1].enabled && bcb[1].no_strength);
+    }
+
+    /// FE-derived connections of two stacked pieces (docs/handoff.md §2.4, §2.6): two
+    /// elastic panels are unbreakable (infinite strengths, no tolerances, no spring); a
+    /// member cut by the contact against an elastic panel takes the member's values alone,
+    /// against a group body the weaker of the member's and the group's; a ductile hinge
+    /// holds to BCB's 2nd tolerances without a spring (`Rupture`) or hands over to BCB's
+    /// spring at max(rotation left, tol1R) (`Spring`).
+    #[test]
+    fn elastic_panels_and_ductile_hinge_ends() {
+        let (ba, bb, c) = stacked_columns();
+        let bodies = [ba, bb];
+        let poses: Vec<_> = bodies.iter().map(|b| b.pose()).collect();
+        let groups = [GroupStrength::formula(
+            "1",
+            super::super::strength::FormulaInputs::default(),
+        )];
+        let end = test_end();
+        let col = BodyStrength {
+            axes: [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            ends: [([0.0, 0.0, 0.0], end), ([0.0, 0.0, 1.0], end)],
+        };
+        let build = |caps: &[BodyCapacity], s: &RuinSettings| {
+            build_connections_with(&bodies, &groups, &[c], &poses, s, caps)
+                .unwrap()
+                .remove(0)
+        };
+        let s = RuinSettings {
+            hinge_end: HingeEnd::Rupture,
+            ..RuinSettings::default()
+        };
+        let bcb = build(&[], &s);
+        assert!(bcb.forces.compression_n.is_finite() && bcb.has_spring());
+
+        let panels = build(&[BodyCapacity::Elastic, BodyCapacity::Elastic], &s);
+        assert!(!panels.has_spring() && !panels.ductile);
+        assert_eq!(panels.constraints.len(), 6);
+        assert!(panels
+            .constraints
+            .iter()
+            .all(|k| k.breaking_impulse == f64::INFINITY && k.enabled));
+        assert_eq!(
+            panels.tolerances,
+            ResolvedTolerances {
+                dist1: None,
+                rot1: None,
+                dist2: None,
+                rot2: None
+            }
+        );
+
+        let fe = col.forces_for(&c);
+        let on_panel = build(
+            &[
+                BodyCapacity::Member(Box::new(col.clone())),
+                BodyCapacity::Elastic,
+            ],
+            &s,
+        );
+        let got = on_panel.forces;
+        assert_eq!(
+            [
+                got.compression_n,
+                got.tension_n,
+                got.shear_h_n,
+                got.shear_w_n,
+                got.bend_h_nm,
+                got.bend_w_nm
+            ],
+            fe
+        );
+        // Rupture: the hinge holds to the 2nd tolerances, no spring.
+        assert!(on_panel.ductile && !on_panel.has_spring());
+        let t = on_panel.tolerances;
+        assert_eq!((t.dist1, t.rot1), (t.dist2, t.rot2));
+        assert!(t.rot2.unwrap() > 0.05);
+
+        // A group partner limits too: the weaker of the member's and the group's value.
+        let on_group = build(
+            &[
+                BodyCapacity::Member(Box::new(col.clone())),
+                BodyCapacity::Group,
+            ],
+            &s,
+        );
+        assert_eq!(
+            on_group.forces.compression_n,
+            fe[0].min(bcb.forces.compression_n)
+        );
+
+        // Spring: BCB's spring after max(rotation left, tol1R).
+        let spring = RuinSettings {
+            hinge_end: HingeEnd::Spring,
+            ..s
+        };
+        let to_spring = build(
+            &[BodyCapacity::Member(Box::new(col)), BodyCapacity::Elastic],
+            &spring,
+        );
+        assert!(to_spring.has_spring());
+        assert_eq!(
+            to_spring.tolerances.rot1,
+            bcb.tolerances.rot1.map(|t1| t1.max(0.05))
+        );
+        assert_ne!(to_spring.tolerances.rot1, to_spring.tolerances.rot2);
     }
 
     #[test]

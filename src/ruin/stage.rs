@@ -44,7 +44,7 @@
 //! zero velocities, all connections elastic, start at t = 0 under the whole record.
 
 use super::connection::{
-    build_connections_with, BodyStrength, ConnectionSpec, ConnectionState,
+    build_connections_with, BodyCapacity, ConnectionSpec, ConnectionState,
     ConstraintClass as SpecKind, ConstraintRole, GroupStrength, RuinSettings, BENDING_ROWS,
     GENERIC_COUNT,
 };
@@ -289,7 +289,7 @@ pub struct StageInput<'a> {
     pub start_damage: BTreeMap<(usize, usize), FeDamage>,
     /// FE-derived strengths per body (empty: BCB's group strengths only; else one entry
     /// per body) — [`super::connection::build_connections_with`].
-    pub body_strengths: Vec<Option<BodyStrength>>,
+    pub body_strengths: Vec<BodyCapacity>,
 }
 
 impl<'a> StageInput<'a> {

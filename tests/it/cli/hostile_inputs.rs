@@ -209,6 +209,26 @@ fn cases() -> Vec<Case> {
             scenario("", "[physics]\njoint_solve_regularisation = -1.0"),
         ),
         case(
+            "panel_connections elastic with formula",
+            run,
+            1,
+            &["s.toml", "physics.panel_connections", "connections = \"fe\""],
+        )
+        .with(
+            "s.toml",
+            scenario(
+                "",
+                "[physics]\nconnections = \"formula\"\npanel_connections = \"elastic\"",
+            ),
+        ),
+        case(
+            "hinge_end crumble",
+            run,
+            1,
+            &["s.toml:", "unknown variant `crumble`", "rupture", "spring"],
+        )
+        .with("s.toml", scenario("", "[physics]\nhinge_end = \"crumble\"")),
+        case(
             "time_limit_s 1e9",
             run,
             1,

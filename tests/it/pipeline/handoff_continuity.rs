@@ -51,13 +51,18 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
 /// `history.csv` rows: (t, stage, roof_drift, max_drop_m, intact, plastic, broken).
 type Row = (f64, String, f64, f64, Option<[usize; 3]>);
 
-fn history(rec: &pipeline::RunRecord) -> Vec<Row> {
+/// The text of output file `name` of a run.
+fn output_text(rec: &pipeline::RunRecord, name: &str) -> String {
     let files = write::contents(rec, false).unwrap();
-    let text = files
+    files
         .iter()
-        .find(|(n, _)| *n == "history.csv")
+        .find(|(n, _)| *n == name)
         .map(|(_, b)| String::from_utf8(b.clone()).unwrap())
-        .unwrap();
+        .unwrap()
+}
+
+fn history(rec: &pipeline::RunRecord) -> Vec<Row> {
+    let text = output_text(rec, "history.csv");
     text.lines()
         .skip(1)
         .map(|l| {
@@ -81,6 +86,11 @@ fn history(rec: &pipeline::RunRecord) -> Vec<Row> {
 }
 
 fn gravity_only(mode: &str, physics: &str, fe: &str, seconds: f64) -> Vec<Row> {
+    history(&gravity_record(mode, physics, fe, seconds))
+}
+
+/// The run record of [`gravity_only`].
+fn gravity_record(mode: &str, physics: &str, fe: &str, seconds: f64) -> pipeline::RunRecord {
     let dir = tempfile::tempdir().unwrap();
     let z = zeros(dir.path(), seconds);
     let text = format!(
@@ -91,7 +101,29 @@ fn gravity_only(mode: &str, physics: &str, fe: &str, seconds: f64) -> Vec<Row> {
     );
     let p = write_file(dir.path(), "gravity.toml", &text);
     let sc = Scenario::load(&p).unwrap();
-    history(&pipeline::run(&sc, &Silent).unwrap())
+    pipeline::run(&sc, &Silent).unwrap()
+}
+
+/// The connections of a run whose `first_row_lost` is set, as "Type-Type" kinds (sorted
+/// body types, e.g. "Slab-Slab").
+fn rows_lost(rec: &pipeline::RunRecord) -> Vec<String> {
+    let text = output_text(rec, "connections.csv");
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (a, b, lost) = (col("a"), col("b"), col("first_row_lost"));
+    lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| !f[lost].is_empty())
+        .map(|f| {
+            let mut k = [
+                f[a].split(':').next().unwrap(),
+                f[b].split(':').next().unwrap(),
+            ];
+            k.sort_unstable();
+            k.join("-")
+        })
+        .collect()
 }
 
 /// Target (c) of issue 11: the undamaged Bullet building (FE-derived connections) under
@@ -182,16 +214,23 @@ fn gravity_alone_member_rows_at_200_substeps() {
 /// physics-only, with the extra `[physics]` lines: (peak sag m, peak roof drift ratio,
 /// connections plastic or broken at the end).
 fn gravity_peaks_1s(extra: &str) -> (f64, f64, usize) {
-    let rows = gravity_only(
+    let (sag, drift, lost, _) = gravity_peaks_and_rows_1s(extra);
+    (sag, drift, lost)
+}
+
+/// [`gravity_peaks_1s`] and the kinds of the connections that had a row at its threshold.
+fn gravity_peaks_and_rows_1s(extra: &str) -> (f64, f64, usize, Vec<String>) {
+    let rec = gravity_record(
         "physics",
         &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
         "",
         1.0,
     );
+    let rows = history(&rec);
     let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
     let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
     let [_, plastic, broken] = rows.last().unwrap().4.unwrap();
-    (sag, drift, plastic + broken)
+    (sag, drift, plastic + broken, rows_lost(&rec))
 }
 
 /// Target (c) on frame3 at BCB's 200 substeps/s and 100 iterations, 1 s (every peak comes
@@ -244,6 +283,39 @@ fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
         drift_d * 100.0
     );
     assert!(sag_d < 0.2 * sag, "direct: sag {sag_d} vs PGS's {sag}");
+}
+
+/// Slab panels as the FE has them (`panel_connections = "elastic"`: the FE's slab is lumped
+/// mass on elastic strips, so a panel never limits a connection; docs/handoff.md §2.6),
+/// with the direct joint solve and hinges to rupture, against the panels' group strengths
+/// (the default), gravity alone 1 s at 200 substeps/s. With the group strengths the slab
+/// panels' bending rows reach their thresholds under their own weight (a quarter panel of
+/// 738 kg needs ≈ 1.3 kN·m at each supported edge, its group gives 0.30 kN·m × 1.5;
+/// measured 3 s PGS run: 44 slab-panel connections, no other); with elastic panels no
+/// connection does, and target (c) holds (measured 3 s release run: 3.17 mm peak sag,
+/// 0.0135 % peak drift; FE 3.06 mm).
+#[test]
+fn elastic_panels_carry_the_slab_under_gravity() {
+    let (_, _, lost_g, rows_g) = gravity_peaks_and_rows_1s("joint_solve = \"direct\"");
+    let (sag, drift, lost, rows) = gravity_peaks_and_rows_1s(
+        "joint_solve = \"direct\"\npanel_connections = \"elastic\"\nhinge_end = \"rupture\"",
+    );
+    eprintln!(
+        "gravity alone 1 s, direct: group panels {} connections at a threshold {rows_g:?}; \
+         elastic panels {} ({rows:?}), sag {:.2} mm, drift {:.4} %",
+        rows_g.len(),
+        rows.len(),
+        sag * 1e3,
+        drift * 100.0
+    );
+    assert_eq!((lost_g, lost), (0, 0), "connections gave way under gravity");
+    assert!(
+        !rows_g.is_empty() && rows_g.iter().all(|k| k.contains("Slab")),
+        "group panels: {rows_g:?}"
+    );
+    assert!(rows.is_empty(), "elastic panels: {rows:?}");
+    assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
+    assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
 }
 
 /// Target (b) of issue 11 with the 1/50-drift hand-off (GB 50011), at the default 200
