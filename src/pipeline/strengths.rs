@@ -6,7 +6,7 @@
 //! per end (node i, node j) the section's compression, tension, shear and bending
 //! capacities and whether it has lost its load path ([`BodyCapacity::Member`]). The
 //! boxes of `panel` elements (slab panels: rigid bodies only, the FE carries the slab as
-//! lumped mass on elastic strips) are [`BodyCapacity::Elastic`] when `panels` says so
+//! lumped mass on elastic strips) are [`BodyCapacity::Elastic`] with `elastic_panels`
 //! (`[physics] panel_connections = "elastic"`, docs/handoff.md §2.6): they never limit a
 //! connection. Every other body (walls, foundation blocks, panels with `"group"`) is
 //! [`BodyCapacity::Group`] and keeps its group strength.

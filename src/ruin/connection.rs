@@ -701,7 +701,7 @@ pub fn build_connections(
 /// 2nd tolerances; with [`HingeEnd::Rupture`] the 1st tolerances are the 2nd ones (the
 /// rotation the larger of tol2R and the rotation left) and there is no spring.
 ///
-/// An [`BodyCapacity::Elastic`] body (a slab panel the FE carries elastically) never
+/// A [`BodyCapacity::Elastic`] body (a slab panel the FE carries elastically) never
 /// limits: against a group body that group's value alone, against a member it cuts the
 /// member's values alone; against another elastic body, a member it does not cut or a
 /// passive body nothing limits, and the connection is unbreakable (infinite strengths, no
