@@ -482,6 +482,9 @@ pub struct Inputs {
     pub groups: Vec<GroupStrength>,
     /// The work ahead ([`check_budget`]): FE steps and physics substeps.
     pub budget: (u64, u64),
+    /// The ruin stage's mass-proportional damping relative to the ground, 1/s
+    /// (`[physics] ground_damping`: 0, or the model's Rayleigh a₀).
+    pub ground_damping_per_s: f64,
 }
 
 /// Loads and checks the scenario's inputs (module docs of [`Inputs`]). In the physics
@@ -525,6 +528,22 @@ pub(crate) fn load_inputs(
             path: sc.model.clone(),
             error: Box::new(error),
         })?;
+    let ground_damping_per_s = match sc.physics.ground_damping {
+        scenario::GroundDamping::None => 0.0,
+        scenario::GroundDamping::Fe => match model.rayleigh() {
+            Some((a0, _)) => a0,
+            None => {
+                return Err(PipelineError::Scenario(ScenarioError::Invalid {
+                    file: sc.path.display().to_string(),
+                    message: format!(
+                        "physics.ground_damping = \"fe\" needs the model's [damping] \
+                         (its Rayleigh a0); {} has none",
+                        sc.model.display()
+                    ),
+                }))
+            }
+        },
+    };
     Ok(Inputs {
         model,
         motion,
@@ -533,6 +552,7 @@ pub(crate) fn load_inputs(
         bodies,
         groups,
         budget,
+        ground_damping_per_s,
     })
 }
 
@@ -851,7 +871,10 @@ pub fn ruin_stage(
             top_z: base_z,
             ..GroundSpec::moving(inputs.ground.clone())
         },
-        &stage_settings(sc),
+        &StageSettings {
+            ground_damping_per_s: inputs.ground_damping_per_s,
+            ..stage_settings(sc)
+        },
     )
     .map_err(|error| PipelineError::Ruin {
         stage: "building the ruin stage",

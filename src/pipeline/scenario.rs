@@ -295,6 +295,21 @@ pub struct PhysicsSpec {
     /// tolerance: `"spring"` (BCB's plastic spring, the default) or `"rupture"` (it holds
     /// to BCB's 2nd tolerances, then breaks): `crate::ruin::connection::HingeEnd`.
     pub hinge_end: crate::ruin::connection::HingeEnd,
+    /// Mass-proportional damping of the bodies relative to the moving ground: `"none"`
+    /// (BCB, the default) or `"fe"` (the model's Rayleigh a₀, as the FE damps):
+    /// `crate::ruin::stage::StageSettings::ground_damping_per_s`.
+    pub ground_damping: GroundDamping,
+}
+
+/// `[physics] ground_damping` (docs/handoff.md §5, session 10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GroundDamping {
+    /// No damping relative to the ground (BCB: only Blender's body damping).
+    #[default]
+    None,
+    /// The a₀·M term of the FE model's Rayleigh damping (`[damping]` of the model).
+    Fe,
 }
 
 /// How slab panels limit their connections with FE-derived connections
@@ -389,6 +404,7 @@ impl Default for PhysicsSpec {
             connections: None,
             panel_connections: PanelConnections::Group,
             hinge_end: crate::ruin::connection::HingeEnd::Spring,
+            ground_damping: GroundDamping::None,
         }
     }
 }

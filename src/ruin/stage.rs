@@ -178,6 +178,15 @@ pub struct StageSettings {
     /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
     /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md §11.1).
     pub joint_solve_regularisation: f64,
+    /// Mass-proportional damping relative to the moving ground, a₀ in 1/s (0: none, BCB):
+    /// after every substep each active body's linear velocity relative to the ground
+    /// decays by exp(−a₀·h). It is the a₀·M term of the FE's Rayleigh damping
+    /// C = a₀·M + a₁·K (uniform excitation: the FE damps velocities relative to the
+    /// ground; Chopra, *Dynamics of Structures*, §11.4), a dashpot from each body to the
+    /// ground, so its impulse counts as the ground's in the energy ledger: the moving
+    /// ground's share of its work is ground work, the rest is dissipated
+    /// (docs/handoff.md §5, session 10).
+    pub ground_damping_per_s: f64,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
     /// lighter body it acts on, counting all springs on that body ([`body_spring_cap`]).
     /// `false` (BCB/Blender): only Bullet's per-spring `limitIfNeeded` cap, which takes
@@ -256,6 +265,7 @@ impl Default for StageSettings {
             joint_iterations: None,
             joint_solve: crate::physics::JointSolve::Pgs,
             joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
+            ground_damping_per_s: 0.0,
             spring_cap_per_body: true,
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
@@ -1109,6 +1119,7 @@ impl RuinStage {
             self.note_lost_rows(&enabled, t_next);
             self.restore_ductile_rows(&enabled)?;
             self.check_two_way_axial(&enabled, t_next)?;
+            self.damp_relative_to_ground(vg, h)?;
             let vels1 = self.body_velocities()?;
             let b = substep_balance(&self.props, &poses0, &vels0, &vels1, h, g, vg, ld, ad);
             self.ground_work_j += b.ground_work_j;
@@ -1288,6 +1299,31 @@ impl RuinStage {
                 }
             }
         }
+    }
+
+    /// [`StageSettings::ground_damping_per_s`]: v ← v_g + (v − v_g)·exp(−a₀·h) for every
+    /// active body's linear velocity (`vg`: the ground's velocity in the substep).
+    fn damp_relative_to_ground(&mut self, vg: [f64; 3], h: f64) -> Result<(), StageError> {
+        let a0 = self.settings.ground_damping_per_s;
+        if a0 <= 0.0 {
+            return Ok(());
+        }
+        let f = (-a0 * h).exp();
+        let vels = self.body_velocities()?;
+        for (i, v) in vels.iter().enumerate() {
+            if self.props[i].is_none() {
+                continue;
+            }
+            let linear = [0, 1, 2].map(|k| vg[k] + (v.linear[k] - vg[k]) * f);
+            self.world.set_velocity(
+                self.handles[i],
+                Velocity {
+                    linear,
+                    angular: v.angular,
+                },
+            )?;
+        }
+        Ok(())
     }
 
     /// Ductile bending rows of elastic connections that Bullet disabled in the last

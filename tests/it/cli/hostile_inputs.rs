@@ -222,6 +222,20 @@ fn cases() -> Vec<Case> {
             ),
         ),
         case(
+            "ground_damping fe without the model's damping",
+            run,
+            1,
+            &["s.toml", "physics.ground_damping", "[damping]", "model.toml"],
+        )
+        .with(
+            "model.toml",
+            model(
+                "[damping]\nxi = 0.05\nperiods = [0.316, 0.10533333333333333]\n",
+                "",
+            ),
+        )
+        .with("s.toml", scenario("", "[physics]\nground_damping = \"fe\"")),
+        case(
             "hinge_end crumble",
             run,
             1,

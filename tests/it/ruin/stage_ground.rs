@@ -369,3 +369,68 @@ fn two_physics_only_runs_are_bit_identical() {
     assert!(a == b, "the two runs differ");
     assert!(share > 0.0 && share <= 1.0);
 }
+
+/// Damping relative to the moving ground (`StageSettings::ground_damping_per_s`, a₀, the
+/// a₀·M term of the FE's Rayleigh damping): a box falling freely in the air (no contact,
+/// no body damping) reaches the closed-form vertical speed of dv/dt = −g − a₀·v,
+/// v(t) = −(g/a₀)·(1 − e^(−a₀·t)) (exactly the substeps' recurrence
+/// v ← e^(−a₀·h)·(v − g·h)), and horizontally it is carried to the ground's velocity
+/// though it never touches the ground; without the damping it keeps its zero horizontal
+/// speed. Ground: 2 m/s² along x for 0.5 s (then 1 m/s), a₀ = 2/s, 3 s.
+#[test]
+fn ground_damping_is_relative_to_the_moving_ground() {
+    let dt = 0.005;
+    let a: Vec<f64> = (0..=600).map(|i| if i < 100 { 2.0 } else { 0.0 }).collect();
+    let rec = Record::new("step", dt, 0.0, a).unwrap();
+    let hist = GroundMotion::new(Some(rec), None, None)
+        .integrate(dt, Baseline::None)
+        .unwrap();
+    let run = |a0: f64| {
+        let bodies = vec![body("box", [0.0, 0.0, 60.0], [0.2, 0.2, 0.2], false)];
+        let masses = [100.0];
+        let gr = groups();
+        let input = StageInput::physics_only(&bodies, &masses, &gr);
+        let settings = StageSettings {
+            ground_damping_per_s: a0,
+            body: BodySettings {
+                linear_damping: 0.0,
+                angular_damping: 0.0,
+                disable_deactivation: true,
+                ..BodySettings::default()
+            },
+            ..StageSettings::default()
+        };
+        let ground = GroundSpec {
+            top_z: Some(0.0),
+            ..GroundSpec::moving(hist.clone())
+        };
+        let mut stage = RuinStage::build(&input, ground, &settings).unwrap();
+        let n = (3.0 / stage.substep_s()).round() as u64;
+        stage.substeps(n).unwrap();
+        (
+            stage.body_velocities().unwrap()[0].linear,
+            stage.substep_s(),
+            n,
+        )
+    };
+    let a0 = 2.0;
+    let (v, h, n) = run(a0);
+    let f = (-a0 * h).exp();
+    let discrete = -G * h * f * (1.0 - f.powi(n as i32)) / (1.0 - f);
+    let continuous = -(G / a0) * (1.0 - (-a0 * 3.0).exp());
+    eprintln!("a0 {a0}/s, 3 s: v = {v:?}; discrete {discrete:.6}, continuous {continuous:.6} m/s");
+    assert!(
+        (v[2] - discrete).abs() < 1e-4 * discrete.abs(),
+        "vz {} vs {discrete}",
+        v[2]
+    );
+    assert!((v[2] - continuous).abs() < 0.01 * continuous.abs());
+    // Ground at 1 m/s from 0.5 s: the lag has decayed to e^(−a₀·2.5) ≈ 0.7 %.
+    assert!(
+        (v[0] - 1.0).abs() < 0.02,
+        "vx {} vs the ground's 1 m/s",
+        v[0]
+    );
+    let (v_free, _, _) = run(0.0);
+    assert!(v_free[0].abs() < 1e-9, "without damping vx {}", v_free[0]);
+}
