@@ -357,6 +357,68 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
     }
 }
 
+/// The first keyframe at which a model without contact (the FE alone) stops describing
+/// the building: a slab's lowest corner reaches the ground's top (the highest foundation
+/// top in that frame), or two consecutive floors have closed the story between them (the
+/// upper floor's centroid no higher above the lower one's than their two slab half
+/// thicknesses). Returns the frame's index and the reason in words; `None` when no frame
+/// gets there (or the model has no slabs). The ruin measures at that frame are the FE's
+/// own collapse mode, the reference of docs/handoff.md §5 (d).
+pub(crate) fn first_contact(
+    bodies: &[Body],
+    frames: &[(f64, Vec<Pose>)],
+) -> Option<(usize, String)> {
+    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for (i, b) in bodies.iter().enumerate() {
+        if !b.passive && b.kind == Some(Role::Slab) {
+            floors
+                .entry((b.pose0.position[2] * 1000.0).round() as i64)
+                .or_default()
+                .push(i);
+        }
+    }
+    let floors: Vec<Vec<usize>> = floors.into_values().collect();
+    let passive: Vec<usize> = (0..bodies.len()).filter(|&i| bodies[i].passive).collect();
+    // Mass-weighted centroid height and mean slab half thickness of a floor, m.
+    let level = |ids: &[usize], poses: &[Pose]| -> (f64, f64) {
+        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
+        let z = ids
+            .iter()
+            .map(|&i| bodies[i].mass_kg * poses[i].position[2])
+            .sum::<f64>()
+            / m;
+        let t = ids.iter().map(|&i| bodies[i].half_extents[2]).sum::<f64>() / ids.len() as f64;
+        (z, t)
+    };
+    for (k, (_, poses)) in frames.iter().enumerate() {
+        let ground_top = passive
+            .iter()
+            .map(|&i| poses[i].position[2] + bodies[i].half_extents[2])
+            .fold(f64::NEG_INFINITY, f64::max);
+        if ground_top.is_finite() {
+            for &i in floors.iter().flatten() {
+                let low = corners(&poses[i], bodies[i].half_extents)
+                    .iter()
+                    .map(|c| c[2])
+                    .fold(f64::INFINITY, f64::min);
+                if low <= ground_top {
+                    return Some((k, format!("{} reaches the ground", bodies[i].id.name())));
+                }
+            }
+        }
+        for (n, w) in floors.windows(2).enumerate() {
+            let ((z0, t0), (z1, t1)) = (level(&w[0], poses), level(&w[1], poses));
+            if z1 - z0 <= t0 + t1 {
+                return Some((
+                    k,
+                    format!("floor {} comes down onto floor {}", n + 2, n + 1),
+                ));
+            }
+        }
+    }
+    None
+}
+
 fn floor_index(list: &[(i64, Vec<usize>)], z: i64) -> usize {
     list.iter().position(|(k, _)| *k == z).map_or(0, |i| i + 1)
 }
@@ -486,9 +548,26 @@ pub struct RunSummary {
     pub connections: Option<ConnectionCounts>,
     /// Geometric measures of the ruins (module docs).
     pub ruins: RuinMeasures,
+    /// FE-only runs: the FE's state where its bodies would first touch ([`first_contact`])
+    /// and its ruin measures there (absent in runs with a ruin stage, or when no frame
+    /// gets there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fe_first_contact: Option<FeFirstContact>,
     /// Wall times, s (only with timing on: not byte-stable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_time_s: Option<WallTimes>,
+}
+
+/// `fe_first_contact`: where the FE alone stops describing the building (a model without
+/// contact), and the ruin measures of its bodies there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FeFirstContact {
+    /// Time of the keyframe, s.
+    pub t_s: f64,
+    /// What touches (`Slab:1:85 reaches the ground`, `floor 2 comes down onto floor 1`).
+    pub detail: String,
+    /// The ruin measures of the bodies at that keyframe.
+    pub ruins: RuinMeasures,
 }
 
 /// `tc_reason`.
@@ -760,6 +839,92 @@ impl RunSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A flat box body at `z` (m): a 100 kg slab of half thickness 15 mm, or a passive
+    /// foundation block 50 mm deep.
+    fn box_at(id: crate::body::BodyId, z: f64, slab: bool) -> Body {
+        Body {
+            id,
+            kind: slab.then_some(Role::Slab),
+            half_extents: if slab {
+                [0.35, 0.35, 0.015]
+            } else {
+                [0.1, 0.1, 0.05]
+            },
+            pose0: Pose {
+                position: [0.0, 0.0, z],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            },
+            mass_kg: if slab { 100.0 } else { 0.0 },
+            passive: !slab,
+        }
+    }
+
+    /// Frames of the foundation (top at `ground`) and the two slabs at `z1`, `z2` (m).
+    fn frame(bodies: &[Body], ground: f64, z1: f64, z2: f64) -> Vec<Pose> {
+        bodies
+            .iter()
+            .zip([ground - 0.05, z1, z2])
+            .map(|(b, z)| Pose {
+                position: [0.0, 0.0, z],
+                orientation: b.pose0.orientation,
+            })
+            .collect()
+    }
+
+    /// The FE's first contact: a slab whose lowest corner reaches the frame's foundation
+    /// top (0.1 m per frame from 1 m: 1 − 0.015 − 0.1k ≤ 0 first at k = 10; with the
+    /// ground 0.05 m down at k = 11), a tilted slab by its corner, and a story closing to
+    /// the two half thicknesses (upper floor 0.2 m per frame: 1 − 0.2k ≤ 0.03 at k = 5).
+    #[test]
+    fn first_contact_is_a_slab_on_the_ground_or_a_story_closed() {
+        use crate::body::{BodyId, BodyType};
+        let bodies = vec![
+            box_at(BodyId::Foundation { node: 1 }, -0.05, false),
+            box_at(BodyId::element(BodyType::Slab, "1", 2), 1.0, true),
+            box_at(BodyId::element(BodyType::Slab, "2", 3), 2.0, true),
+        ];
+        let fall = |ground: f64| -> Vec<(f64, Vec<Pose>)> {
+            (0..15)
+                .map(|k| {
+                    let d = 0.1 * k as f64;
+                    (0.04 * k as f64, frame(&bodies, ground, 1.0 - d, 2.0 - d))
+                })
+                .collect()
+        };
+        assert_eq!(
+            first_contact(&bodies, &fall(0.0)),
+            Some((10, "Slab:1:2 reaches the ground".to_string()))
+        );
+        assert_eq!(first_contact(&bodies, &fall(-0.05)).map(|c| c.0), Some(11));
+        // Tilted 90° about x at 0.3 m: its lowest corner is 0.3 − 0.35 m, below the ground.
+        let mut tilted = frame(&bodies, 0.0, 0.3, 2.0);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        tilted[1].orientation = [h, h, 0.0, 0.0];
+        let upright = frame(&bodies, 0.0, 0.3, 2.0);
+        assert_eq!(first_contact(&bodies, &[(0.0, upright)]), None);
+        assert_eq!(
+            first_contact(&bodies, &[(0.0, tilted)]).map(|c| c.0),
+            Some(0)
+        );
+        let story: Vec<(f64, Vec<Pose>)> = (0..8)
+            .map(|k| {
+                (
+                    0.04 * k as f64,
+                    frame(&bodies, 0.0, 1.0, 2.0 - 0.2 * k as f64),
+                )
+            })
+            .collect();
+        assert_eq!(
+            first_contact(&bodies, &story),
+            Some((5, "floor 2 comes down onto floor 1".to_string()))
+        );
+        // Standing: no contact in any frame.
+        let standing: Vec<(f64, Vec<Pose>)> = (0..4)
+            .map(|k| (0.04 * k as f64, frame(&bodies, 0.0, 1.0, 2.0)))
+            .collect();
+        assert_eq!(first_contact(&bodies, &standing), None);
+    }
 
     /// The cell-by-cell count the row runs replace: every cell of every polygon's bounding
     /// box whose centre passes the inside test, deduplicated.

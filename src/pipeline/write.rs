@@ -17,8 +17,8 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::{
-    energy_summary, r6, ruin_measures, unsettled, ConnectionCounts, RuinMeasures, RuinStageSummary,
-    RunSummary, TcKind, WallTimes,
+    energy_summary, first_contact, r6, ruin_measures, unsettled, ConnectionCounts, FeFirstContact,
+    RuinMeasures, RuinStageSummary, RunSummary, TcKind, WallTimes,
 };
 use crate::output::AnimationError;
 use crate::physics::Pose;
@@ -101,6 +101,22 @@ pub(crate) fn record_measures(rec: &RunRecord) -> RuinMeasures {
     ruin_measures(&rec.bodies, &rec.final_poses, ground_z)
 }
 
+/// An FE-only run's `fe_first_contact` ([`first_contact`] over its FE keyframes); `None`
+/// when a ruin stage ran.
+fn fe_first_contact(rec: &RunRecord) -> Option<FeFirstContact> {
+    if rec.ruin.is_some() {
+        return None;
+    }
+    let (k, detail) = first_contact(&rec.bodies, &rec.fe_frames)?;
+    let (t, poses) = &rec.fe_frames[k];
+    let ground_z = rec.ground.ground_state_at(*t).0[2];
+    Some(FeFirstContact {
+        t_s: r6(*t),
+        detail,
+        ruins: ruin_measures(&rec.bodies, poses, ground_z),
+    })
+}
+
 /// The run's `summary.json` ([`RunSummary`]). `timing` = include the wall times (not
 /// byte-stable).
 pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
@@ -174,6 +190,7 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         ruin_stage,
         connections,
         ruins: record_measures(rec),
+        fe_first_contact: fe_first_contact(rec),
         wall_time_s,
     }
 }

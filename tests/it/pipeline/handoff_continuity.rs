@@ -422,3 +422,47 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
         "a slab-panel connection reached a threshold"
     );
 }
+
+/// The FE's own ruin mode (docs/handoff.md §5, session 11): the FE alone, run on past its
+/// Tc (4.66 s) until its bodies would first touch, folds its first story sideways and
+/// carries the two stories above down whole — floor 1's slab reaches the ground at
+/// 5.24 s with all three floors 0.99 m lower, 0.99 / 1.05 / 1.11 m off in plan, slab
+/// overlaps 0.93 / 0.93 (the same at PGA × 0.90 … 1.10: 0.89–0.95). A model without
+/// contact says nothing after that keyframe; this is the mode the ruin stage is measured
+/// against.
+#[test]
+fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = lc5("fe", "criterion = \"vertical_drop\"", "")
+        .replace("dt = 0.005\n", "dt = 0.005\nduration = 5.3\n");
+    let p = write_file(dir.path(), "fe_alone.toml", &text);
+    let rec = pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap();
+    let s = write::run_summary(&rec, false);
+    let c = s.fe_first_contact.expect("no contact by 5.3 s");
+    let floors: Vec<(f64, f64)> = c
+        .ruins
+        .floors
+        .iter()
+        .map(|f| (f.horizontal_offset_m, f.centroid_displacement_m[2]))
+        .collect();
+    let overlaps: Vec<f64> = c
+        .ruins
+        .slab_overlap
+        .iter()
+        .map(|o| o.overlap_ratio)
+        .collect();
+    eprintln!(
+        "FE first contact at {} s ({}): floors (offset, dz) {floors:?}, overlaps {overlaps:?}",
+        c.t_s, c.detail
+    );
+    assert!((5.16..=5.32).contains(&c.t_s), "{}", c.t_s);
+    assert!(c.detail.starts_with("Slab:1:") && c.detail.ends_with("reaches the ground"));
+    assert_eq!(floors.len(), 3);
+    for (k, (off, dz)) in floors.iter().enumerate() {
+        assert!((0.9..=1.2).contains(off), "floor {} offset {off}", k + 1);
+        assert!((-1.02..=-0.94).contains(dz), "floor {} drop {dz}", k + 1);
+    }
+    for o in &overlaps {
+        assert!((0.88..=0.97).contains(o), "overlap {o}");
+    }
+}
