@@ -343,6 +343,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.joint_solve_regularisation = p.joint_solve_regularisation;
     s.ruin.axial_rows = p.axial_rows_for(sc.mode);
     s.ruin.hinge_end = p.hinge_end;
+    s.ruin.search.joints = p.joints;
     s
 }
 

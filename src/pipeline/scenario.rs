@@ -295,6 +295,11 @@ pub struct PhysicsSpec {
     /// tolerance: `"spring"` (BCB's plastic spring, the default) or `"rupture"` (it holds
     /// to BCB's 2nd tolerances, then breaks): `crate::ruin::connection::HingeEnd`.
     pub hinge_end: crate::ruin::connection::HingeEnd,
+    /// Which column pieces the beams and slab panels at a joint connect to: `"faces"`
+    /// (every touching pair, BCB; the default) or `"column_above"` (the piece above the
+    /// floor only, so the column below can hinge at the floor as in the FE):
+    /// `crate::ruin::search::JointContacts`.
+    pub joints: crate::ruin::search::JointContacts,
     /// Mass-proportional damping of the bodies relative to the moving ground: `"none"`
     /// (BCB, the default) or `"fe"` (the model's Rayleigh a₀, as the FE damps):
     /// `crate::ruin::stage::StageSettings::ground_damping_per_s`.
@@ -404,6 +409,7 @@ impl Default for PhysicsSpec {
             connections: None,
             panel_connections: PanelConnections::Group,
             hinge_end: crate::ruin::connection::HingeEnd::Spring,
+            joints: crate::ruin::search::JointContacts::Faces,
             ground_damping: GroundDamping::None,
         }
     }

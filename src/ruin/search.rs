@@ -20,6 +20,9 @@
 //!    contacts (the widening gives an edge of length L an area of about 4e-6·L).
 //! 5. Connections with a < `min_contact_area` (BCB's `minimumContactArea`, 1e-6 m²) are
 //!    dropped; two passive bodies are never connected.
+//! 6. Joints ([`JointContacts`], option): with `ColumnAbove`, a beam or slab body that
+//!    touches two column pieces stacked at a floor keeps its contact with the upper piece
+//!    only (docs/handoff.md §2.7).
 //!
 //! Not reproduced: BCB's mesh-face ("accurate") contact area — for cuboids it agrees with
 //! the rectangle — and its volume correction, which is 1 for cuboids. Rotated boxes are
@@ -52,6 +55,8 @@ pub struct SearchSettings {
     pub min_contact_area: f64,
     /// Area rule.
     pub area_rule: ContactAreaRule,
+    /// Joint rule (BCB: [`JointContacts::Faces`]).
+    pub joints: JointContacts,
 }
 
 impl Default for SearchSettings {
@@ -60,8 +65,83 @@ impl Default for SearchSettings {
             search_distance: 0.02,
             min_contact_area: 1e-6,
             area_rule: ContactAreaRule::Rectangle,
+            joints: JointContacts::Faces,
         }
     }
+}
+
+/// Which column pieces the beams and slab panels framing into a beam–column joint connect
+/// to (docs/handoff.md §2.7).
+///
+/// In the FE a joint is a node: the column element below ends there, and its end section
+/// (the section of a sway mechanism's largest moment) can turn against everything else at
+/// the node. With one rigid body per element the joint has no body of its own; BCB
+/// connects every touching pair, so the beams and slab panels hold the column's top piece
+/// as well as the piece above, the top piece turns with the joint and the column below
+/// can hinge only one piece lower (0.25 m under the floor in frame3): its mechanism is
+/// shorter than the FE's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum JointContacts {
+    /// Every touching pair (BCB).
+    #[default]
+    Faces,
+    /// A beam or slab body touching two column pieces stacked at a floor (the lower one's
+    /// top face on the upper one's bottom face) connects to the upper piece only, so the
+    /// lower piece's top face is the column's end section at the joint, as in the FE. The
+    /// story above then hinges one piece above its floor. Where no piece stands above (the
+    /// roof), nothing changes.
+    ColumnAbove,
+}
+
+/// A vertical member piece: its longest box axis (undeformed) is within 45° of world z.
+fn is_vertical_member(b: &BodyGeom) -> bool {
+    let he = b.half_extents;
+    let k = (0..3).fold(0, |k, i| if he[i] > he[k] { i } else { k });
+    if !(0..3).filter(|&i| i != k).all(|i| he[k] > he[i]) {
+        return false;
+    }
+    let mut e = nalgebra::Vector3::zeros();
+    e[k] = 1.0;
+    (b.rotation * e).z.abs() > std::f64::consts::FRAC_1_SQRT_2
+}
+
+/// [`JointContacts::ColumnAbove`]: drops the contact of a non-vertical active body H with
+/// the lower piece L of two vertical member pieces stacked along z (a contact of L and U
+/// with normal z, U above) when H also touches U. The order of the rest is kept.
+pub fn attach_joints_above(bodies: &[BodyGeom], contacts: Vec<Contact>) -> Vec<Contact> {
+    let vertical: Vec<bool> = bodies.iter().map(is_vertical_member).collect();
+    let pairs: std::collections::BTreeSet<(usize, usize)> =
+        contacts.iter().map(|c| (c.a, c.b)).collect();
+    let touch = |i: usize, j: usize| pairs.contains(&(i.min(j), i.max(j)));
+    let mut drop = std::collections::BTreeSet::new();
+    for c in &contacts {
+        if c.normal_axis != 2 || !vertical[c.a] || !vertical[c.b] {
+            continue;
+        }
+        // The normal points from a to b: b is above when the sign is +.
+        let (lower, upper) = if c.normal_sign > 0.0 {
+            (c.a, c.b)
+        } else {
+            (c.b, c.a)
+        };
+        for d in &contacts {
+            let h = if d.a == lower {
+                d.b
+            } else if d.b == lower {
+                d.a
+            } else {
+                continue;
+            };
+            if h != upper && !vertical[h] && !bodies[h].passive && touch(h, upper) {
+                drop.insert((d.a, d.b));
+            }
+        }
+    }
+    contacts
+        .into_iter()
+        .filter(|c| !drop.contains(&(c.a, c.b)))
+        .collect()
 }
 
 /// BCB widens each box by this much per side for the projection-sum area, m.
@@ -138,7 +218,10 @@ pub fn find_contacts(
             contacts.push(c);
         }
     }
-    Ok(contacts)
+    Ok(match settings.joints {
+        JointContacts::Faces => contacts,
+        JointContacts::ColumnAbove => attach_joints_above(bodies, contacts),
+    })
 }
 
 /// Sort-and-sweep on x over the AABBs enlarged by `margin`: all pairs (i < j) whose

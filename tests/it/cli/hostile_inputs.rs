@@ -243,6 +243,13 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\nhinge_end = \"crumble\"")),
         case(
+            "joints nodes",
+            run,
+            1,
+            &["s.toml:", "unknown variant `nodes`", "faces", "column_above"],
+        )
+        .with("s.toml", scenario("", "[physics]\njoints = \"nodes\"")),
+        case(
             "time_limit_s 1e9",
             run,
             1,

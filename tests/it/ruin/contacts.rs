@@ -1,7 +1,9 @@
 //! Connection search and contact geometry (docs/bcb.md §7.3, §11.3): exact face
 //! contacts, dropped edge/corner contacts, rotated boxes, and a frame3-like set of boxes.
 
-use fem2rbd::ruin::search::{find_contacts, Contact, ContactAreaRule, SearchSettings};
+use fem2rbd::ruin::search::{
+    find_contacts, Contact, ContactAreaRule, JointContacts, SearchSettings,
+};
 use fem2rbd::ruin::BodyGeom;
 use nalgebra::{UnitQuaternion, Vector3};
 use std::f64::consts::FRAC_PI_2;
@@ -338,4 +340,64 @@ fn frame3_like_connection_thresholds() {
             assert!((wa.translation.vector - wb.translation.vector).norm() < 1e-12);
         }
     }
+}
+
+/// The joint rule (docs/handoff.md §2.7) on frame3's own joint geometry (1/4 scale): two
+/// 0.25 m column pieces stacked at the floor (z = 1.0), a beam half centred on the floor
+/// (0.15 m deep) and a slab quarter panel (30 mm) framing into their side, and a roof
+/// joint with no piece above. BCB connects the beam and the panel to both pieces; with
+/// `ColumnAbove` only to the upper one, and the roof joint keeps its beam.
+#[test]
+fn joints_attach_to_the_column_piece_above_the_floor() {
+    let bodies = vec![
+        cuboid("lower", "c", [-0.05, -0.05, 0.75], [0.05, 0.05, 1.0]),
+        cuboid("upper", "c", [-0.05, -0.05, 1.0], [0.05, 0.05, 1.25]),
+        cuboid("beam", "b", [0.05, -0.0375, 0.925], [0.75, 0.0375, 1.075]),
+        cuboid("panel", "s", [0.0375, 0.05, 0.985], [0.75, 0.75, 1.015]),
+        cuboid("roof column", "c", [2.95, -0.05, 0.75], [3.05, 0.05, 1.0]),
+        cuboid(
+            "roof beam",
+            "b",
+            [3.05, -0.0375, 0.925],
+            [3.75, 0.0375, 1.075],
+        ),
+    ];
+    let pairs = |joints| -> Vec<(String, String)> {
+        let s = SearchSettings {
+            joints,
+            ..SearchSettings::default()
+        };
+        find_contacts(&bodies, &s)
+            .unwrap()
+            .iter()
+            .map(|c| (bodies[c.a].name.clone(), bodies[c.b].name.clone()))
+            .collect()
+    };
+    let names = |v: &[(&str, &str)]| -> Vec<(String, String)> {
+        v.iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect()
+    };
+    assert_eq!(
+        pairs(JointContacts::Faces),
+        names(&[
+            ("lower", "upper"),
+            ("lower", "beam"),
+            ("lower", "panel"),
+            ("upper", "beam"),
+            ("upper", "panel"),
+            ("beam", "panel"),
+            ("roof column", "roof beam"),
+        ])
+    );
+    assert_eq!(
+        pairs(JointContacts::ColumnAbove),
+        names(&[
+            ("lower", "upper"),
+            ("upper", "beam"),
+            ("upper", "panel"),
+            ("beam", "panel"),
+            ("roof column", "roof beam"),
+        ])
+    );
 }
