@@ -9,7 +9,9 @@ alone on the same time axis:
       the FE's own Tc;
   (c) the undamaged Bullet building under gravity alone (a ground record of zeros, 3 s):
       largest sag and roof drift, against the FE under the same zero record;
-  (d) optional (--ruins): final ruin measures of each hand-off at 200/400/800 substeps/s.
+  (d) optional (--ruins): final ruin measures of each hand-off at 200/400/800 substeps/s,
+      against the FE alone at its first contact (summary.json `fe_first_contact`: the
+      last keyframe a model without contact describes, i.e. the FE's own ruin mode).
 
 Each of (a)-(c) is run with both connection models, BCB's Formula Assistant ("formula")
 and the FE-derived one ("fe"). Usage:
@@ -80,6 +82,62 @@ def history(folder):
 def summary(folder):
     with open(os.path.join(folder, "summary.json")) as fh:
         return json.load(fh)
+
+
+def floor1_down(folder, frac=0.7):
+    """The floors when floor 1 has first come down `frac` of its height above the base
+    (keyframes.csv, slab bodies grouped by their undeformed height, mass-weighted): the
+    last moments before a model without contact would reach the ground. Returns
+    (t, drops per floor, plan offset of each floor against the one below) or None."""
+    bodies, tops = {}, []
+    with open(os.path.join(folder, "bodies.csv")) as fh:
+        for r in csv.DictReader(fh):
+            if r["type"] == "Slab" and r["passive"] == "0":
+                bodies[r["name"]] = r
+            elif r["passive"] == "1":
+                tops.append(float(r["cz"]) + float(r["hz"]))
+    if not bodies:
+        return None
+    levels = sorted({round(float(r["cz"]), 3) for r in bodies.values()})
+    base = max(tops) if tops else 0.0
+    floor_of = {n: levels.index(round(float(r["cz"]), 3)) for n, r in bodies.items()}
+    frames = {}
+    with open(os.path.join(folder, "keyframes.csv")) as fh:
+        for r in csv.DictReader(fh):
+            if r["name"] in bodies:
+                frames.setdefault(float(r["t"]), {})[r["name"]] = (
+                    float(r["x"]), float(r["y"]), float(r["z"]))
+    for t in sorted(frames):
+        poses = frames[t]
+        if len(poses) != len(bodies):
+            continue
+        d = []
+        for k in range(len(levels)):
+            ns = [n for n in bodies if floor_of[n] == k]
+            m = sum(float(bodies[n]["mass_kg"]) for n in ns)
+            d.append([sum(float(bodies[n]["mass_kg"]) * (poses[n][i] - float(bodies[n][c]))
+                          for n in ns) / m for i, c in enumerate(("cx", "cy", "cz"))])
+        if -d[0][2] >= frac * (levels[0] - base):
+            rel = [((d[k + 1][0] - d[k][0]) ** 2 + (d[k + 1][1] - d[k][1]) ** 2) ** 0.5
+                   for k in range(len(d) - 1)]
+            return t, [-x[2] for x in d], rel
+    return None
+
+
+def fmt_down(fd):
+    if fd is None:
+        return "never | – | –"
+    t, drops, rel = fd
+    return (f"{t:.2f} | {', '.join(f'{z:.2f}' for z in drops)} | "
+            f"{', '.join(f'{r:.2f}' for r in rel)}")
+
+
+def whole_above(fd, tol_drop=0.15, tol_offset=0.25):
+    """Story 1 folds and the stories above come down whole (the FE's mode)."""
+    if fd is None:
+        return False
+    _, drops, rel = fd
+    return all(abs(z - drops[0]) <= tol_drop for z in drops) and all(r <= tol_offset for r in rel)
 
 
 def at(rows, t):
@@ -206,9 +264,21 @@ def main():
 
     if a.ruins:
         p("### (d) Final ruins per hand-off and substep (FE-derived connections)\n")
-        p("| hand-off | steps/s | stop, end (s) | floor offsets (m) | slab overlap 1–2, 2–3 | debris area (m²) | extent (m) | max speed (m/s) | unsettled |")
-        p("|---|---|---|---|---|---|---|---|---|")
-        overlaps = []
+        p("| hand-off | steps/s | stop, end (s) | floor offsets (m) | floor drops (m) | slab overlap 1–2, 2–3 | debris area (m²) | extent (m) | max speed (m/s) | unsettled |")
+        p("|---|---|---|---|---|---|---|---|---|---|")
+        overlaps, drops, downs = [], [], []
+        fc = summary(fe).get("fe_first_contact")
+        if fc:
+            ru = fc["ruins"]
+            fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
+            fe_ov = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
+            fe_dz = [f["centroid_displacement_m"][2] for f in ru.get("floors", [])]
+            ov = ", ".join(f"{o:.2f}" for o in fe_ov)
+            dz = ", ".join(f"{-z:.2f}" for z in fe_dz)
+            p(f"| FE alone, at its first contact ({fc['detail']}) | – | –, {fc['t_s']:.2f} | {fl} | {dz} | {ov} | "
+              f"{ru['debris_footprint_area_m2']:.2f} | {ru['extent_beyond_footprint_m']['max']:.2f} | – | – |")
+        else:
+            fe_ov, fe_dz = None, None
         for name, crit in HANDOFFS:
             for sps in (200, 400, 800):
                 d = os.path.join(out, f"ruin-{name}-{sps}")
@@ -219,11 +289,15 @@ def main():
                 ru = s.get("ruins", {})
                 rs = s.get("ruin_stage", {})
                 ov_v = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
+                dz_v = [f["centroid_displacement_m"][2] for f in ru.get("floors", [])]
                 overlaps.append(ov_v)
+                drops.append(dz_v)
+                downs.append((name, sps, floor1_down(d)))
                 fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
+                dz = ", ".join(f"{-z:.2f}" for z in dz_v)
                 ov = ", ".join(f"{o:.2f}" for o in ov_v)
                 sp = rs.get("energy", {}).get("speed", {}).get("max_mps", float("nan"))
-                p(f"| {name} | {sps} | {rs.get('stop', '-')}, {rs.get('end_s', float('nan')):.2f} | {fl} | {ov} | "
+                p(f"| {name} | {sps} | {rs.get('stop', '-')}, {rs.get('end_s', float('nan')):.2f} | {fl} | {dz} | {ov} | "
                   f"{ru.get('debris_footprint_area_m2', float('nan')):.2f} | "
                   f"{ru.get('extent_beyond_footprint_m', {}).get('max', float('nan')):.2f} | {sp:.1f} | "
                   f"{len(rs.get('unsettled_bodies', []))} |")
@@ -234,6 +308,32 @@ def main():
             p("Slab-overlap spread (max − min over all hand-offs and substeps), per floor pair "
               "(1–2, 2–3, ...): " + ", ".join(f"{r:.2f}" for r in rng)
               + f" (target: every spread ≤ 0.2, i.e. all runs within 0.2 of each other: {verdict}).\n")
+            if fe_ov is not None and len(fe_ov) == len(overlaps[0]):
+                # The FE's own mode: every slab overlap within 0.2 of the FE's at its first
+                # contact and every floor's drop within 0.3 m of the FE's (a standing frame,
+                # or a story above that also came down, is another mode).
+                near = sum(all(abs(o[k] - fe_ov[k]) <= 0.2 for k in range(len(fe_ov)))
+                           and len(z) == len(fe_dz)
+                           and all(abs(z[k] - fe_dz[k]) <= 0.3 for k in range(len(fe_dz)))
+                           for o, z in zip(overlaps, drops))
+                p(f"Runs in the FE's own mode at its first contact (every slab overlap within 0.2 of "
+                  f"{', '.join(f'{o:.2f}' for o in fe_ov)} and every floor drop within 0.3 m of "
+                  f"{', '.join(f'{-z:.2f}' for z in fe_dz)}): {near} of {len(overlaps)}.\n")
+
+    if a.ruins:
+        p("### (d) Before the ground: the floors when floor 1 is 70 % of its height down\n")
+        p("The last moments a model without contact describes: the FE's own collapse against "
+          "the ruin stage's, on the same measure (keyframes; drops of each floor, plan offset "
+          "of each floor against the one below).\n")
+        p("| run | steps/s | t (s) | floor drops (m) | story offsets 2–1, 3–2 (m) | stories above whole |")
+        p("|---|---|---|---|---|---|")
+        fd = floor1_down(fe)
+        p(f"| FE alone | – | {fmt_down(fd)} | {'yes' if whole_above(fd) else 'no'} |")
+        for name, sps, fd in downs:
+            p(f"| {name} | {sps} | {fmt_down(fd)} | {'yes' if whole_above(fd) else 'no'} |")
+        n_whole = sum(whole_above(fd) for _, _, fd in downs)
+        p(f"\nRuns whose first story folds with the stories above whole (every floor's drop within "
+          f"0.15 m of floor 1's, every story offset ≤ 0.25 m), as the FE's: {n_whole} of {len(downs)}.\n")
 
     text = "\n".join(lines)
     with open(os.path.join(out, "table.md"), "w") as fh:
