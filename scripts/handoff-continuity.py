@@ -84,60 +84,28 @@ def summary(folder):
         return json.load(fh)
 
 
-def floor1_down(folder, frac=0.7):
-    """The floors when floor 1 has first come down `frac` of its height above the base
-    (keyframes.csv, slab bodies grouped by their undeformed height, mass-weighted): the
-    last moments before a model without contact would reach the ground. Returns
-    (t, drops per floor, plan offset of each floor against the one below) or None."""
-    bodies, tops = {}, []
-    with open(os.path.join(folder, "bodies.csv")) as fh:
-        for r in csv.DictReader(fh):
-            if r["type"] == "Slab" and r["passive"] == "0":
-                bodies[r["name"]] = r
-            elif r["passive"] == "1":
-                tops.append(float(r["cz"]) + float(r["hz"]))
-    if not bodies:
+def floor1_down(folder):
+    """summary.json's `floors_down`: the floors when floor 1 has first come 70 % of its
+    height down (the last moments before a floor lands; the same measure for the FE alone
+    and the ruin stage). (t, drops per floor, plan offset of each floor against the one
+    below, stories above whole) or None."""
+    fd = summary(folder).get("floors_down")
+    if not fd:
         return None
-    levels = sorted({round(float(r["cz"]), 3) for r in bodies.values()})
-    base = max(tops) if tops else 0.0
-    floor_of = {n: levels.index(round(float(r["cz"]), 3)) for n, r in bodies.items()}
-    frames = {}
-    with open(os.path.join(folder, "keyframes.csv")) as fh:
-        for r in csv.DictReader(fh):
-            if r["name"] in bodies:
-                frames.setdefault(float(r["t"]), {})[r["name"]] = (
-                    float(r["x"]), float(r["y"]), float(r["z"]))
-    for t in sorted(frames):
-        poses = frames[t]
-        if len(poses) != len(bodies):
-            continue
-        d = []
-        for k in range(len(levels)):
-            ns = [n for n in bodies if floor_of[n] == k]
-            m = sum(float(bodies[n]["mass_kg"]) for n in ns)
-            d.append([sum(float(bodies[n]["mass_kg"]) * (poses[n][i] - float(bodies[n][c]))
-                          for n in ns) / m for i, c in enumerate(("cx", "cy", "cz"))])
-        if -d[0][2] >= frac * (levels[0] - base):
-            rel = [((d[k + 1][0] - d[k][0]) ** 2 + (d[k + 1][1] - d[k][1]) ** 2) ** 0.5
-                   for k in range(len(d) - 1)]
-            return t, [-x[2] for x in d], rel
-    return None
+    return fd["t_s"], fd["floor_drops_m"], fd["story_offsets_m"], fd["stories_above_whole"]
 
 
 def fmt_down(fd):
     if fd is None:
         return "never | – | –"
-    t, drops, rel = fd
+    t, drops, rel, _ = fd
     return (f"{t:.2f} | {', '.join(f'{z:.2f}' for z in drops)} | "
             f"{', '.join(f'{r:.2f}' for r in rel)}")
 
 
-def whole_above(fd, tol_drop=0.15, tol_offset=0.25):
+def whole_above(fd):
     """Story 1 folds and the stories above come down whole (the FE's mode)."""
-    if fd is None:
-        return False
-    _, drops, rel = fd
-    return all(abs(z - drops[0]) <= tol_drop for z in drops) and all(r <= tol_offset for r in rel)
+    return fd is not None and fd[3]
 
 
 def at(rows, t):
@@ -323,7 +291,7 @@ def main():
     if a.ruins:
         p("### (d) Before the ground: the floors when floor 1 is 70 % of its height down\n")
         p("The last moments a model without contact describes: the FE's own collapse against "
-          "the ruin stage's, on the same measure (keyframes; drops of each floor, plan offset "
+          "the ruin stage's, on the same measure (summary.json `floors_down`: drops of each floor, plan offset "
           "of each floor against the one below).\n")
         p("| run | steps/s | t (s) | floor drops (m) | story offsets 2–1, 3–2 (m) | stories above whole |")
         p("|---|---|---|---|---|---|")
@@ -333,7 +301,8 @@ def main():
             p(f"| {name} | {sps} | {fmt_down(fd)} | {'yes' if whole_above(fd) else 'no'} |")
         n_whole = sum(whole_above(fd) for _, _, fd in downs)
         p(f"\nRuns whose first story folds with the stories above whole (every floor's drop within "
-          f"0.15 m of floor 1's, every story offset ≤ 0.25 m), as the FE's: {n_whole} of {len(downs)}.\n")
+          f"0.15 × floor 1's height of floor 1's, every story offset ≤ 0.25 × that height; "
+          f"summary.json `floors_down`), as the FE's: {n_whole} of {len(downs)}.\n")
 
     text = "\n".join(lines)
     with open(os.path.join(out, "table.md"), "w") as fh:

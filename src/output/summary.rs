@@ -419,6 +419,95 @@ pub(crate) fn first_contact(
     None
 }
 
+/// Share of the lowest floor's height above the base at which [`floors_down`] looks.
+pub(crate) const FLOORS_DOWN_SHARE: f64 = 0.7;
+
+/// The floors' shape when the lowest floor has first come [`FLOORS_DOWN_SHARE`] of its
+/// height above the base down, on a run's timeline (FE keyframes, then the ruin stage's
+/// frames): the last moments before a floor lands, the same measure for the FE alone, a
+/// hybrid and a physics-only run (docs/handoff.md §5, session 11). Floors as in
+/// [`ruin_measures`] (slab bodies by undeformed height, mass-weighted centroids); the base
+/// is the foundations' highest top (else the lowest undeformed corner). **Stories above
+/// whole**: every floor's drop within 0.15 × the lowest floor's height of the lowest
+/// floor's drop, and every floor within 0.25 × that height of the floor below in plan (the
+/// first story folds and carries the rest down, as frame3's FE does). `None` without two
+/// floors, or if the lowest floor never gets that far down.
+pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Option<FloorsDown> {
+    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for (i, b) in bodies.iter().enumerate() {
+        if !b.passive && b.kind == Some(Role::Slab) {
+            floors
+                .entry((b.pose0.position[2] * 1000.0).round() as i64)
+                .or_default()
+                .push(i);
+        }
+    }
+    let floors: Vec<Vec<usize>> = floors.into_values().collect();
+    if floors.len() < 2 {
+        return None;
+    }
+    let centroid = |ids: &[usize], at: &dyn Fn(usize) -> [f64; 3]| -> [f64; 3] {
+        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
+        let mut c = [0.0; 3];
+        for &i in ids {
+            let p = at(i);
+            for (ck, pk) in c.iter_mut().zip(p) {
+                *ck += bodies[i].mass_kg * pk / m;
+            }
+        }
+        c
+    };
+    let base = bodies
+        .iter()
+        .filter(|b| b.passive)
+        .map(|b| b.pose0.position[2] + b.half_extents[2])
+        .fold(f64::NAN, f64::max);
+    let base = if base.is_nan() {
+        bodies
+            .iter()
+            .flat_map(|b| corners(&b.pose0, b.half_extents))
+            .map(|c| c[2])
+            .fold(f64::INFINITY, f64::min)
+    } else {
+        base
+    };
+    let c0: Vec<[f64; 3]> = floors
+        .iter()
+        .map(|ids| centroid(ids, &|i| bodies[i].pose0.position))
+        .collect();
+    let height = c0[0][2] - base;
+    if !(height > 0.0) {
+        return None;
+    }
+    for (t, poses) in frames {
+        let d: Vec<[f64; 3]> = floors
+            .iter()
+            .zip(&c0)
+            .map(|(ids, c0)| {
+                let c = centroid(ids, &|i| poses[i].position);
+                [c[0] - c0[0], c[1] - c0[1], c[2] - c0[2]]
+            })
+            .collect();
+        if -d[0][2] >= FLOORS_DOWN_SHARE * height {
+            let drops: Vec<f64> = d.iter().map(|x| -x[2]).collect();
+            let offsets: Vec<f64> = d
+                .windows(2)
+                .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+                .collect();
+            let whole = drops.iter().all(|z| (z - drops[0]).abs() <= 0.15 * height)
+                && offsets.iter().all(|o| *o <= 0.25 * height);
+            return Some(FloorsDown {
+                share: FLOORS_DOWN_SHARE,
+                t_s: r6(*t),
+                floor_drops_m: drops.into_iter().map(r6).collect(),
+                story_offsets_m: offsets.into_iter().map(r6).collect(),
+                stories_above_whole: whole,
+            });
+        }
+    }
+    None
+}
+
 fn floor_index(list: &[(i64, Vec<usize>)], z: i64) -> usize {
     list.iter().position(|(k, _)| *k == z).map_or(0, |i| i + 1)
 }
@@ -553,9 +642,28 @@ pub struct RunSummary {
     /// gets there).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fe_first_contact: Option<FeFirstContact>,
+    /// The floors when the lowest floor is first 70 % of its height down ([`floors_down`];
+    /// absent if it never gets there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floors_down: Option<FloorsDown>,
     /// Wall times, s (only with timing on: not byte-stable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_time_s: Option<WallTimes>,
+}
+
+/// `floors_down` ([`floors_down`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloorsDown {
+    /// The share of the lowest floor's height (0.7).
+    pub share: f64,
+    /// Time of the frame, s.
+    pub t_s: f64,
+    /// Each floor's drop, bottom up, m.
+    pub floor_drops_m: Vec<f64>,
+    /// Plan distance of each floor from the one below (floors 2–1, 3–2, …), m.
+    pub story_offsets_m: Vec<f64>,
+    /// The first story folds and the stories above come down whole.
+    pub stories_above_whole: bool,
 }
 
 /// `fe_first_contact`: where the FE alone stops describing the building (a model without
@@ -924,6 +1032,45 @@ mod tests {
             .map(|k| (0.04 * k as f64, frame(&bodies, 0.0, 1.0, 2.0)))
             .collect();
         assert_eq!(first_contact(&bodies, &standing), None);
+    }
+
+    /// The floors when the lowest is 70 % down (base 0, floor 1 at 1 m: 0.7 m): falling
+    /// together at 0.1 m per frame, first at k = 7 (drop 0.7), stories above whole;
+    /// floor 2 lagging by 0.2 m: not whole (0.2 > 0.15 × 1 m); floor 2 shifted 0.3 m in
+    /// plan: not whole (0.3 > 0.25 × 1 m); never that far down: none.
+    #[test]
+    fn floors_down_is_the_shape_when_floor_1_is_70_percent_down() {
+        use crate::body::{BodyId, BodyType};
+        let bodies = vec![
+            box_at(BodyId::Foundation { node: 1 }, -0.05, false),
+            box_at(BodyId::element(BodyType::Slab, "1", 2), 1.0, true),
+            box_at(BodyId::element(BodyType::Slab, "2", 3), 2.0, true),
+        ];
+        let run = |lag: f64, shift: f64| -> Vec<(f64, Vec<Pose>)> {
+            (0..10)
+                .map(|k| {
+                    let d = 0.1 * k as f64;
+                    let mut f = frame(&bodies, 0.0, 1.0 - d, 2.0 - d + lag.min(d));
+                    f[2].position[0] = shift;
+                    (0.04 * k as f64, f)
+                })
+                .collect()
+        };
+        let f = floors_down(&bodies, &run(0.0, 0.0)).unwrap();
+        assert_eq!((f.t_s, f.share), (0.28, 0.7));
+        assert!(f.stories_above_whole);
+        assert!((f.floor_drops_m[0] - 0.7).abs() < 1e-9 && (f.floor_drops_m[1] - 0.7).abs() < 1e-9);
+        assert!(
+            !floors_down(&bodies, &run(0.2, 0.0))
+                .unwrap()
+                .stories_above_whole
+        );
+        let shifted = floors_down(&bodies, &run(0.0, 0.3)).unwrap();
+        assert!((shifted.story_offsets_m[0] - 0.3).abs() < 1e-9 && !shifted.stories_above_whole);
+        let standing: Vec<(f64, Vec<Pose>)> = (0..4)
+            .map(|k| (0.04 * k as f64, frame(&bodies, 0.0, 1.0, 2.0)))
+            .collect();
+        assert_eq!(floors_down(&bodies, &standing), None);
     }
 
     /// The cell-by-cell count the row runs replace: every cell of every polygon's bounding

@@ -166,6 +166,13 @@ pub fn member_measures(rec: &RunRecord) -> BTreeMap<String, f64> {
     m.insert("distance_beyond_footprint_m.p50".into(), p50);
     m.insert("distance_beyond_footprint_m.p90".into(), p90);
     m.insert("distance_beyond_footprint_m.p100".into(), p100);
+    if let Some(f) = super::write::floors_down_of(rec) {
+        m.insert("floors_down.t_s".into(), f.t_s);
+        m.insert(
+            "floors_down.stories_above_whole".into(),
+            f64::from(u8::from(f.stories_above_whole)),
+        );
+    }
     if let Some(r) = &rec.ruin {
         m.insert("ruin_stage.end_s".into(), r.end_time_s);
         m.insert("ruin_stage.max_speed_mps".into(), r.ledger.max_speed_mps);

@@ -17,8 +17,8 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::{
-    energy_summary, first_contact, r6, ruin_measures, unsettled, ConnectionCounts, FeFirstContact,
-    RuinMeasures, RuinStageSummary, RunSummary, TcKind, WallTimes,
+    energy_summary, first_contact, floors_down, r6, ruin_measures, unsettled, ConnectionCounts,
+    FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary, TcKind, WallTimes,
 };
 use crate::output::AnimationError;
 use crate::physics::Pose;
@@ -117,6 +117,11 @@ fn fe_first_contact(rec: &RunRecord) -> Option<FeFirstContact> {
     })
 }
 
+/// A run's `floors_down` ([`floors_down`] over its timeline).
+pub(crate) fn floors_down_of(rec: &RunRecord) -> Option<FloorsDown> {
+    floors_down(&rec.bodies, &timeline(rec))
+}
+
 /// The run's `summary.json` ([`RunSummary`]). `timing` = include the wall times (not
 /// byte-stable).
 pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
@@ -191,6 +196,7 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         connections,
         ruins: record_measures(rec),
         fe_first_contact: fe_first_contact(rec),
+        floors_down: floors_down_of(rec),
         wall_time_s,
     }
 }

@@ -81,7 +81,9 @@ pub(crate) struct RunRow {
 /// `ruins.extent_beyond_footprint_m.max`, `ruins.floors[0].horizontal_offset_m`, …) and of
 /// `connections` (`connections.broken`, …), `ruin_stage.end_s`,
 /// `ruin_stage.max_speed_mps` (`ruin_stage.energy.speed.max_mps`),
-/// `ruin_stage.unsettled_bodies` (their count) and `tc_s`. Empty without a ruin stage.
+/// `ruin_stage.unsettled_bodies` (their count), `tc_s`, and `floors_down.t_s` and
+/// `floors_down.stories_above_whole` (1 or 0) where the run has them. Empty without a
+/// ruin stage.
 pub fn ruin_measures(summary: &Value) -> BTreeMap<String, f64> {
     use crate::pipeline::ensemble::flatten;
     let mut m = BTreeMap::new();
@@ -102,6 +104,14 @@ pub fn ruin_measures(summary: &Value) -> BTreeMap<String, f64> {
     }
     if let Some(v) = summary["tc_s"].as_f64() {
         m.insert("tc_s".into(), v);
+    }
+    let fd = &summary["floors_down"];
+    if let (Some(t), Some(w)) = (fd["t_s"].as_f64(), fd["stories_above_whole"].as_bool()) {
+        m.insert("floors_down.t_s".into(), t);
+        m.insert(
+            "floors_down.stories_above_whole".into(),
+            f64::from(u8::from(w)),
+        );
     }
     m
 }

@@ -465,57 +465,13 @@ fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
     for o in &overlaps {
         assert!((0.88..=0.97).contains(o), "overlap {o}");
     }
-}
-
-/// The floors when floor 1 is first `frac` of its height down (its slab bodies'
-/// mass-weighted centroid, on the run's timeline): (t, each floor's drop, each floor's
-/// plan offset against the floor below), m; `None` if it never gets there.
-fn floors_when_floor_1_down(
-    rec: &pipeline::RunRecord,
-    frac: f64,
-) -> Option<(f64, Vec<f64>, Vec<f64>)> {
-    use fem2rbd::mapping::Role;
-    let mut floors: std::collections::BTreeMap<i64, Vec<usize>> = Default::default();
-    for (i, b) in rec.bodies.iter().enumerate() {
-        if !b.passive && b.kind == Some(Role::Slab) {
-            floors
-                .entry((b.pose0.position[2] * 1000.0).round() as i64)
-                .or_default()
-                .push(i);
-        }
-    }
-    let floors: Vec<Vec<usize>> = floors.into_values().collect();
-    let centroid = |ids: &[usize], at: &dyn Fn(usize) -> [f64; 3]| -> [f64; 3] {
-        let m: f64 = ids.iter().map(|&i| rec.bodies[i].mass_kg).sum();
-        let mut c = [0.0; 3];
-        for &i in ids {
-            let p = at(i);
-            for k in 0..3 {
-                c[k] += rec.bodies[i].mass_kg * p[k] / m;
-            }
-        }
-        c
-    };
-    let level = centroid(&floors[0], &|i| rec.bodies[i].pose0.position)[2];
-    for (t, poses) in write::timeline(rec) {
-        let d: Vec<[f64; 3]> = floors
-            .iter()
-            .map(|ids| {
-                let c1 = centroid(ids, &|i| poses[i].position);
-                let c0 = centroid(ids, &|i| rec.bodies[i].pose0.position);
-                [c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]]
-            })
-            .collect();
-        if -d[0][2] >= frac * level {
-            let drops = d.iter().map(|x| -x[2]).collect();
-            let offsets = d
-                .windows(2)
-                .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
-                .collect();
-            return Some((t, drops, offsets));
-        }
-    }
-    None
+    // Before it lands: floor 1 70 % down at 5.08 s, the three floors 0.72 m down and
+    // 0.04 m apart.
+    let f = s.floors_down.expect("floor 1 never 70 % down");
+    assert!(
+        (5.0..=5.16).contains(&f.t_s) && f.stories_above_whole,
+        "{f:?}"
+    );
 }
 
 /// Before the ground the Bullet frame comes down as the FE's does (docs/handoff.md §5,
@@ -538,14 +494,15 @@ fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
     );
     let p = write_file(dir.path(), "fe_mode.toml", &text);
     let rec = pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap();
-    let down = floors_when_floor_1_down(&rec, 0.7);
+    let down = write::run_summary(&rec, false).floors_down;
     eprintln!("4 % hand-off, FE throughout, joints above: floor 1 70 % down {down:?}");
-    let (t, drops, offsets) = down.expect("floor 1 did not come down by 5.6 s");
-    assert!((4.5..=5.6).contains(&t), "at {t} s");
-    for z in &drops {
-        assert!((z - drops[0]).abs() <= 0.15, "drops {drops:?}");
+    let f = down.expect("floor 1 did not come down by 5.6 s");
+    assert!((4.5..=5.6).contains(&f.t_s), "at {} s", f.t_s);
+    assert!(f.stories_above_whole, "{f:?}");
+    for z in &f.floor_drops_m {
+        assert!((z - f.floor_drops_m[0]).abs() <= 0.15, "{f:?}");
     }
-    for o in &offsets {
-        assert!(*o <= 0.25, "story offsets {offsets:?}");
+    for o in &f.story_offsets_m {
+        assert!(*o <= 0.25, "{f:?}");
     }
 }
