@@ -476,7 +476,7 @@ pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Optio
         .map(|ids| centroid(ids, &|i| bodies[i].pose0.position))
         .collect();
     let height = c0[0][2] - base;
-    if !(height > 0.0) {
+    if height.is_nan() || height <= 0.0 {
         return None;
     }
     for (t, poses) in frames {
