@@ -244,6 +244,41 @@ pub(crate) fn r6(x: f64) -> f64 {
     (x * 1e6).round() / 1e6 + 0.0
 }
 
+/// The floors: the active slab bodies grouped by their undeformed centre height (mm), bottom
+/// up.
+fn slab_floors(bodies: &[Body]) -> BTreeMap<i64, Vec<usize>> {
+    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for (i, b) in bodies.iter().enumerate() {
+        if !b.passive && b.kind == Some(Role::Slab) {
+            floors
+                .entry((b.pose0.position[2] * 1000.0).round() as i64)
+                .or_default()
+                .push(i);
+        }
+    }
+    floors
+}
+
+/// The base level, m: the foundation blocks' highest undeformed top, else the active
+/// bodies' lowest undeformed corner.
+fn base_level(bodies: &[Body]) -> f64 {
+    let top = bodies
+        .iter()
+        .filter(|b| b.passive)
+        .map(|b| b.pose0.position[2] + b.half_extents[2])
+        .fold(f64::NAN, f64::max);
+    if top.is_nan() {
+        bodies
+            .iter()
+            .filter(|b| !b.passive)
+            .flat_map(|b| corners(&b.pose0, b.half_extents))
+            .map(|c| c[2])
+            .fold(f64::INFINITY, f64::min)
+    } else {
+        top
+    }
+}
+
 /// The ruin measures (module docs) of `bodies` at `final_poses`; `ground_z` is the
 /// ground's vertical displacement at the end, m.
 pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64) -> RuinMeasures {
@@ -269,20 +304,7 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
             top = top.max(c[2]);
         }
     }
-    let base_z = bodies
-        .iter()
-        .filter(|b| b.passive)
-        .map(|b| b.pose0.position[2] + b.half_extents[2])
-        .fold(f64::NAN, f64::max);
-    let base_z = if base_z.is_nan() {
-        active
-            .iter()
-            .flat_map(|&i| corners(&bodies[i].pose0, bodies[i].half_extents))
-            .map(|c| c[2])
-            .fold(f64::INFINITY, f64::min)
-    } else {
-        base_z
-    };
+    let base_z = base_level(bodies);
     let final_proj: Vec<Vec<[f64; 2]>> = (0..bodies.len())
         .map(|i| projection(&final_poses[i], bodies[i].half_extents))
         .collect();
@@ -291,14 +313,7 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
         .collect();
     let debris: Vec<&Vec<[f64; 2]>> = active.iter().map(|&i| &final_proj[i]).collect();
     // Floors.
-    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
-    for &i in &active {
-        if bodies[i].kind == Some(Role::Slab) {
-            let z = (bodies[i].pose0.position[2] * 1000.0).round() as i64;
-            floors.entry(z).or_default().push(i);
-        }
-    }
-    let floor_list: Vec<(i64, Vec<usize>)> = floors.into_iter().collect();
+    let floor_list: Vec<(i64, Vec<usize>)> = slab_floors(bodies).into_iter().collect();
     let mut floor_out = Vec::new();
     for (n, (z, ids)) in floor_list.iter().enumerate() {
         let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
@@ -368,16 +383,7 @@ pub(crate) fn first_contact(
     bodies: &[Body],
     frames: &[(f64, Vec<Pose>)],
 ) -> Option<(usize, String)> {
-    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
-    for (i, b) in bodies.iter().enumerate() {
-        if !b.passive && b.kind == Some(Role::Slab) {
-            floors
-                .entry((b.pose0.position[2] * 1000.0).round() as i64)
-                .or_default()
-                .push(i);
-        }
-    }
-    let floors: Vec<Vec<usize>> = floors.into_values().collect();
+    let floors: Vec<Vec<usize>> = slab_floors(bodies).into_values().collect();
     let passive: Vec<usize> = (0..bodies.len()).filter(|&i| bodies[i].passive).collect();
     // Mass-weighted centroid height and mean slab half thickness of a floor, m.
     let level = |ids: &[usize], poses: &[Pose]| -> (f64, f64) {
@@ -433,16 +439,7 @@ pub(crate) const FLOORS_DOWN_SHARE: f64 = 0.7;
 /// first story folds and carries the rest down, as frame3's FE does). `None` without two
 /// floors, or if the lowest floor never gets that far down.
 pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Option<FloorsDown> {
-    let mut floors: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
-    for (i, b) in bodies.iter().enumerate() {
-        if !b.passive && b.kind == Some(Role::Slab) {
-            floors
-                .entry((b.pose0.position[2] * 1000.0).round() as i64)
-                .or_default()
-                .push(i);
-        }
-    }
-    let floors: Vec<Vec<usize>> = floors.into_values().collect();
+    let floors: Vec<Vec<usize>> = slab_floors(bodies).into_values().collect();
     if floors.len() < 2 {
         return None;
     }
@@ -457,20 +454,7 @@ pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Optio
         }
         c
     };
-    let base = bodies
-        .iter()
-        .filter(|b| b.passive)
-        .map(|b| b.pose0.position[2] + b.half_extents[2])
-        .fold(f64::NAN, f64::max);
-    let base = if base.is_nan() {
-        bodies
-            .iter()
-            .flat_map(|b| corners(&b.pose0, b.half_extents))
-            .map(|c| c[2])
-            .fold(f64::INFINITY, f64::min)
-    } else {
-        base
-    };
+    let base = base_level(bodies);
     let c0: Vec<[f64; 3]> = floors
         .iter()
         .map(|ids| centroid(ids, &|i| bodies[i].pose0.position))
