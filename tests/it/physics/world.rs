@@ -624,3 +624,60 @@ fn generic6dof_warm_start_scales_the_unconverged_sag() {
         .set_joint_warmstart(1.5)
         .is_err());
 }
+
+/// A rigid landing passes its whole impulse in one substep (docs/ruin-numerics.md §13): a
+/// 1000 kg block carrying a 500 kg block on a fixed joint falls 0.5 m onto the ground
+/// (v = √(2·g·0.5) = 3.13 m/s). Bullet's contact stops the pair within one substep, so the
+/// joint passes the upper block's momentum m_B·v = 1566 N·s in that substep: its peak
+/// force is about m_B·v/h, doubling with every halving of h (measured 359 / 732 / 1276 /
+/// 2842 kN at 200 / 400 / 800 / 1600 substeps/s; the impulse is 1.02–1.17 × m_B·v). Any
+/// connection of finite strength therefore breaks at a landing once h is small enough: a
+/// ruin that depends on whether a story survives a landing is not converged in h.
+#[test]
+fn a_rigid_landing_passes_its_impulse_through_a_joint_in_one_substep() {
+    let (m_b, drop) = (500.0, 0.5f64);
+    let v = (2.0 * 9.81 * drop).sqrt();
+    let mut peaks = Vec::new();
+    for sps in [200.0, 400.0, 800.0, 1600.0] {
+        let h = 1.0 / sps;
+        let mut ws = WorldSettings::default();
+        ws.solver.num_iterations = 100;
+        let mut w = World::new(&ws).unwrap();
+        w.add_box(&BoxDesc::fixed([5.0, 5.0, 0.5], Pose::at([0.0, 0.0, -0.5])))
+            .unwrap();
+        let mut da = BoxDesc::dynamic([0.25, 0.25, 0.1], 1000.0, Pose::at([0.0, 0.0, 0.1 + drop]));
+        da.margin = 0.0;
+        let a = w.add_box(&da).unwrap();
+        let mut db = BoxDesc::dynamic([0.25, 0.25, 0.1], m_b, Pose::at([0.0, 0.0, 0.3 + drop]));
+        db.margin = 0.0;
+        let b = w.add_box(&db).unwrap();
+        let mut d = ConstraintDesc::new(
+            ConstraintKind::Fixed,
+            a,
+            b,
+            Pose::at([0.0, 0.0, 0.1]),
+            Pose::at([0.0, 0.0, -0.1]),
+        );
+        d.disable_collisions_between = true;
+        let c = w.add_constraint(&d).unwrap();
+        let mut peak: f64 = 0.0;
+        for _ in 0..(0.5 * sps) as usize {
+            w.step(h, 1).unwrap();
+            peak = peak.max(w.applied_impulse(c).unwrap().abs());
+        }
+        println!(
+            "{sps} substeps/s: peak joint impulse {peak:.1} N·s ({:.3} × m_B·v), force {:.0} kN",
+            peak / (m_b * v),
+            peak / h / 1e3
+        );
+        assert!(
+            (1.0..=1.25).contains(&(peak / (m_b * v))),
+            "{sps}: {peak} N·s against m_B·v = {}",
+            m_b * v
+        );
+        peaks.push(peak / h);
+    }
+    // The peak force grows like 1/h: ×8 from 200 to 1600 substeps/s (±25 %).
+    let ratio = peaks[3] / peaks[0];
+    assert!((6.0..=10.0).contains(&ratio), "force ratio {ratio}");
+}
