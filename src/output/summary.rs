@@ -259,6 +259,19 @@ fn slab_floors(bodies: &[Body]) -> BTreeMap<i64, Vec<usize>> {
     floors
 }
 
+/// The mass-weighted centroid of the bodies `ids` at the positions `at(i)`, m.
+fn mass_centroid(bodies: &[Body], ids: &[usize], at: impl Fn(usize) -> [f64; 3]) -> [f64; 3] {
+    let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
+    let mut c = [0.0; 3];
+    for &i in ids {
+        let w = bodies[i].mass_kg / m;
+        for (ck, pk) in c.iter_mut().zip(at(i)) {
+            *ck += w * pk;
+        }
+    }
+    c
+}
+
 /// The base level, m: the foundation blocks' highest undeformed top, else the active
 /// bodies' lowest undeformed corner.
 fn base_level(bodies: &[Body]) -> f64 {
@@ -316,16 +329,8 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
     let floor_list: Vec<(i64, Vec<usize>)> = slab_floors(bodies).into_iter().collect();
     let mut floor_out = Vec::new();
     for (n, (z, ids)) in floor_list.iter().enumerate() {
-        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
-        let mut c0 = [0.0; 3];
-        let mut c1 = [0.0; 3];
-        for &i in ids {
-            let w = bodies[i].mass_kg / m;
-            for k in 0..3 {
-                c0[k] += w * bodies[i].pose0.position[k];
-                c1[k] += w * final_poses[i].position[k];
-            }
-        }
+        let c0 = mass_centroid(bodies, ids, |i| bodies[i].pose0.position);
+        let c1 = mass_centroid(bodies, ids, |i| final_poses[i].position);
         let d = [c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]];
         floor_out.push(FloorMeasure {
             floor: n + 1,
@@ -379,23 +384,14 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
 /// thicknesses). Returns the frame's index and the reason in words; `None` when no frame
 /// gets there (or the model has no slabs). The ruin measures at that frame are the FE's
 /// own collapse mode, the reference of docs/handoff.md §5 (d).
-pub(crate) fn first_contact(
-    bodies: &[Body],
-    frames: &[(f64, Vec<Pose>)],
-) -> Option<(usize, String)> {
+pub(crate) fn first_contact(bodies: &[Body], frames: &[(f64, &[Pose])]) -> Option<(usize, String)> {
     let floors: Vec<Vec<usize>> = slab_floors(bodies).into_values().collect();
     let passive: Vec<usize> = (0..bodies.len()).filter(|&i| bodies[i].passive).collect();
-    // Mass-weighted centroid height and mean slab half thickness of a floor, m.
-    let level = |ids: &[usize], poses: &[Pose]| -> (f64, f64) {
-        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
-        let z = ids
-            .iter()
-            .map(|&i| bodies[i].mass_kg * poses[i].position[2])
-            .sum::<f64>()
-            / m;
-        let t = ids.iter().map(|&i| bodies[i].half_extents[2]).sum::<f64>() / ids.len() as f64;
-        (z, t)
-    };
+    // Mean slab half thickness of each floor, m.
+    let half_thickness: Vec<f64> = floors
+        .iter()
+        .map(|ids| ids.iter().map(|&i| bodies[i].half_extents[2]).sum::<f64>() / ids.len() as f64)
+        .collect();
     for (k, (_, poses)) in frames.iter().enumerate() {
         let ground_top = passive
             .iter()
@@ -413,8 +409,9 @@ pub(crate) fn first_contact(
             }
         }
         for (n, w) in floors.windows(2).enumerate() {
-            let ((z0, t0), (z1, t1)) = (level(&w[0], poses), level(&w[1], poses));
-            if z1 - z0 <= t0 + t1 {
+            let z0 = mass_centroid(bodies, &w[0], |i| poses[i].position)[2];
+            let z1 = mass_centroid(bodies, &w[1], |i| poses[i].position)[2];
+            if z1 - z0 <= half_thickness[n] + half_thickness[n + 1] {
                 return Some((
                     k,
                     format!("floor {} comes down onto floor {}", n + 2, n + 1),
@@ -438,26 +435,15 @@ pub(crate) const FLOORS_DOWN_SHARE: f64 = 0.7;
 /// floor's drop, and every floor within 0.25 × that height of the floor below in plan (the
 /// first story folds and carries the rest down, as frame3's FE does). `None` without two
 /// floors, or if the lowest floor never gets that far down.
-pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Option<FloorsDown> {
+pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, &[Pose])]) -> Option<FloorsDown> {
     let floors: Vec<Vec<usize>> = slab_floors(bodies).into_values().collect();
     if floors.len() < 2 {
         return None;
     }
-    let centroid = |ids: &[usize], at: &dyn Fn(usize) -> [f64; 3]| -> [f64; 3] {
-        let m: f64 = ids.iter().map(|&i| bodies[i].mass_kg).sum();
-        let mut c = [0.0; 3];
-        for &i in ids {
-            let p = at(i);
-            for (ck, pk) in c.iter_mut().zip(p) {
-                *ck += bodies[i].mass_kg * pk / m;
-            }
-        }
-        c
-    };
     let base = base_level(bodies);
     let c0: Vec<[f64; 3]> = floors
         .iter()
-        .map(|ids| centroid(ids, &|i| bodies[i].pose0.position))
+        .map(|ids| mass_centroid(bodies, ids, |i| bodies[i].pose0.position))
         .collect();
     let height = c0[0][2] - base;
     if height.is_nan() || height <= 0.0 {
@@ -468,7 +454,7 @@ pub(crate) fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Optio
             .iter()
             .zip(&c0)
             .map(|(ids, c0)| {
-                let c = centroid(ids, &|i| poses[i].position);
+                let c = mass_centroid(bodies, ids, |i| poses[i].position);
                 [c[0] - c0[0], c[1] - c0[1], c[2] - c0[2]]
             })
             .collect();
@@ -931,6 +917,17 @@ impl RunSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`super::first_contact`] and [`super::floors_down`] on owned frames.
+    fn borrowed(frames: &[(f64, Vec<Pose>)]) -> Vec<(f64, &[Pose])> {
+        frames.iter().map(|(t, p)| (*t, p.as_slice())).collect()
+    }
+    fn first_contact(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Option<(usize, String)> {
+        super::first_contact(bodies, &borrowed(frames))
+    }
+    fn floors_down(bodies: &[Body], frames: &[(f64, Vec<Pose>)]) -> Option<FloorsDown> {
+        super::floors_down(bodies, &borrowed(frames))
+    }
 
     /// A flat box body at `z` (m): a 100 kg slab of half thickness 15 mm, or a passive
     /// foundation block 50 mm deep.

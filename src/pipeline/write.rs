@@ -44,8 +44,7 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let frames = timeline(rec);
     let names: Vec<String> = rec.bodies.iter().map(|b| b.id.name()).collect();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let fr: Vec<(f64, &[Pose])> = frames.iter().map(|(t, p)| (*t, p.as_slice())).collect();
-    let keyframes_text = keyframes_csv(&names, &fr);
+    let keyframes_text = keyframes_csv(&names, &frames);
     let body_rows = body_rows(rec);
     let history_text = history_csv(&body_rows, &history_frames(rec, &frames));
     let bodies_text = bodies_csv(&body_rows);
@@ -107,11 +106,16 @@ fn fe_first_contact(rec: &RunRecord) -> Option<FeFirstContact> {
     if rec.ruin.is_some() {
         return None;
     }
-    let (k, detail) = first_contact(&rec.bodies, &rec.fe_frames)?;
-    let (t, poses) = &rec.fe_frames[k];
-    let ground_z = rec.ground.ground_state_at(*t).0[2];
+    let fe: Vec<(f64, &[Pose])> = rec
+        .fe_frames
+        .iter()
+        .map(|(t, p)| (*t, p.as_slice()))
+        .collect();
+    let (k, detail) = first_contact(&rec.bodies, &fe)?;
+    let (t, poses) = fe[k];
+    let ground_z = rec.ground.ground_state_at(t).0[2];
     Some(FeFirstContact {
-        t_s: r6(*t),
+        t_s: r6(t),
         detail,
         ruins: ruin_measures(&rec.bodies, poses, ground_z),
     })
@@ -202,14 +206,18 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
 }
 
 /// The one timeline: FE keyframes up to Tc, then the ruin stage's frames after the last
-/// FE keyframe.
-pub fn timeline(rec: &RunRecord) -> Vec<(f64, Vec<Pose>)> {
-    let mut frames: Vec<(f64, Vec<Pose>)> = rec.fe_frames.clone();
+/// FE keyframe (the record's poses, borrowed).
+pub fn timeline(rec: &RunRecord) -> Vec<(f64, &[Pose])> {
+    let mut frames: Vec<(f64, &[Pose])> = rec
+        .fe_frames
+        .iter()
+        .map(|(t, p)| (*t, p.as_slice()))
+        .collect();
     let last = frames.last().map_or(f64::NEG_INFINITY, |f| f.0);
     if let Some(r) = &rec.ruin {
         for f in &r.frames {
             if f.time_s > last + 1e-6 {
-                frames.push((f.time_s, f.poses.clone()));
+                frames.push((f.time_s, f.poses.as_slice()));
             }
         }
     }
@@ -231,7 +239,7 @@ fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
 }
 
 /// The timeline's frames with their stage, connection counts and ground displacement.
-fn history_frames<'a>(rec: &RunRecord, frames: &'a [(f64, Vec<Pose>)]) -> Vec<HistoryFrame<'a>> {
+fn history_frames<'a>(rec: &RunRecord, frames: &[(f64, &'a [Pose])]) -> Vec<HistoryFrame<'a>> {
     let n_fe = rec.fe_frames.len();
     // [`timeline`] appends the ruin frames after the last FE keyframe in order, skipping
     // those not later than it; the first appended one is at index `skip`.

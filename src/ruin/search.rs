@@ -111,9 +111,15 @@ fn is_vertical_member(b: &BodyGeom) -> bool {
 /// with normal z, U above) when H also touches U. The order of the rest is kept.
 pub fn attach_joints_above(bodies: &[BodyGeom], contacts: Vec<Contact>) -> Vec<Contact> {
     let vertical: Vec<bool> = bodies.iter().map(is_vertical_member).collect();
-    let pairs: std::collections::BTreeSet<(usize, usize)> =
-        contacts.iter().map(|c| (c.a, c.b)).collect();
-    let touch = |i: usize, j: usize| pairs.contains(&(i.min(j), i.max(j)));
+    // Each body's partners, sorted (the contacts are sorted by (a, b)).
+    let mut partners: Vec<Vec<usize>> = vec![Vec::new(); bodies.len()];
+    for c in &contacts {
+        partners[c.a].push(c.b);
+        partners[c.b].push(c.a);
+    }
+    for p in &mut partners {
+        p.sort_unstable();
+    }
     let mut drop = std::collections::BTreeSet::new();
     for c in &contacts {
         if c.normal_axis != 2 || !vertical[c.a] || !vertical[c.b] {
@@ -125,16 +131,13 @@ pub fn attach_joints_above(bodies: &[BodyGeom], contacts: Vec<Contact>) -> Vec<C
         } else {
             (c.b, c.a)
         };
-        for d in &contacts {
-            let h = if d.a == lower {
-                d.b
-            } else if d.b == lower {
-                d.a
-            } else {
-                continue;
-            };
-            if h != upper && !vertical[h] && !bodies[h].passive && touch(h, upper) {
-                drop.insert((d.a, d.b));
+        for &h in &partners[lower] {
+            if h != upper
+                && !vertical[h]
+                && !bodies[h].passive
+                && partners[upper].binary_search(&h).is_ok()
+            {
+                drop.insert((lower.min(h), lower.max(h)));
             }
         }
     }

@@ -74,7 +74,10 @@ fn make_run(name: &str, text: &str) -> Run {
     let sc = Scenario::load(&sc_path).unwrap();
     let rec = pipeline::run(&sc, &Silent).unwrap();
     write::write(&rec, &dir, false).unwrap();
-    let frames = write::timeline(&rec);
+    let frames: Vec<(f64, Vec<_>)> = write::timeline(&rec)
+        .into_iter()
+        .map(|(t, p)| (t, p.to_vec()))
+        .collect();
     let ground = frames
         .iter()
         .map(|(t, _)| rec.ground.ground_state_at(*t).0)

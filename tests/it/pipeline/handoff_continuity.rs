@@ -48,6 +48,13 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
     s + &format!("[fe]\ndt = 0.005\n\n[collapse]\n{collapse}\n\n[physics]\n{physics}\n")
 }
 
+/// Runs a scenario text (written to a temporary folder as `name`).
+fn run_text(name: &str, text: &str) -> pipeline::RunRecord {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write_file(dir.path(), name, text);
+    pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap()
+}
+
 /// `history.csv` rows: (t, stage, roof_drift, max_drop_m, intact, plastic, broken).
 type Row = (f64, String, f64, f64, Option<[usize; 3]>);
 
@@ -324,7 +331,6 @@ fn elastic_panels_carry_the_slab_under_gravity() {
 /// or yield (main: 80 broken, 16 plastic, 0.25 m at 1.4 s).
 #[test]
 fn drift_1_50_handoff_does_not_collapse_early() {
-    let dir = tempfile::tempdir().unwrap();
     let tc_guess = 1.16;
     let half = tc_guess + 0.5 * (FE_TC_S - tc_guess);
     let text = lc5(
@@ -335,9 +341,7 @@ fn drift_1_50_handoff_does_not_collapse_early() {
             half + 0.04
         ),
     );
-    let p = write_file(dir.path(), "d150.toml", &text);
-    let sc = Scenario::load(&p).unwrap();
-    let rec = pipeline::run(&sc, &Silent).unwrap();
+    let rec = run_text("d150.toml", &text);
     let tc = rec.tc_s.unwrap();
     assert!((tc - tc_guess).abs() < 0.011, "Tc {tc}");
     let rows = history(&rec);
@@ -371,7 +375,6 @@ fn drift_1_50_handoff_does_not_collapse_early() {
 /// 10. Run to 2.5 s.
 #[test]
 fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
-    let dir = tempfile::tempdir().unwrap();
     let text = lc5(
         "hybrid",
         "criterion = \"drift_1_50\"",
@@ -379,8 +382,7 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
          panel_connections = \"elastic\"\nhinge_end = \"rupture\"\n\
          linear_correction = 1.0\nbending_correction = 1.0",
     );
-    let p = write_file(dir.path(), "fe_caps.toml", &text);
-    let rec = pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap();
+    let rec = run_text("fe_caps.toml", &text);
     let rows = history(&rec);
     let first_drop = rows
         .iter()
@@ -432,11 +434,9 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
 /// against.
 #[test]
 fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
-    let dir = tempfile::tempdir().unwrap();
     let text = lc5("fe", "criterion = \"vertical_drop\"", "")
         .replace("dt = 0.005\n", "dt = 0.005\nduration = 5.3\n");
-    let p = write_file(dir.path(), "fe_alone.toml", &text);
-    let rec = pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap();
+    let rec = run_text("fe_alone.toml", &text);
     let s = write::run_summary(&rec, false);
     let c = s.fe_first_contact.expect("no contact by 5.3 s");
     let floors: Vec<(f64, f64)> = c
@@ -483,7 +483,6 @@ fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
 /// of 8 ensemble members).
 #[test]
 fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
-    let dir = tempfile::tempdir().unwrap();
     let text = lc5(
         "hybrid",
         "criterion = \"drift_4pct\"",
@@ -492,8 +491,7 @@ fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
          linear_correction = 1.0\nbending_correction = 1.0\nground_damping = \"fe\"\n\
          joints = \"column_above\"",
     );
-    let p = write_file(dir.path(), "fe_mode.toml", &text);
-    let rec = pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap();
+    let rec = run_text("fe_mode.toml", &text);
     let down = write::run_summary(&rec, false).floors_down;
     eprintln!("4 % hand-off, FE throughout, joints above: floor 1 70 % down {down:?}");
     let f = down.expect("floor 1 did not come down by 5.6 s");
