@@ -48,6 +48,11 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
     s + &format!("[fe]\ndt = 0.005\n\n[collapse]\n{collapse}\n\n[physics]\n{physics}\n")
 }
 
+/// The Bullet frame at the FE's own capacities (docs/handoff.md §2.6, §5 session 10):
+/// FE-derived connections, elastic slab panels, hinges to bar rupture, no BCB correction.
+const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic\"\n\
+     hinge_end = \"rupture\"\nlinear_correction = 1.0\nbending_correction = 1.0";
+
 /// Runs a scenario text (written to a temporary folder as `name`).
 fn run_text(name: &str, text: &str) -> pipeline::RunRecord {
     let dir = tempfile::tempdir().unwrap();
@@ -378,9 +383,7 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
     let text = lc5(
         "hybrid",
         "criterion = \"drift_1_50\"",
-        "time_limit_s = 2.5\nstop_at_rest = false\nconnections = \"fe\"\n\
-         panel_connections = \"elastic\"\nhinge_end = \"rupture\"\n\
-         linear_correction = 1.0\nbending_correction = 1.0",
+        &format!("time_limit_s = 2.5\nstop_at_rest = false\n{FE_CAPACITIES}"),
     );
     let rec = run_text("fe_caps.toml", &text);
     let rows = history(&rec);
@@ -486,10 +489,10 @@ fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
     let text = lc5(
         "hybrid",
         "criterion = \"drift_4pct\"",
-        "time_limit_s = 5.6\nstop_at_rest = false\nconnections = \"fe\"\n\
-         panel_connections = \"elastic\"\nhinge_end = \"rupture\"\n\
-         linear_correction = 1.0\nbending_correction = 1.0\nground_damping = \"fe\"\n\
-         joints = \"column_above\"",
+        &format!(
+            "time_limit_s = 5.6\nstop_at_rest = false\n{FE_CAPACITIES}\n\
+             ground_damping = \"fe\"\njoints = \"column_above\""
+        ),
     );
     let rec = run_text("fe_mode.toml", &text);
     let down = write::run_summary(&rec, false).floors_down;
