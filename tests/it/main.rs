@@ -57,6 +57,7 @@ mod ruin {
     mod axial_rows;
     mod closed_form;
     mod contacts;
+    mod landing;
     mod monitor;
     mod speed;
     mod stage_ground;
