@@ -186,6 +186,39 @@ fn gravity_alone_the_bullet_building_stands_like_the_fe() {
     assert!(fe_drift < 1e-5, "FE drift {fe_drift}");
 }
 
+/// Target (c) met with the hybrid defaults' connections (FE-derived, two-way axial row,
+/// joint warm start 0.5, BCB's corrections) at BCB's 200 substeps/s once the solve
+/// converges: with 400 iterations, 3 s of gravity alone sag at most 5.22 mm (at 0.08 s)
+/// and sway at most 0.0063 % (benchmark, docs/handoff.md §5 session 12); with BCB's 100
+/// iterations 28.34 mm and 0.0197 %. The targets: ≤ 10 mm, ≤ 0.02 %.
+#[test]
+fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
+    let rows = gravity_only(
+        "physics",
+        "time_limit_s = 3.0\nstop_at_rest = false\nconnections = \"fe\"\nsolver_iterations = 400",
+        "",
+        3.0,
+    );
+    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let last = rows.last().unwrap();
+    eprintln!(
+        "Bullet (fe connections, 400 iterations), gravity alone 3 s at 200 substeps/s: \
+         sag {:.2} mm, drift {:.4} %, counts {:?}",
+        sag * 1e3,
+        drift * 100.0,
+        last.4
+    );
+    assert!((0.004..=0.007).contains(&sag), "sag {:.2} mm", sag * 1e3);
+    assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
+    let [_, plastic, broken] = last.4.unwrap();
+    assert_eq!(
+        (plastic, broken),
+        (0, 0),
+        "connections gave way under gravity"
+    );
+}
+
 /// Target (c) at BCB's default 200 substeps/s: the connections' locked rows given the
 /// members' stiffness through their ERP/CFM (`joint_rows = "member"`, docs/ruin-numerics.md
 /// §8.3) and 200 solver iterations. Measured 3 s runs (release): locked rows 61.8 mm peak
