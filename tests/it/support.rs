@@ -59,6 +59,26 @@ pub fn rc_box(
     }
 }
 
+/// Pushes `count` frame3 column pieces (0.1 × 0.1 × 0.25 m, 6.25 kg; named `piece0`, …)
+/// stacked on the axis x = y = 0 from the height `base_z` (m) up.
+pub fn column_pieces(
+    bodies: &mut Vec<fem2rbd::ruin::BodyGeom>,
+    masses: &mut Vec<f64>,
+    base_z: f64,
+    count: usize,
+) {
+    for k in 0..count {
+        let z = base_z + 0.125 + 0.25 * k as f64;
+        bodies.push(rc_box(
+            &format!("piece{k}"),
+            [0.0, 0.0, z],
+            [0.05, 0.05, 0.125],
+            false,
+        ));
+        masses.push(6.25);
+    }
+}
+
 /// A Generic6Dof constraint locked in all six axes between `a` and `b`, pivot at `pivot_a`
 /// in A's frame and `pivot_b` in B's frame, no collisions between the two.
 pub fn locked_joint(

@@ -116,6 +116,34 @@ fn gravity_record(mode: &str, physics: &str, fe: &str, seconds: f64) -> pipeline
     pipeline::run(&sc, &Silent).unwrap()
 }
 
+/// Gravity alone on frame3, physics-only with the `[physics]` lines, for `seconds`: the
+/// largest sag (m) and roof drift (ratio), printed under `label`; every connection must
+/// still be intact at the end.
+fn gravity_peaks(label: &str, physics: &str, seconds: f64) -> (f64, f64) {
+    let rows = gravity_only(
+        "physics",
+        &format!("time_limit_s = {seconds}\nstop_at_rest = false\n{physics}"),
+        "",
+        seconds,
+    );
+    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
+    let last = rows.last().unwrap();
+    eprintln!(
+        "Bullet ({label}), gravity alone {seconds} s: sag {:.2} mm, drift {:.4} %, counts {:?}",
+        sag * 1e3,
+        drift * 100.0,
+        last.4
+    );
+    let [_, plastic, broken] = last.4.unwrap();
+    assert_eq!(
+        (plastic, broken),
+        (0, 0),
+        "{label}: connections gave way under gravity"
+    );
+    (sag, drift)
+}
+
 /// The connections of a run whose `first_row_lost` is set, as "Type-Type" kinds (sorted
 /// body types, e.g. "Slab-Slab").
 fn rows_lost(rec: &pipeline::RunRecord) -> Vec<String> {
@@ -148,30 +176,13 @@ fn rows_lost(rec: &pipeline::RunRecord) -> Vec<String> {
 /// zero record is the reference: its gravity sag (a few mm) and zero drift.
 #[test]
 fn gravity_alone_the_bullet_building_stands_like_the_fe() {
-    let rows = gravity_only(
-        "physics",
-        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\nsteps_per_second = 800\n\
-         axial_rows = \"bcb\"\njoint_warmstart = 0.0",
-        "",
+    let (sag, drift) = gravity_peaks(
+        "fe connections, 800 substeps/s",
+        "connections = \"fe\"\nsteps_per_second = 800\naxial_rows = \"bcb\"\njoint_warmstart = 0.0",
         1.0,
-    );
-    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
-    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
-    let last = rows.last().unwrap();
-    eprintln!(
-        "Bullet (fe connections), gravity alone 1 s at 800 substeps/s: sag {:.2} mm, drift {:.4} %, counts {:?}",
-        sag * 1e3,
-        drift * 100.0,
-        last.4
     );
     assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
     assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
-    let [_, plastic, broken] = last.4.unwrap();
-    assert_eq!(
-        (plastic, broken),
-        (0, 0),
-        "connections gave way under gravity"
-    );
 
     let fe = gravity_only("fe", "", "duration = 0.5", 0.5);
     let fe_sag = fe.iter().map(|r| r.3).fold(0.0, f64::max);
@@ -193,30 +204,13 @@ fn gravity_alone_the_bullet_building_stands_like_the_fe() {
 /// iterations 28.34 mm and 0.0197 %. The targets: ≤ 10 mm, ≤ 0.02 %.
 #[test]
 fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
-    let rows = gravity_only(
-        "physics",
-        "time_limit_s = 3.0\nstop_at_rest = false\nconnections = \"fe\"\nsolver_iterations = 400",
-        "",
+    let (sag, drift) = gravity_peaks(
+        "fe connections, 400 iterations",
+        "connections = \"fe\"\nsolver_iterations = 400",
         3.0,
-    );
-    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
-    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
-    let last = rows.last().unwrap();
-    eprintln!(
-        "Bullet (fe connections, 400 iterations), gravity alone 3 s at 200 substeps/s: \
-         sag {:.2} mm, drift {:.4} %, counts {:?}",
-        sag * 1e3,
-        drift * 100.0,
-        last.4
     );
     assert!((0.004..=0.007).contains(&sag), "sag {:.2} mm", sag * 1e3);
     assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
-    let [_, plastic, broken] = last.4.unwrap();
-    assert_eq!(
-        (plastic, broken),
-        (0, 0),
-        "connections gave way under gravity"
-    );
 }
 
 /// Target (c) at BCB's default 200 substeps/s: the connections' locked rows given the
@@ -228,31 +222,14 @@ fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
 /// measured 0.03 % (a regression bound, not the target). 1 s (the peak sag comes at 0.08 s).
 #[test]
 fn gravity_alone_member_rows_at_200_substeps() {
-    let rows = gravity_only(
-        "physics",
-        "time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n\
-         joint_rows = \"member\"\nsolver_iterations = 200\naxial_rows = \"bcb\"\njoint_warmstart = 0.0",
-        "",
+    let (sag, drift) = gravity_peaks(
+        "fe connections, member rows, 200 iterations",
+        "connections = \"fe\"\njoint_rows = \"member\"\nsolver_iterations = 200\n\
+         axial_rows = \"bcb\"\njoint_warmstart = 0.0",
         1.0,
-    );
-    let sag = rows.iter().map(|r| r.3).fold(0.0, f64::max);
-    let drift = rows.iter().map(|r| r.2.abs()).fold(0.0, f64::max);
-    let last = rows.last().unwrap();
-    eprintln!(
-        "Bullet (fe connections, member rows, 200 iterations), gravity alone 1 s at 200 substeps/s: \
-         sag {:.2} mm, drift {:.4} %, counts {:?}",
-        sag * 1e3,
-        drift * 100.0,
-        last.4
     );
     assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
     assert!(drift <= 3e-4, "roof drift {:.4} % > 0.03 %", drift * 100.0);
-    let [_, plastic, broken] = last.4.unwrap();
-    assert_eq!(
-        (plastic, broken),
-        (0, 0),
-        "connections gave way under gravity"
-    );
 }
 
 /// Frame3 with FE-derived connections under gravity alone for 1 s at 200 substeps/s,

@@ -13,7 +13,7 @@ use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 
 const G: f64 = 9.81;
 
-use crate::support::rc_box as body;
+use crate::support::{column_pieces, rc_box as body};
 
 fn group(name: &str, t: f64) -> GroupStrength {
     GroupStrength {
@@ -51,16 +51,7 @@ struct Support {
 fn column_under_block(rows: AxialRows, pieces: usize, iterations: u32) -> Support {
     let mut bodies = vec![body("foundation", [0.0, 0.0, 0.1], [0.15, 0.15, 0.1], true)];
     let mut masses = vec![0.0];
-    for k in 0..pieces {
-        let z = 0.2 + 0.125 + 0.25 * k as f64;
-        bodies.push(body(
-            &format!("piece{k}"),
-            [0.0, 0.0, z],
-            [0.05, 0.05, 0.125],
-            false,
-        ));
-        masses.push(6.25);
-    }
+    column_pieces(&mut bodies, &mut masses, 0.2, pieces);
     let top = 0.2 + 0.25 * pieces as f64 + 0.1;
     bodies.push(body("block", [0.0, 0.0, top], [0.5, 0.5, 0.1], false));
     masses.push(700.0);

@@ -9,7 +9,7 @@ use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings};
 use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 
-use crate::support::rc_box as body;
+use crate::support::{column_pieces, rc_box as body};
 
 const G: f64 = 9.81;
 
@@ -53,16 +53,7 @@ fn landing(sps: f64, iterations: u32, solve: JointSolve) -> Landing {
     let z1 = 0.2 + drop + 0.05;
     bodies.push(body("floor1", [0.0, 0.0, z1], [0.5, 0.5, 0.05], false));
     masses.push(m);
-    for k in 0..4 {
-        let z = z1 + 0.05 + 0.125 + 0.25 * k as f64;
-        bodies.push(body(
-            &format!("piece{k}"),
-            [0.0, 0.0, z],
-            [0.05, 0.05, 0.125],
-            false,
-        ));
-        masses.push(6.25);
-    }
+    column_pieces(&mut bodies, &mut masses, z1 + 0.05, 4);
     bodies.push(body(
         "floor2",
         [0.0, 0.0, z1 + 1.1],
