@@ -108,6 +108,18 @@ def whole_above(fd):
     return fd is not None and fd[3]
 
 
+def ruin_cells(ru):
+    """A summary's `ruins`: (slab overlaps, floor centroid z displacements, and the table
+    cells of the floor offsets, floor drops and slab overlaps)."""
+    floors = ru.get("floors", [])
+    ov = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
+    dz = [f["centroid_displacement_m"][2] for f in floors]
+    return (ov, dz,
+            ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in floors),
+            ", ".join(f"{-z:.2f}" for z in dz),
+            ", ".join(f"{o:.2f}" for o in ov))
+
+
 def at(rows, t):
     """The row at the first frame time >= t (FE and physics rows share the 25 fps axis)."""
     for r in rows:
@@ -238,11 +250,7 @@ def main():
         fc = summary(fe).get("fe_first_contact")
         if fc:
             ru = fc["ruins"]
-            fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
-            fe_ov = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
-            fe_dz = [f["centroid_displacement_m"][2] for f in ru.get("floors", [])]
-            ov = ", ".join(f"{o:.2f}" for o in fe_ov)
-            dz = ", ".join(f"{-z:.2f}" for z in fe_dz)
+            fe_ov, fe_dz, fl, dz, ov = ruin_cells(ru)
             p(f"| FE alone, at its first contact ({fc['detail']}) | – | –, {fc['t_s']:.2f} | {fl} | {dz} | {ov} | "
               f"{ru['debris_footprint_area_m2']:.2f} | {ru['extent_beyond_footprint_m']['max']:.2f} | – | – |")
         else:
@@ -256,14 +264,10 @@ def main():
                 s = summary(d)
                 ru = s.get("ruins", {})
                 rs = s.get("ruin_stage", {})
-                ov_v = [o["overlap_ratio"] for o in ru.get("slab_overlap", [])]
-                dz_v = [f["centroid_displacement_m"][2] for f in ru.get("floors", [])]
+                ov_v, dz_v, fl, dz, ov = ruin_cells(ru)
                 overlaps.append(ov_v)
                 drops.append(dz_v)
                 downs.append((name, sps, floor1_down(d)))
-                fl = ", ".join(f"{f['horizontal_offset_m']:.2f}" for f in ru.get("floors", []))
-                dz = ", ".join(f"{-z:.2f}" for z in dz_v)
-                ov = ", ".join(f"{o:.2f}" for o in ov_v)
                 sp = rs.get("energy", {}).get("speed", {}).get("max_mps", float("nan"))
                 p(f"| {name} | {sps} | {rs.get('stop', '-')}, {rs.get('end_s', float('nan')):.2f} | {fl} | {dz} | {ov} | "
                   f"{ru.get('debris_footprint_area_m2', float('nan')):.2f} | "

@@ -408,14 +408,13 @@ pub(crate) fn first_contact(bodies: &[Body], frames: &[(f64, &[Pose])]) -> Optio
                 }
             }
         }
-        for (n, w) in floors.windows(2).enumerate() {
-            let z0 = mass_centroid(bodies, &w[0], |i| poses[i].position)[2];
-            let z1 = mass_centroid(bodies, &w[1], |i| poses[i].position)[2];
-            if z1 - z0 <= half_thickness[n] + half_thickness[n + 1] {
-                return Some((
-                    k,
-                    format!("floor {} comes down onto floor {}", n + 2, n + 1),
-                ));
+        let z: Vec<f64> = floors
+            .iter()
+            .map(|ids| mass_centroid(bodies, ids, |i| poses[i].position)[2])
+            .collect();
+        for n in 1..floors.len() {
+            if z[n] - z[n - 1] <= half_thickness[n - 1] + half_thickness[n] {
+                return Some((k, format!("floor {} comes down onto floor {}", n + 1, n)));
             }
         }
     }
@@ -949,6 +948,16 @@ mod tests {
         }
     }
 
+    /// A foundation block (top at 0) under two 100 kg slabs at 1 m and 2 m.
+    fn two_floors() -> Vec<Body> {
+        use crate::body::{BodyId, BodyType};
+        vec![
+            box_at(BodyId::Foundation { node: 1 }, -0.05, false),
+            box_at(BodyId::element(BodyType::Slab, "1", 2), 1.0, true),
+            box_at(BodyId::element(BodyType::Slab, "2", 3), 2.0, true),
+        ]
+    }
+
     /// Frames of the foundation (top at `ground`) and the two slabs at `z1`, `z2` (m).
     fn frame(bodies: &[Body], ground: f64, z1: f64, z2: f64) -> Vec<Pose> {
         bodies
@@ -967,12 +976,7 @@ mod tests {
     /// the two half thicknesses (upper floor 0.2 m per frame: 1 − 0.2k ≤ 0.03 at k = 5).
     #[test]
     fn first_contact_is_a_slab_on_the_ground_or_a_story_closed() {
-        use crate::body::{BodyId, BodyType};
-        let bodies = vec![
-            box_at(BodyId::Foundation { node: 1 }, -0.05, false),
-            box_at(BodyId::element(BodyType::Slab, "1", 2), 1.0, true),
-            box_at(BodyId::element(BodyType::Slab, "2", 3), 2.0, true),
-        ];
+        let bodies = two_floors();
         let fall = |ground: f64| -> Vec<(f64, Vec<Pose>)> {
             (0..15)
                 .map(|k| {
@@ -1021,12 +1025,7 @@ mod tests {
     /// plan: not whole (0.3 > 0.25 × 1 m); never that far down: none.
     #[test]
     fn floors_down_is_the_shape_when_floor_1_is_70_percent_down() {
-        use crate::body::{BodyId, BodyType};
-        let bodies = vec![
-            box_at(BodyId::Foundation { node: 1 }, -0.05, false),
-            box_at(BodyId::element(BodyType::Slab, "1", 2), 1.0, true),
-            box_at(BodyId::element(BodyType::Slab, "2", 3), 2.0, true),
-        ];
+        let bodies = two_floors();
         let run = |lag: f64, shift: f64| -> Vec<(f64, Vec<Pose>)> {
             (0..10)
                 .map(|k| {

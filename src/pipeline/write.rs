@@ -106,11 +106,8 @@ fn fe_first_contact(rec: &RunRecord) -> Option<FeFirstContact> {
     if rec.ruin.is_some() {
         return None;
     }
-    let fe: Vec<(f64, &[Pose])> = rec
-        .fe_frames
-        .iter()
-        .map(|(t, p)| (*t, p.as_slice()))
-        .collect();
+    // Without a ruin stage the timeline is the FE keyframes.
+    let fe = timeline(rec);
     let (k, detail) = first_contact(&rec.bodies, &fe)?;
     let (t, poses) = fe[k];
     let ground_z = rec.ground.ground_state_at(t).0[2];
