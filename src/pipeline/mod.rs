@@ -325,6 +325,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
     s.hinge_keeps_rotation = p.hinge_keeps_rotation;
     s.spring_cap_per_body = p.spring_cap_per_body;
+    s.monitor_every_substep = p.monitor_every_substep;
     s.ruin.search.search_distance = p.search_distance_m;
     s.joint_rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
@@ -891,7 +892,10 @@ pub fn ruin_stage(
             error: Box::new(error),
         })?;
     progress.done();
-    if let Some((path, text)) = stage.axial_trace_report() {
+    for (path, text) in [stage.axial_trace_report(), stage.body_trace_report()]
+        .into_iter()
+        .flatten()
+    {
         crate::output::write_atomic(&path, text.as_bytes())?;
     }
     check_finite(&result, &inputs.bodies, sc)?;

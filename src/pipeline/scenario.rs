@@ -270,6 +270,9 @@ pub struct PhysicsSpec {
     /// spring as Bullet/BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
+    /// Check the monitor's tolerances after every substep (true) or once per 25 Hz frame
+    /// as BCB (false): `crate::ruin::stage::StageSettings::monitor_every_substep`.
+    pub monitor_every_substep: bool,
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
     /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
     pub search_distance_m: f64,
@@ -400,6 +403,7 @@ impl Default for PhysicsSpec {
             joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
             axial_rows: None,
             spring_cap_per_body: true,
+            monitor_every_substep: false,
             search_distance_m: 0.02,
             sleeping: false,
             time_limit_s: None,

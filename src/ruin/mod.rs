@@ -19,6 +19,7 @@
 //! The whole model is described in `docs/ruin-model.md`.
 
 pub mod axial;
+pub(crate) mod body_trace;
 pub mod connection;
 pub mod energy;
 pub mod ground;

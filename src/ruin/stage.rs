@@ -194,6 +194,13 @@ pub struct StageSettings {
     /// by four plastic springs (up to 24 explicit spring rows) at lever arms is beyond
     /// explicit stability and never comes to rest (docs/ruin-numerics.md).
     pub spring_cap_per_body: bool,
+    /// Run the monitor's tolerance check ([`super::monitor`]) after every substep instead
+    /// of once per frame (BCB: 25 Hz). A connection whose rows leave it a mechanism (e.g.
+    /// a shear row broken: the other rows become a slider) can be carried far beyond its
+    /// tolerances within one frame; its locked rows then see errors of decimetres and ask
+    /// for the velocity ERP·e/h (Bullet's `get_limit_motor_info2`), up to tens of m/s on a
+    /// light piece (docs/ruin-numerics.md §15).
+    pub monitor_every_substep: bool,
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
@@ -267,6 +274,7 @@ impl Default for StageSettings {
             joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
             ground_damping_per_s: 0.0,
             spring_cap_per_body: true,
+            monitor_every_substep: false,
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
                 Ok("bullet") => crate::physics::Sweep::Bullet,
@@ -510,7 +518,11 @@ pub struct RuinStage {
     max_injection: (f64, f64),
     kinematic_asleep: bool,
     axial_trace: Option<super::axial::AxialTrace>,
+    body_trace: Option<super::body_trace::BodyTrace>,
     axial_left: Vec<super::axial::AxialLeft>,
+    /// State changes found by the monitor inside [`Self::substeps`]
+    /// ([`StageSettings::monitor_every_substep`]) with their times, s, for `run_with`.
+    pending_changes: Vec<(super::monitor::StateChange, f64)>,
     axial_threshold: Vec<f64>,
 }
 
@@ -960,6 +972,13 @@ impl RuinStage {
                 input.bodies.iter().map(|b| b.name.clone()).collect(),
                 connections.len(),
             ),
+            body_trace: super::body_trace::BodyTrace::from_env(
+                &input
+                    .bodies
+                    .iter()
+                    .map(|b| b.name.clone())
+                    .collect::<Vec<_>>(),
+            ),
             // Two-way rows (constraint 0 locked at [0, 0] on the normal); a connection
             // built with BCB's rows (a sense without strength) is left to Bullet.
             axial_left: connections
@@ -978,6 +997,7 @@ impl RuinStage {
                 .iter()
                 .map(|c| c.constraints.first().map_or(0.0, |k| k.breaking_impulse))
                 .collect(),
+            pending_changes: Vec::new(),
             connections,
         })
     }
@@ -1111,6 +1131,13 @@ impl RuinStage {
                 }
                 self.kinematic_asleep = true;
             }
+            let traced_before = match &self.body_trace {
+                Some(tr) if tr.wants(t_next) => Some((
+                    self.world.constraints_enabled()?,
+                    self.world.velocity(self.handles[tr.body])?,
+                )),
+                _ => None,
+            };
             let t = Instant::now();
             self.world.step(h, 1)?;
             self.in_bullet += t.elapsed();
@@ -1151,6 +1178,14 @@ impl RuinStage {
             self.last_mechanical_j = Some(e1);
             if self.axial_trace.is_some() {
                 self.trace_axial(t_next, &poses1, &vels1)?;
+            }
+            if let Some((en0, v0)) = traced_before {
+                self.trace_body(t_next, &en0, &enabled, v0)?;
+            }
+            if self.settings.monitor_every_substep {
+                for ch in self.monitor_frame()? {
+                    self.pending_changes.push((ch, t_next));
+                }
             }
             poses0 = poses1;
             vels0 = vels1;
@@ -1242,6 +1277,96 @@ impl RuinStage {
                     }
                 }
                 AxialLeft::None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Feeds the debug trace of `super::body_trace` after the substep ending at `t`
+    /// (`en0`, `en1`: every constraint's flag before and right after it, before the
+    /// stage's own row checks; `v0`: the body's velocity before it).
+    fn trace_body(
+        &mut self,
+        t: f64,
+        en0: &[bool],
+        en1: &[bool],
+        v0: Velocity,
+    ) -> Result<(), StageError> {
+        let Some(tr) = self.body_trace.as_ref() else {
+            return Ok(());
+        };
+        let i = tr.body;
+        let me = self.handles[i];
+        let v1 = self.world.velocity(me)?;
+        let p = self.world.pose(me)?;
+        let mut lines = vec![format!(
+            "t {t:.5} pos {:.4} {:.4} {:.4} v0 {:.3} {:.3} {:.3} v1 {:.3} {:.3} {:.3} w1 {:.2} {:.2} {:.2}",
+            p.position[0], p.position[1], p.position[2],
+            v0.linear[0], v0.linear[1], v0.linear[2],
+            v1.linear[0], v1.linear[1], v1.linear[2],
+            v1.angular[0], v1.angular[1], v1.angular[2]
+        )];
+        for (ci, c) in self.connections.iter().enumerate() {
+            if c.a != i && c.b != i {
+                continue;
+            }
+            let other = if c.a == i { c.b } else { c.a };
+            if let Some(f) = c.constraints.first() {
+                let pa = to_isometry(&self.world.pose(self.handles[c.a])?) * f.frame_a;
+                let pb = to_isometry(&self.world.pose(self.handles[c.b])?) * f.frame_b;
+                let d = pa.rotation.inverse() * (pb.translation.vector - pa.translation.vector);
+                let r = (pa.rotation.inverse() * pb.rotation).to_rotation_matrix();
+                let m = r.matrix();
+                // XYZ Euler angles (R = Rx·Ry·Rz): y = asin(m02), gimbal lock at ±π/2.
+                let y = m[(0, 2)].clamp(-1.0, 1.0).asin();
+                let x = (-m[(1, 2)]).atan2(m[(2, 2)]);
+                let z = (-m[(0, 1)]).atan2(m[(0, 0)]);
+                lines.push(format!(
+                    "  frame {ci} {} d {:.4} {:.4} {:.4} xyz {x:.3} {y:.3} {z:.3}",
+                    tr.names[other], d.x, d.y, d.z
+                ));
+            }
+            for (k, &h) in self.constraint_handles[ci].iter().enumerate() {
+                let (e0, e1) = (en0[h.index()], en1[h.index()]);
+                if !e0 && !e1 {
+                    continue;
+                }
+                let lambda = self.world.applied_impulse(h)?;
+                let fb = self.world.joint_feedback(h)?;
+                let f = if c.a == i { fb.force_a } else { fb.force_b };
+                let fm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+                lines.push(format!(
+                    "  conn {ci} {} k{k} on {e0}->{e1} lambda {lambda:.4} thr {:.4} F {:.0} {:.0} {:.0} |F| {fm:.0}",
+                    tr.names[other],
+                    self.world.breaking_threshold(h)?,
+                    f[0], f[1], f[2]
+                ));
+            }
+        }
+        for pair in self.world.contact_pairs()? {
+            let (a, b) = (pair.body_a, pair.body_b);
+            let other = if a == me {
+                b
+            } else if b == me {
+                a
+            } else {
+                continue;
+            };
+            let name = self
+                .handles
+                .iter()
+                .position(|&x| x == other)
+                .map_or("ground".to_string(), |j| tr.names[j].clone());
+            lines.push(format!(
+                "  contact {name} n {} d {:.4} J {:.4}",
+                pair.contact.num_points,
+                pair.contact.min_distance,
+                pair.contact.total_normal_impulse
+            ));
+        }
+        if let Some(tr) = self.body_trace.as_mut() {
+            for l in lines {
+                tr.push(l);
             }
         }
         Ok(())
@@ -1355,6 +1480,12 @@ impl RuinStage {
             }
         }
         Ok(())
+    }
+
+    /// The debug trace of one body (`super::body_trace`, on only with
+    /// `FEM2RBD_BODY_TRACE=<file>`): its file and text, for the caller to write.
+    pub fn body_trace_report(&self) -> Option<(std::path::PathBuf, String)> {
+        self.body_trace.as_ref().map(|t| t.report())
     }
 
     /// The debug trace of the axial rows (`super::axial`, on only with
@@ -1511,7 +1642,12 @@ impl RuinStage {
         while self.time_s() < stop.max_time_s - 1e-9 * frame_dt {
             self.substeps(self.substeps_per_frame)?;
             let t = self.time_s();
-            for ch in self.monitor_frame()? {
+            if !self.settings.monitor_every_substep {
+                for ch in self.monitor_frame()? {
+                    self.pending_changes.push((ch, t));
+                }
+            }
+            for (ch, t) in std::mem::take(&mut self.pending_changes) {
                 let o = &mut outcomes[ch.connection];
                 if ch.to == ConnectionState::Broken && o.broke_at_s.is_none() {
                     o.broke_at_s = Some(t);
