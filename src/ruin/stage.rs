@@ -1164,10 +1164,11 @@ impl RuinStage {
             let gref = self.ground_reference;
             let (t1, r1, v1) = mechanical(&self.props, &poses1, &vels1, g_full, gref);
             let e1 = t1 + r1 + v1;
+            let mut added = 0.0;
             if let Some(e0) = self.last_mechanical_j {
                 // Energy the substep added beyond the ground's work (the balance's
                 // negative part; damping is a loss, so it is added back).
-                let added = e1 - e0 - b.ground_work_j + b.damping_j;
+                added = e1 - e0 - b.ground_work_j + b.damping_j;
                 if added > 0.0 {
                     self.injected_j += added;
                     if added > self.max_injection.0 {
@@ -1180,7 +1181,7 @@ impl RuinStage {
                 self.trace_axial(t_next, &poses1, &vels1)?;
             }
             if let Some((en0, v0)) = traced_before {
-                self.trace_body(t_next, &en0, &enabled, v0)?;
+                self.trace_body(t_next, &en0, &enabled, v0, added)?;
             }
             if self.settings.monitor_every_substep {
                 for ch in self.monitor_frame()? {
@@ -1284,13 +1285,15 @@ impl RuinStage {
 
     /// Feeds the debug trace of `super::body_trace` after the substep ending at `t`
     /// (`en0`, `en1`: every constraint's flag before and right after it, before the
-    /// stage's own row checks; `v0`: the body's velocity before it).
+    /// stage's own row checks; `v0`: the body's velocity before it; `added`: the energy
+    /// the substep added beyond the ground's work, J, the ledger's balance).
     fn trace_body(
         &mut self,
         t: f64,
         en0: &[bool],
         en1: &[bool],
         v0: Velocity,
+        added: f64,
     ) -> Result<(), StageError> {
         let Some(tr) = self.body_trace.as_ref() else {
             return Ok(());
@@ -1300,7 +1303,7 @@ impl RuinStage {
         let v1 = self.world.velocity(me)?;
         let p = self.world.pose(me)?;
         let mut lines = vec![format!(
-            "t {t:.5} pos {:.4} {:.4} {:.4} v0 {:.3} {:.3} {:.3} v1 {:.3} {:.3} {:.3} w1 {:.2} {:.2} {:.2}",
+            "t {t:.5} pos {:.4} {:.4} {:.4} v0 {:.3} {:.3} {:.3} v1 {:.3} {:.3} {:.3} w1 {:.2} {:.2} {:.2} added_j {added:.2}",
             p.position[0], p.position[1], p.position[2],
             v0.linear[0], v0.linear[1], v0.linear[2],
             v1.linear[0], v1.linear[1], v1.linear[2],

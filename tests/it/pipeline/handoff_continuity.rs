@@ -53,6 +53,21 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
 const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic\"\n\
      hinge_end = \"rupture\"\nlinear_correction = 1.0\nbending_correction = 1.0";
 
+/// An LC5 hybrid scenario in the "FE throughout" setting ([`FE_CAPACITIES`], the FE's
+/// mass-proportional damping to the ground) with the joints on the column above
+/// (docs/handoff.md §2.7), run to `until_s` s without the rest test; `extra`: more
+/// `[physics]` lines.
+fn fe_throughout(collapse: &str, until_s: f64, extra: &str) -> String {
+    lc5(
+        "hybrid",
+        collapse,
+        &format!(
+            "time_limit_s = {until_s}\nstop_at_rest = false\n{FE_CAPACITIES}\n\
+             ground_damping = \"fe\"\njoints = \"column_above\"\n{extra}"
+        ),
+    )
+}
+
 /// Runs a scenario text (written to a temporary folder as `name`).
 fn run_text(name: &str, text: &str) -> pipeline::RunRecord {
     let dir = tempfile::tempdir().unwrap();
@@ -496,14 +511,7 @@ fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
 /// of 8 ensemble members).
 #[test]
 fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
-    let text = lc5(
-        "hybrid",
-        "criterion = \"drift_4pct\"",
-        &format!(
-            "time_limit_s = 5.6\nstop_at_rest = false\n{FE_CAPACITIES}\n\
-             ground_damping = \"fe\"\njoints = \"column_above\""
-        ),
-    );
+    let text = fe_throughout("criterion = \"drift_4pct\"", 5.6, "");
     let rec = run_text("fe_mode.toml", &text);
     let down = write::run_summary(&rec, false).floors_down;
     eprintln!("4 % hand-off, FE throughout, joints above: floor 1 70 % down {down:?}");
@@ -522,14 +530,10 @@ fn after_a_4pct_handoff_the_first_story_folds_with_the_stories_above_whole() {
 /// `from` and `to` s, of a vertical-drop hand-off run in the "FE throughout" setting with
 /// the joints on the column above, to 5.3 s, at 200 substeps/s and `iterations`.
 fn floor2_joints_broken(iterations: u32, from: f64, to: f64) -> Vec<String> {
-    let text = lc5(
-        "hybrid",
+    let text = fe_throughout(
         "criterion = \"vertical_drop\"",
-        &format!(
-            "time_limit_s = 5.3\nstop_at_rest = false\n{FE_CAPACITIES}\n\
-             ground_damping = \"fe\"\njoints = \"column_above\"\n\
-             solver_iterations = {iterations}"
-        ),
+        5.3,
+        &format!("solver_iterations = {iterations}"),
     );
     let rec = run_text("landing.toml", &text);
     let ruin = rec.ruin.as_ref().expect("no ruin stage");
@@ -570,13 +574,11 @@ fn the_first_floor_landing_breaks_story_2_once_the_solve_passes_it_on() {
 /// 25 Hz frame (BCB) or after every substep: (speed m/s, its body, time s, energy the
 /// solver injected J).
 fn fastest_piece_3pct(monitor_every_substep: bool) -> (f64, String, f64, f64) {
-    let text = lc5(
-        "hybrid",
+    let text = fe_throughout(
         "criterion = \"drift\"\nratio = 0.03",
+        2.9,
         &format!(
-            "time_limit_s = 2.9\nstop_at_rest = false\n{FE_CAPACITIES}\n\
-             ground_damping = \"fe\"\njoints = \"column_above\"\n\
-             solver_iterations = 400\nsteps_per_second = 800\n\
+            "solver_iterations = 400\nsteps_per_second = 800\n\
              monitor_every_substep = {monitor_every_substep}"
         ),
     );
