@@ -934,6 +934,9 @@ impl RuinStage {
                 (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt()
             })
             .fold(0.0, f64::max);
+        let names: Vec<String> = input.bodies.iter().map(|b| b.name.clone()).collect();
+        let body_trace =
+            super::body_trace::BodyTrace::from_env(&names).map_err(|(item, m)| bad(item, m))?;
         Ok(RuinStage {
             world,
             ground: ground_handle,
@@ -968,17 +971,8 @@ impl RuinStage {
             injected_j: 0.0,
             max_injection: (0.0, t0),
             kinematic_asleep: false,
-            axial_trace: super::axial::AxialTrace::from_env(
-                input.bodies.iter().map(|b| b.name.clone()).collect(),
-                connections.len(),
-            ),
-            body_trace: super::body_trace::BodyTrace::from_env(
-                &input
-                    .bodies
-                    .iter()
-                    .map(|b| b.name.clone())
-                    .collect::<Vec<_>>(),
-            ),
+            axial_trace: super::axial::AxialTrace::from_env(names.clone(), connections.len()),
+            body_trace,
             // Two-way rows (constraint 0 locked at [0, 0] on the normal); a connection
             // built with BCB's rows (a sense without strength) is left to Bullet.
             axial_left: connections
@@ -1184,7 +1178,7 @@ impl RuinStage {
                 self.trace_body(t_next, &en0, &enabled, v0, added)?;
             }
             if self.settings.monitor_every_substep {
-                for ch in self.monitor_frame()? {
+                for ch in self.monitor_at(&poses1)? {
                     self.pending_changes.push((ch, t_next));
                 }
             }
@@ -1532,7 +1526,16 @@ impl RuinStage {
     /// One monitor frame: check the connections at the current poses, apply the actions.
     /// Returns the state changes (connection, from, to).
     pub fn monitor_frame(&mut self) -> Result<Vec<super::monitor::StateChange>, StageError> {
-        let poses: Vec<Isometry3<f64>> = self.body_poses()?.iter().map(to_isometry).collect();
+        let poses = self.body_poses()?;
+        self.monitor_at(&poses)
+    }
+
+    /// [`Self::monitor_frame`] at the bodies' current `poses` (already read).
+    fn monitor_at(
+        &mut self,
+        poses: &[Pose],
+    ) -> Result<Vec<super::monitor::StateChange>, StageError> {
+        let poses: Vec<Isometry3<f64>> = poses.iter().map(to_isometry).collect();
         let enabled = self.world.constraints_enabled()?;
         let handles = &self.constraint_handles;
         let actions = self.monitor.check(&poses, |c, k| {
