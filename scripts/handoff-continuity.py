@@ -13,6 +13,14 @@ alone on the same time axis:
       against the FE alone at its first contact (summary.json `fe_first_contact`: the
       last keyframe a model without contact describes, i.e. the FE's own ruin mode).
 
+  (e) optional (--pushover): static lateral strength. A slow ground-acceleration ramp
+      in X (0.03 g/s; then a pulse that brings the ground back to rest, so the ruin
+      stage's zero-end baseline leaves the ramp as it is) is an inertial pushover under
+      load control: the FE alone (the model's formulation and force-based), and the
+      Bullet building (physics-only, undamaged) with each connection model and with
+      100 and 400 iterations; per run the roof-to-base drift at 0.03 and 0.15 g and the
+      ground acceleration at which it reaches 2 % (the frame has run away past its peak).
+
 Each of (a)-(c) is run with both connection models, BCB's Formula Assistant ("formula")
 and the FE-derived one ("fe"). Usage:
 
@@ -139,6 +147,73 @@ def first_drop(rows, thr):
     return None
 
 
+RAMP_RATE_G = 0.03  # g/s: halving it lowers every capacity by 0.01-0.03 g (docs/handoff.md)
+RAMP_PEAK_G = 0.36
+
+
+def ramp_record(path, rate_g=RAMP_RATE_G, peak_g=RAMP_PEAK_G, h=0.005, g=9.80665):
+    """Writes a two-column record (m/s²): a(t) rises at rate_g·g per second to peak_g·g,
+    then a linear pulse as long as the ramp brings the ground's velocity and displacement
+    back to zero at the end (the ruin stage's zero-end baseline then changes nothing).
+    Returns the ramp's duration, s."""
+    t1 = peak_g / rate_g
+    n = int(round(2 * t1 / h)) + 1
+    after = [i * h > t1 + 1e-9 for i in range(n)]
+    a = [0.0 if after[i] else rate_g * g * i * h for i in range(n)]
+    b0 = [1.0 if after[i] else 0.0 for i in range(n)]
+    b1 = [i * h - t1 if after[i] else 0.0 for i in range(n)]
+
+    def end(x):  # the stage's average-acceleration integration: (v, d) at the end
+        v = d = 0.0
+        for i in range(1, n):
+            s = x[i - 1] + x[i]
+            d += h * v + 0.25 * h * h * s
+            v += 0.5 * h * s
+        return v, d
+    (v0, d0), (v1, d1), (v2, d2) = end(a), end(b0), end(b1)
+    det = v1 * d2 - v2 * d1
+    c0, c1 = (-v0 * d2 + v2 * d0) / det, (-v1 * d0 + v0 * d1) / det
+    with open(path, "w") as fh:
+        for i in range(n):
+            fh.write(f"{i * h:.3f} {a[i] + c0 * b0[i] + c1 * b1[i]:.9f}\n")
+    return t1
+
+
+def roof_to_base_drift(folder):
+    """(t, drift) per frame: mass-weighted X displacement of the roof bodies (centres within
+    5 % of the top) less that of the lowest bodies (the base pieces), over the height
+    between them. From the base pieces, not the ground: bodies joined to the kinematic
+    ground lead it by v_g·h, centimetres under a ramp (docs/handoff.md §5, session 14)."""
+    with open(os.path.join(folder, "bodies.csv")) as fh:
+        b = {r["name"]: (float(r["cx"]), float(r["cz"]), float(r["mass_kg"]))
+             for r in csv.DictReader(fh) if float(r["mass_kg"]) > 0}
+    top = max(v[1] for v in b.values())
+    low = min(v[1] for v in b.values())
+    acc = {}
+    with open(os.path.join(folder, "keyframes.csv")) as fh:
+        for r in csv.DictReader(fh):
+            if r["name"] not in b:
+                continue
+            cx, cz, m = b[r["name"]]
+            s = acc.setdefault(float(r["t"]), [0.0, 0.0, 0.0, 0.0])
+            dx = float(r["x"]) - cx
+            if cz >= top - 0.05 * top:
+                s[0] += m * dx
+                s[1] += m
+            if cz <= low + 1e-6:
+                s[2] += m * dx
+                s[3] += m
+    return [(t, (s[0] / s[1] - s[2] / s[3]) / (top - low)) for t, s in sorted(acc.items())]
+
+
+def pushover_row(folder):
+    """Drift (%) at 0.03 g and 0.15 g and the ground acceleration (g) at 2 % drift."""
+    dr = roof_to_base_drift(folder)
+    at = {round(t * RAMP_RATE_G, 4): d for t, d in dr}
+    cap = next((t * RAMP_RATE_G for t, d in dr if abs(d) >= 0.02), None)
+    return (abs(at.get(0.03, float("nan"))) * 100, abs(at.get(0.15, float("nan"))) * 100, cap)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--model", default=os.path.join(ROOT, "data", "frame3", "model.toml"))
@@ -147,6 +222,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "handoff"))
     ap.add_argument("--t-end", type=float, default=6.0, help="end of the LC5 runs, s")
     ap.add_argument("--ruins", action="store_true", help="(d): full ruin runs at 200/400/800")
+    ap.add_argument("--pushover", action="store_true", help="(e): static strength by a slow ramp")
     ap.add_argument("--reuse", action="store_true", help="keep run folders with a summary.json")
     ap.add_argument("--connections", default="formula,fe", help="connection models of (a)-(c)")
     ap.add_argument("--physics", default="",
@@ -307,6 +383,38 @@ def main():
         p(f"\nRuns whose first story folds with the stories above whole (every floor's drop within "
           f"0.15 × floor 1's height of floor 1's, every story offset ≤ 0.25 × that height; "
           f"summary.json `floors_down`), as the FE's: {n_whole} of {len(downs)}.\n")
+
+    if a.pushover:
+        p("### (e) Static lateral strength: a slow ground ramp (%.2f g/s)\n" % RAMP_RATE_G)
+        ramp = os.path.join(out, "ramp.txt")
+        t1 = ramp_record(ramp)
+        runs = [("FE alone, the model's formulation", "fe", "model", None),
+                ("FE alone, force-based", "fe", "force", None)]
+        for cm in cms:
+            for it in (100, 400):
+                runs.append((f"Bullet, `{cm}` connections, {it} iterations", "physics", None,
+                             f'connections = "{cm}"\nsolver_iterations = {it}'))
+        p("| building | roof-to-base drift at 0.03 g (%) | at 0.15 g (%) | ground acceleration at 2 % drift (g) |")
+        p("|---|---|---|---|")
+        for label, mode, variant, phys in runs:
+            tag = f"push-{variant}" if mode == "fe" else "push-" + phys.split('"')[1] + "-" + phys.split("= ")[-1]
+            d = os.path.join(out, tag)
+            lines_ = [f'model = "{model}"', f'mode = "{mode}"', f'output = "{d}"', "",
+                      "[[ground_motion]]", f'file = "{ramp}"', 'direction = "X"', "",
+                      "[collapse]", 'criterion = "vertical_drop"', ""]
+            if mode == "fe":
+                lines_ += ["[fe]", "dt = 0.005", f"duration = {t1}", f'variant = "{variant}"']
+            else:
+                # EXTRA first: the run's own connections and iterations override it.
+                extra = "\n".join(k for k in EXTRA.split("\n")
+                                   if not k.startswith(("connections", "solver_iterations")))
+                lines_ += ["[physics]", f"time_limit_s = {t1}", "stop_at_rest = false", extra, phys]
+            with open(d + ".toml", "w") as fh:
+                fh.write("\n".join(lines_) + "\n")
+            run(d + ".toml")
+            d3, d15, cap = pushover_row(d)
+            p(f"| {label} | {d3:.3f} | {d15:.3f} | {'none by %.2f' % RAMP_PEAK_G if cap is None else '%.3f' % cap} |")
+        p("")
 
     text = "\n".join(lines)
     with open(os.path.join(out, "table.md"), "w") as fh:

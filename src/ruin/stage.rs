@@ -1433,7 +1433,11 @@ impl RuinStage {
         let f = (-a0 * h).exp();
         let vels = self.body_velocities()?;
         for (i, v) in vels.iter().enumerate() {
-            if self.props[i].is_none() {
+            // A body whose velocity is no longer finite has blown up: it is left as it is,
+            // so the run ends with the error naming it, the time and the settings
+            // (`pipeline::check_finite`) rather than Bullet's refusal of a NaN here.
+            let finite = v.linear.iter().chain(&v.angular).all(|x| x.is_finite());
+            if self.props[i].is_none() || !finite {
                 continue;
             }
             let linear = [0, 1, 2].map(|k| vg[k] + (v.linear[k] - vg[k]) * f);
