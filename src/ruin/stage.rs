@@ -226,7 +226,9 @@ pub enum JointRows {
     /// k along the normal E·A/L, across it G·A/L, about the cross axes E·I/L, about the
     /// normal G·J/L (A = h·w the contact area, I = w·h³/12 or h·w³/12, J ≈ h·w·(h² + w²)/12,
     /// L the centre distance, G = E/(2(1 + ν)), ν = 0.2). An implicit spring–damper is
-    /// stable for any k, so no cap is needed.
+    /// stable for any k, but Bullet's Gauss–Seidel update of a joint row is not for any
+    /// CFM: rows softer than [`MEMBER_ROW_MAX_CFM`] allows are stiffened to it
+    /// ([`member_row_erp_cfm`]).
     Member {
         /// Young's modulus E, Pa.
         modulus_pa: f64,
@@ -235,12 +237,26 @@ pub enum JointRows {
     },
 }
 
+/// The largest relative CFM a member row is given ([`member_row_erp_cfm`]). Bullet 3.24
+/// updates a joint row by Δλ = rhs − C·λ − D·(J·Δv) with its CFM C unscaled
+/// (`gResolveSingleConstraintRowGeneric_scalar_reference`; `crate::physics::jointsolve`
+/// module docs). The row's own impulse enters its next value with the factor −C, so the
+/// sweeps diverge when C ≥ 1. On frame3 with elastic slab panels, the slab–column angular
+/// rows (k ≈ 10² N·m/rad on a 6.25 kg column piece) got C = 1.4–1.6, and the first
+/// substep after a hand-off threw them to 10⁵¹ N·s (docs/ruin-numerics.md §8.3). With
+/// C ≤ 0.5 the factor leaves half the error per sweep.
+pub const MEMBER_ROW_MAX_CFM: f64 = 0.5;
+
 /// ERP and CFM (relative to the row's effective mass, Bullet's joint convention) of an
 /// implicit spring–damper of stiffness `k` (N/m or N·m/rad) on a row of effective inverse
 /// mass `inv_mass` (1/kg or 1/(kg·m²)) at the substep `h` (s) with damping ratio `zeta`
-/// ([`JointRows::Member`]). Returns (ERP, CFM).
+/// ([`JointRows::Member`]): x = √(k·K)·h, ERP = x/(x + 2ζ), CFM = 1/(x·(x + 2ζ)). A row
+/// whose CFM would exceed [`MEMBER_ROW_MAX_CFM`] gets the x at which it equals it,
+/// x = −ζ + √(ζ² + 1/CFM_max) (0.732 for ζ = 1): it is stiffer than k, so that Bullet's
+/// sweeps converge. Returns (ERP, CFM).
 pub fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64) {
-    let x = (k * inv_mass).sqrt() * h;
+    let x_min = -zeta + (zeta * zeta + 1.0 / MEMBER_ROW_MAX_CFM).sqrt();
+    let x = ((k * inv_mass).sqrt() * h).max(x_min);
     (x / (x + 2.0 * zeta), 1.0 / (x * (x + 2.0 * zeta)))
 }
 

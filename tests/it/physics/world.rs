@@ -526,6 +526,54 @@ fn generic6dof_member_row_sags_m_g_over_k() {
         .is_err());
 }
 
+/// A member row softer than Bullet's joint update allows: x = √(k/m)·h = 0.3 gives
+/// CFM = 1/(x(x + 2)) = 1.45, and Bullet's row update λ ← rhs − CFM·λ (per sweep) then
+/// diverges — the box is thrown to a non-finite or far-off pose within a second.
+/// [`fem2rbd::ruin::stage::member_row_erp_cfm`] stiffens such a row to CFM = 0.5
+/// (x = √3 − 1): the box then settles at m·g/k' with k' = m·(x/h)², the stiffened row's
+/// static deflection (g·h²/(√3 − 1)² = 0.457 mm at h = 1/200 s).
+#[test]
+fn generic6dof_member_row_softer_than_the_sweeps_allow_is_stiffened() {
+    let (m, h, zeta) = (10.0, 1.0 / 200.0, 1.0);
+    let k = m * (0.3 / h) * (0.3 / h);
+    let hang = |erp: f64, cfm: f64| {
+        let mut w = world();
+        let anchor = w
+            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
+            .unwrap();
+        let b = w
+            .add_box(&BoxDesc::dynamic([0.1; 3], m, Pose::at([0.0, 0.0, 4.0])))
+            .unwrap();
+        let c = locked_hanger(&mut w, anchor, b);
+        w.set_constraint_param(c, ConstraintParam::StopErp, 2, erp)
+            .unwrap();
+        w.set_constraint_param(c, ConstraintParam::StopCfm, 2, cfm)
+            .unwrap();
+        for _ in 0..200 {
+            if w.step(h, 1).is_err() {
+                return f64::NAN;
+            }
+        }
+        4.0 - w.pose(b).unwrap().position[2]
+    };
+    let x: f64 = 0.3;
+    let raw = hang(x / (x + 2.0), 1.0 / (x * (x + 2.0)));
+    let (erp, cfm) = fem2rbd::ruin::stage::member_row_erp_cfm(k, 1.0 / m, h, zeta);
+    let x_min = 3f64.sqrt() - 1.0;
+    assert!((cfm - 0.5).abs() < 1e-12 && (erp - x_min / (x_min + 2.0)).abs() < 1e-12);
+    let capped = hang(erp, cfm);
+    let expected = G * h * h / (x_min * x_min);
+    println!("soft member row: raw CFM 1.45 sag {raw:e} m; capped sag {capped:.4e} m (expected {expected:.4e})");
+    assert!(
+        raw.is_nan() || raw.abs() >= 1.0,
+        "CFM 1.45 must diverge, sag {raw}"
+    );
+    assert!(
+        (capped - expected).abs() < 0.01 * expected,
+        "capped sag {capped} vs {expected}"
+    );
+}
+
 /// `relock_constraint`: a body that starts 0.1 rad turned about z against its locked
 /// Generic6Dof frames (no gravity) is driven back to 0 by Bullet's velocity bias ERP·θ/h;
 /// re-locked first, the row holds it at 0.1 rad.

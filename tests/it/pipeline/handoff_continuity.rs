@@ -235,9 +235,12 @@ fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
 /// members' stiffness through their ERP/CFM (`joint_rows = "member"`, docs/ruin-numerics.md
 /// §8.3) and 200 solver iterations. Measured 3 s runs (release): locked rows 61.8 mm peak
 /// sag, 0.27 % drift; member rows 18.2 mm, 0.088 %; member rows with 200 iterations
-/// 8.9 mm, 0.026 % (0.018 % at 3 s). The sag target (≤ 10 mm) is met this way; the drift
-/// target (≤ 0.02 %) is met at 3 s but not at the peak, so the drift is asserted at the
-/// measured 0.03 % (a regression bound, not the target). 1 s (the peak sag comes at 0.08 s).
+/// 8.9 mm, 0.026 % (0.018 % at 3 s). Those figures had 72 slab–column angular rows with
+/// CFM 1.35–1.65, where Bullet's sweeps diverge; stiffened to CFM 0.5
+/// (`ruin::stage::MEMBER_ROW_MAX_CFM`, session 14) they are 8.30 mm, 0.0369 % (7.09 mm,
+/// 0.0306 % at 3 s). The sag target (≤ 10 mm) is met this way; the drift target
+/// (≤ 0.02 %) is not, so the drift is asserted at 0.04 %, a regression bound above the
+/// measured 0.0369 %, not the target. 1 s (the peak sag comes at 0.08 s).
 #[test]
 fn gravity_alone_member_rows_at_200_substeps() {
     let (sag, drift) = gravity_peaks(
@@ -247,7 +250,7 @@ fn gravity_alone_member_rows_at_200_substeps() {
         1.0,
     );
     assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
-    assert!(drift <= 3e-4, "roof drift {:.4} % > 0.03 %", drift * 100.0);
+    assert!(drift <= 4e-4, "roof drift {:.4} % > 0.04 %", drift * 100.0);
 }
 
 /// Frame3 with FE-derived connections under gravity alone for 1 s at 200 substeps/s,
