@@ -473,18 +473,9 @@ fn locked_hanger(w: &mut World, anchor: BodyHandle, b: BodyHandle) -> Constraint
     crate::support::locked_joint(w, anchor, b, [0.0, 0.0, -1.0], [0.0; 3])
 }
 
-/// A Generic6Dof row given ERP and CFM from a target stiffness k and damping ratio ζ
-/// ([`fem2rbd::ruin::stage::member_row_erp_cfm`], Bullet's joint CFM being relative to the
-/// row's effective mass 1/K): a 10 kg box hanging from a static anchor on such a vertical
-/// row (the other five locked as usual) settles at sag = m·g/k, the static deflection of
-/// an implicit spring k — here x = √(k/m)·h = 2 at h = 1/200 s (k = 1.6·10⁶ N/m,
-/// m·g/k = 61.3 µm; ERP 0.5, CFM 0.125), critically damped.
-#[test]
-fn generic6dof_member_row_sags_m_g_over_k() {
-    let (m, h, zeta) = (10.0, 1.0 / 200.0, 1.0);
-    let k = m * (2.0 / h) * (2.0 / h);
-    let (erp, cfm) = fem2rbd::ruin::stage::member_row_erp_cfm(k, 1.0 / m, h, zeta);
-    assert!((erp - 0.5).abs() < 1e-12 && (cfm - 0.125).abs() < 1e-12);
+/// A box of mass `m` hanging 1 m below a static anchor on [`locked_hanger`], its vertical
+/// row given `erp` and `cfm`: (world, box, constraint).
+fn member_hanger(m: f64, erp: f64, cfm: f64) -> (World, BodyHandle, ConstraintHandle) {
     let mut w = world();
     let anchor = w
         .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
@@ -497,6 +488,22 @@ fn generic6dof_member_row_sags_m_g_over_k() {
         .unwrap();
     w.set_constraint_param(c, ConstraintParam::StopCfm, 2, cfm)
         .unwrap();
+    (w, b, c)
+}
+
+/// A Generic6Dof row given ERP and CFM from a target stiffness k and damping ratio ζ
+/// ([`fem2rbd::ruin::stage::member_row_erp_cfm`], Bullet's joint CFM being relative to the
+/// row's effective mass 1/K): a 10 kg box hanging from a static anchor on such a vertical
+/// row (the other five locked as usual) settles at sag = m·g/k, the static deflection of
+/// an implicit spring k — here x = √(k/m)·h = 2 at h = 1/200 s (k = 1.6·10⁶ N/m,
+/// m·g/k = 61.3 µm; ERP 0.5, CFM 0.125), critically damped.
+#[test]
+fn generic6dof_member_row_sags_m_g_over_k() {
+    let (m, h, zeta) = (10.0, 1.0 / 200.0, 1.0);
+    let k = m * (2.0 / h) * (2.0 / h);
+    let (erp, cfm) = fem2rbd::ruin::stage::member_row_erp_cfm(k, 1.0 / m, h, zeta);
+    assert!((erp - 0.5).abs() < 1e-12 && (cfm - 0.125).abs() < 1e-12);
+    let (mut w, b, c) = member_hanger(m, erp, cfm);
     let expected = m * G / k;
     let mut peak: f64 = 0.0;
     for _ in 0..400 {
@@ -537,18 +544,7 @@ fn generic6dof_member_row_softer_than_the_sweeps_allow_is_stiffened() {
     let (m, h, zeta) = (10.0, 1.0 / 200.0, 1.0);
     let k = m * (0.3 / h) * (0.3 / h);
     let hang = |erp: f64, cfm: f64| {
-        let mut w = world();
-        let anchor = w
-            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0, 0.0, 5.0])))
-            .unwrap();
-        let b = w
-            .add_box(&BoxDesc::dynamic([0.1; 3], m, Pose::at([0.0, 0.0, 4.0])))
-            .unwrap();
-        let c = locked_hanger(&mut w, anchor, b);
-        w.set_constraint_param(c, ConstraintParam::StopErp, 2, erp)
-            .unwrap();
-        w.set_constraint_param(c, ConstraintParam::StopCfm, 2, cfm)
-            .unwrap();
+        let (mut w, b, _) = member_hanger(m, erp, cfm);
         for _ in 0..200 {
             if w.step(h, 1).is_err() {
                 return f64::NAN;
