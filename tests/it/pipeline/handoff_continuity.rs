@@ -848,7 +848,7 @@ fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
 /// peak V/W 0.274 (disp), 0.205 (force); the mechanism 0.254 g.
 #[test]
 fn the_fe_mesh_is_stronger_than_its_sections_and_the_force_formulation_is_not() {
-    use fem2rbd::fe::analysis::static_analysis::{displacement_control, DisplacementControl};
+    use fem2rbd::fe::analysis::static_analysis::displacement_increment;
     use fem2rbd::fe::analysis::ConvergenceTest;
     use fem2rbd::fe::build::{BuildOptions, Variant};
     use fem2rbd::fe::run::prepare;
@@ -876,27 +876,15 @@ fn the_fe_mesh_is_stronger_than_its_sections_and_the_force_formulation_is_not() 
         let mut best: f64 = 0.0;
         // 1 mm steps to 1.5 % roof drift; a failed step is retried in 2, 4, 8 sub-steps,
         // and the pushover ends where that fails too (past the peak).
-        'steps: for _ in 0..45 {
-            let target = d.displacement(roof)[0] + 0.001;
-            for n in [1usize, 2, 4, 8] {
-                let inc = (target - d.displacement(roof)[0]) / n as f64;
-                let ctl = DisplacementControl {
-                    node: roof,
-                    dof: 0,
-                    increment: inc,
-                    steps: n,
-                    test: ConvergenceTest {
-                        tol: 1e-8,
-                        max_iter: 100,
-                    },
-                    initial_stiffness_fallback: true,
-                };
-                if displacement_control(d, &ctl).is_ok() {
-                    best = best.max(d.load_factor() / model.gravity.g);
-                    continue 'steps;
-                }
+        let test = ConvergenceTest {
+            tol: 1e-8,
+            max_iter: 100,
+        };
+        for _ in 0..45 {
+            if !displacement_increment(d, roof, 0, 0.001, test) {
+                break;
             }
-            break;
+            best = best.max(d.load_factor() / model.gravity.g);
         }
         best
     };

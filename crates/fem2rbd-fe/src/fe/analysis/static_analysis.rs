@@ -243,6 +243,33 @@ fn displacement_step(
     })
 }
 
+/// One pushover increment: moves the control DOF (`node`, `dof`) by `increment` with
+/// Newton (tolerance `test`, initial-stiffness fallback); if that fails, retries what is
+/// left in 2, then 4, then 8 equal sub-steps. Returns whether the increment was reached;
+/// on `false` the domain keeps its last converged state (past a pushover's peak the
+/// curve ends there). OpenSees's pushover scripts fall back to other algorithms instead.
+pub fn displacement_increment(
+    domain: &mut Domain,
+    node: usize,
+    dof: usize,
+    increment: f64,
+    test: ConvergenceTest,
+) -> bool {
+    let target = domain.displacement(node)[dof] + increment;
+    [1usize, 2, 4, 8].into_iter().any(|n| {
+        let left = target - domain.displacement(node)[dof];
+        let ctl = DisplacementControl {
+            node,
+            dof,
+            increment: left / n as f64,
+            steps: n,
+            test,
+            initial_stiffness_fallback: true,
+        };
+        displacement_control(domain, &ctl).is_ok()
+    })
+}
+
 /// Displacement control: each step moves the control DOF by `increment` and finds λ.
 /// Returns per step λ and iterations. On failure the domain keeps the last converged
 /// step and the error names the failed step.

@@ -11,7 +11,7 @@
 use super::support as fe_verify_support;
 
 use fe_verify_support::*;
-use fem2rbd_fe::fe::analysis::static_analysis::{displacement_control, DisplacementControl};
+use fem2rbd_fe::fe::analysis::static_analysis::displacement_increment;
 use fem2rbd_fe::fe::analysis::ConvergenceTest;
 use fem2rbd_fe::fe::build::{BuildOptions, Variant};
 use fem2rbd_fe::fe::run::prepare;
@@ -53,37 +53,16 @@ fn pushover_force_peak_base_shear_within_5_percent() {
     let roof = p.built.node_index[&312];
     let h = 3.0;
     let mut curve = vec![(0.0, 0.0)];
-    let step = |d: &mut fem2rbd_fe::fe::domain::Domain, inc: f64, n: usize| {
-        displacement_control(
-            d,
-            &DisplacementControl {
-                node: roof,
-                dof: 0,
-                increment: inc,
-                steps: n,
-                test: ConvergenceTest {
-                    tol: 1e-8,
-                    max_iter: 100,
-                },
-                initial_stiffness_fallback: true,
-            },
-        )
+    let test = ConvergenceTest {
+        tol: 1e-8,
+        max_iter: 100,
     };
     // 1 mm steps; a step that fails is retried as 2, then 4, then 8 sub-steps (the
     // reference falls back to other algorithms instead); if that fails too the
     // pushover ends there, as OpenSees's does.
     let mut stopped_at = None;
     for _ in 0..30 {
-        let target = d.displacement(roof)[0] + 0.001;
-        let mut ok = step(d, 0.001, 1).is_ok();
-        for n in [2usize, 4, 8] {
-            if ok {
-                break;
-            }
-            let left = target - d.displacement(roof)[0];
-            ok = step(d, left / n as f64, n).is_ok();
-        }
-        if !ok {
+        if !displacement_increment(d, roof, 0, 0.001, test) {
             stopped_at = Some(d.displacement(roof)[0] / h);
             break;
         }
