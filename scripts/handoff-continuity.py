@@ -180,15 +180,19 @@ def ramp_record(path, rate_g=RAMP_RATE_G, peak_g=RAMP_PEAK_G, h=0.005, g=9.80665
 
 
 def roof_to_base_drift(folder):
-    """(t, drift) per frame: mass-weighted X displacement of the roof bodies (centres within
-    5 % of the top) less that of the lowest bodies (the base pieces), over the height
-    between them. From the base pieces, not the ground: bodies joined to the kinematic
-    ground lead it by v_g·h, centimetres under a ramp (docs/handoff.md §5, session 14)."""
+    """(t, drift) per frame: mass-weighted X displacement of the roof bodies (history.csv's
+    roof: centres within 5 % of the height above the foundations' top below the highest
+    centre) less that of the lowest bodies (the base pieces), over the height between
+    them. From the base pieces, not the ground: bodies joined to the kinematic ground
+    lead it by v_g·h, centimetres under a ramp (docs/handoff.md §5, session 14)."""
     with open(os.path.join(folder, "bodies.csv")) as fh:
-        b = {r["name"]: (float(r["cx"]), float(r["cz"]), float(r["mass_kg"]))
-             for r in csv.DictReader(fh) if float(r["mass_kg"]) > 0}
+        rows = list(csv.DictReader(fh))
+    b = {r["name"]: (float(r["cx"]), float(r["cz"]), float(r["mass_kg"]))
+         for r in rows if r["passive"] != "1" and float(r["mass_kg"]) > 0}
+    base = max((float(r["cz"]) + float(r["hz"]) for r in rows if r["passive"] == "1"), default=0.0)
     top = max(v[1] for v in b.values())
     low = min(v[1] for v in b.values())
+    roof_z = top - 0.05 * (top - base)
     acc = {}
     with open(os.path.join(folder, "keyframes.csv")) as fh:
         for r in csv.DictReader(fh):
@@ -197,7 +201,7 @@ def roof_to_base_drift(folder):
             cx, cz, m = b[r["name"]]
             s = acc.setdefault(float(r["t"]), [0.0, 0.0, 0.0, 0.0])
             dx = float(r["x"]) - cx
-            if cz >= top - 0.05 * top:
+            if cz >= roof_z - 1e-12:
                 s[0] += m * dx
                 s[1] += m
             if cz <= low + 1e-6:

@@ -677,51 +677,50 @@ fn ramp_record(dir: &Path, rate_g: f64, peak_g: f64) -> PathBuf {
     write_file(dir, "ramp.txt", &text)
 }
 
-/// Roof-to-base drift in X per recorded frame, (t, drift): the mass-weighted X
-/// displacement of the roof bodies (centres within 5 % of the top) less that of the lowest
-/// bodies (the column base pieces), over the height between them. Measured from the base
-/// pieces rather than from the ground because a body joined to the kinematic ground leads
-/// it by v_g·h (the ground is placed at its end-of-substep pose for the solve,
-/// `ruin::ground`), which under a ramp reaches centimetres.
+/// Roof-to-base drift in X per ruin-stage frame, (t, drift): the X displacement of the
+/// roof centroid of `history.csv` (`output::history::roof`) less the mass-weighted X
+/// displacement of the lowest active bodies (the column base pieces), over the height
+/// between them. Measured from the base pieces rather than from the ground because a
+/// body joined to the kinematic ground leads it by v_g·h (the ground is placed at its
+/// end-of-substep pose for the solve, `ruin::ground`), which under a ramp reaches
+/// centimetres.
 fn roof_to_base_drift(rec: &pipeline::RunRecord) -> Vec<(f64, f64)> {
-    let bodies = output_text(rec, "bodies.csv");
-    // name → (cx, cz, mass)
-    let b: std::collections::BTreeMap<String, (f64, f64, f64)> = bodies
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            let p = |i: usize| f[i].parse::<f64>().unwrap();
-            (f[0].to_string(), (p(6), p(8), p(16)))
+    use fem2rbd::output::history::{roof, BodyRow};
+    let b = &rec.bodies;
+    let rows: Vec<BodyRow> = b
+        .iter()
+        .map(|b| BodyRow {
+            id: &b.id,
+            passive: b.passive,
+            pose0: b.pose0,
+            half_extents: b.half_extents,
+            mass_kg: b.mass_kg,
         })
-        .filter(|(_, v)| v.2 > 0.0)
         .collect();
-    let top = b.values().map(|v| v.1).fold(f64::MIN, f64::max);
-    let low = b.values().map(|v| v.1).fold(f64::MAX, f64::min);
-    let mut frames: Vec<(f64, [f64; 4])> = Vec::new();
-    for l in output_text(rec, "keyframes.csv").lines().skip(1) {
-        let f: Vec<&str> = l.split(',').collect();
-        let t: f64 = f[0].parse().unwrap();
-        let Some(&(cx, cz, m)) = b.get(f[1]) else {
-            continue;
-        };
-        if frames.last().is_none_or(|fr| fr.0 != t) {
-            frames.push((t, [0.0; 4]));
-        }
-        let acc = &mut frames.last_mut().unwrap().1;
-        let dx = f[2].parse::<f64>().unwrap() - cx;
-        if cz >= top - 0.05 * top {
-            acc[0] += m * dx;
-            acc[1] += m;
-        }
-        if cz <= low + 1e-6 {
-            acc[2] += m * dx;
-            acc[3] += m;
-        }
-    }
+    let roof = roof(&rows).unwrap();
+    let low = (0..b.len())
+        .filter(|&i| !b[i].passive)
+        .map(|i| b[i].pose0.position[2])
+        .fold(f64::MAX, f64::min);
+    let base: Vec<usize> = (0..b.len())
+        .filter(|&i| !b[i].passive && b[i].pose0.position[2] <= low + 1e-6)
+        .collect();
+    let base_mass: f64 = base.iter().map(|&i| b[i].mass_kg).sum();
+    let height = roof.centroid0_m[2] - low;
+    let frames = &rec.ruin.as_ref().unwrap().frames;
     frames
         .iter()
-        .map(|(t, a)| (*t, (a[0] / a[1] - a[2] / a[3]) / (top - low)))
+        .map(|f| {
+            let dx = |i: usize| f.poses[i].position[0] - b[i].pose0.position[0];
+            let top: f64 = roof
+                .ids
+                .iter()
+                .zip(&roof.weights)
+                .map(|(&i, w)| w * dx(i))
+                .sum();
+            let bottom: f64 = base.iter().map(|&i| b[i].mass_kg * dx(i)).sum::<f64>() / base_mass;
+            (f.time_s, (top - bottom) / height)
+        })
         .collect()
 }
 
