@@ -80,6 +80,19 @@ pub struct BodyRow<'a> {
     pub mass_kg: f64,
 }
 
+impl<'a> From<&'a crate::body::Body> for BodyRow<'a> {
+    /// The row of a mapped body.
+    fn from(b: &'a crate::body::Body) -> Self {
+        BodyRow {
+            id: &b.id,
+            passive: b.passive,
+            pose0: b.pose0,
+            half_extents: b.half_extents,
+            mass_kg: b.mass_kg,
+        }
+    }
+}
+
 /// The `bodies.csv` text.
 pub fn bodies_csv(rows: &[BodyRow]) -> String {
     let mut s = String::from(BODIES_HEADER);

@@ -223,16 +223,7 @@ pub fn timeline(rec: &RunRecord) -> Vec<(f64, &[Pose])> {
 
 /// The `bodies.csv` rows of a run.
 fn body_rows(rec: &RunRecord) -> Vec<BodyRow<'_>> {
-    rec.bodies
-        .iter()
-        .map(|b| BodyRow {
-            id: &b.id,
-            passive: b.passive,
-            pose0: b.pose0,
-            half_extents: b.half_extents,
-            mass_kg: b.mass_kg,
-        })
-        .collect()
+    rec.bodies.iter().map(BodyRow::from).collect()
 }
 
 /// The timeline's frames with their stage, connection counts and ground displacement.

@@ -687,16 +687,7 @@ fn ramp_record(dir: &Path, rate_g: f64, peak_g: f64) -> PathBuf {
 fn roof_to_base_drift(rec: &pipeline::RunRecord) -> Vec<(f64, f64)> {
     use fem2rbd::output::history::{roof, BodyRow};
     let b = &rec.bodies;
-    let rows: Vec<BodyRow> = b
-        .iter()
-        .map(|b| BodyRow {
-            id: &b.id,
-            passive: b.passive,
-            pose0: b.pose0,
-            half_extents: b.half_extents,
-            mass_kg: b.mass_kg,
-        })
-        .collect();
+    let rows: Vec<BodyRow> = b.iter().map(BodyRow::from).collect();
     let roof = roof(&rows).unwrap();
     let low = (0..b.len())
         .filter(|&i| !b[i].passive)
