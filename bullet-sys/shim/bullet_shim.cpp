@@ -2346,6 +2346,45 @@ int bs_set_global_deactivation_time(double seconds) {
 }
 double bs_get_global_deactivation_time(void) { return gDeactivationTime; }
 
+int bs_body_set_collision_with(bs_world *w, int a, int b, int collide) {
+    return guard([&]() -> int {
+        if (int e = check_body(w, a)) return e;
+        if (int e = check_body(w, b)) return e;
+        if (a == b) return fail(BS_ERR_BAD_ARG, "a body's contact with itself cannot be set");
+        btRigidBody *ra = w->bodies[a].body.get();
+        btRigidBody *rb = w->bodies[b].body.get();
+        if (collide) {
+            // setIgnoreCollisionCheck(.., false) removes one entry; addConstraintRef adds one
+            // per constraint, so remove until none is left.
+            while (!ra->checkCollideWithOverride(rb)) ra->setIgnoreCollisionCheck(rb, false);
+            while (!rb->checkCollideWithOverride(ra)) rb->setIgnoreCollisionCheck(ra, false);
+        } else {
+            if (ra->checkCollideWithOverride(rb)) ra->setIgnoreCollisionCheck(rb, true);
+            if (rb->checkCollideWithOverride(ra)) rb->setIgnoreCollisionCheck(ra, true);
+            btBroadphaseProxy *pa = ra->getBroadphaseHandle();
+            btBroadphaseProxy *pb = rb->getBroadphaseHandle();
+            if (pa && pb) {
+                btOverlappingPairCache *cache = w->world->getBroadphase()->getOverlappingPairCache();
+                if (btBroadphasePair *pair = cache->findPair(pa, pb))
+                    cache->cleanOverlappingPair(*pair, w->world->getDispatcher());
+            }
+        }
+        return BS_OK;
+    });
+}
+
+int bs_body_collides_with(const bs_world *w, int a, int b, int *collides) {
+    return guard([&]() -> int {
+        if (int e = check_body(w, a)) return e;
+        if (int e = check_body(w, b)) return e;
+        if (!collides) return fail(BS_ERR_NULL, "null output");
+        const btRigidBody *ra = w->bodies[a].body.get();
+        const btRigidBody *rb = w->bodies[b].body.get();
+        *collides = (ra->checkCollideWith(rb) && rb->checkCollideWith(ra)) ? 1 : 0;
+        return BS_OK;
+    });
+}
+
 int bs_world_num_sleeping(const bs_world *w, int *count) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;

@@ -253,6 +253,16 @@ double bs_get_global_deactivation_time(void);
 /* Number of dynamic bodies whose activation state is ISLAND_SLEEPING (2). */
 int bs_world_num_sleeping(const bs_world *w, int *count);
 
+/* Contact between bodies a and b (btCollisionObject::setIgnoreCollisionCheck, on both).
+ * collide = 0 puts each body on the other's ignore list (once) and drops the pair's
+ * cached contact manifold; collide = 1 removes every entry, including the one per
+ * constraint that addConstraint(c, true) added (btRigidBody::addConstraintRef; Bullet
+ * keeps it while the constraint is in the world, enabled or broken). Takes effect at the
+ * next step's narrow phase (btCollisionDispatcher::needsCollision). */
+int bs_body_set_collision_with(bs_world *w, int a, int b, int collide);
+/* 1 if the narrow phase would process the pair (neither ignores the other), else 0. */
+int bs_body_collides_with(const bs_world *w, int a, int b, int *collides);
+
 /* Phase timing through Bullet's BT_PROFILE zones (btSetCustomEnterProfileZoneFunc): per
  * zone name the inclusive wall time and the number of entries, recorded for the calling
  * thread only (other threads' zones are ignored). */

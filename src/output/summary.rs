@@ -374,7 +374,45 @@ pub(crate) fn ruin_measures(bodies: &[Body], final_poses: &[Pose], ground_z: f64
         max_debris_height_m: r6(top - (base_z + ground_z)),
         floors: floor_out,
         slab_overlap: overlap_out,
+        interpenetration: interpenetration(bodies, final_poses, &active),
     }
+}
+
+/// [`Interpenetration`] of the `active` bodies at `final_poses`.
+fn interpenetration(bodies: &[Body], final_poses: &[Pose], active: &[usize]) -> Interpenetration {
+    use crate::ruin::separation::box_overlap;
+    let iso: Vec<_> = final_poses.iter().map(to_isometry).collect();
+    let radius = |i: usize| Vector3::from(bodies[i].half_extents).norm();
+    let mut out = Interpenetration::default();
+    for (n, &i) in active.iter().enumerate() {
+        for &j in &active[n + 1..] {
+            let d = iso[j].translation.vector - iso[i].translation.vector;
+            if d.norm() >= radius(i) + radius(j) {
+                continue;
+            }
+            let depth = box_overlap(
+                (
+                    &iso[i].rotation,
+                    &iso[i].translation.vector,
+                    &bodies[i].half_extents,
+                ),
+                (
+                    &iso[j].rotation,
+                    &iso[j].translation.vector,
+                    &bodies[j].half_extents,
+                ),
+            );
+            if depth > INTERPENETRATION_COUNTED_M {
+                out.pairs_over_10mm += 1;
+            }
+            if depth > out.deepest_m {
+                out.deepest_m = depth;
+                out.deepest_pair = Some([bodies[i].id.name(), bodies[j].id.name()]);
+            }
+        }
+    }
+    out.deepest_m = r6(out.deepest_m);
+    out
 }
 
 /// The first keyframe at which a model without contact (the FE alone) stops describing
@@ -836,7 +874,27 @@ pub struct RuinMeasures {
     pub floors: Vec<FloorMeasure>,
     /// Slab overlap of consecutive floors.
     pub slab_overlap: Vec<SlabOverlap>,
+    /// Bodies that end inside each other (absent in summaries written before session 15).
+    #[serde(default)]
+    pub interpenetration: Interpenetration,
 }
+
+/// `interpenetration`: pairs of active bodies whose final boxes overlap
+/// ([`crate::ruin::separation::box_overlap`], the separating-axis depth), m. Bodies that
+/// may not touch ([`crate::ruin::separation`]) can end inside each other; contact
+/// penetrations are millimetres.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Interpenetration {
+    /// Pairs overlapping by more than [`INTERPENETRATION_COUNTED_M`].
+    pub pairs_over_10mm: usize,
+    /// The deepest overlap, m (0 if none).
+    pub deepest_m: f64,
+    /// The two bodies of the deepest overlap.
+    pub deepest_pair: Option<[String; 2]>,
+}
+
+/// Overlap depth from which a pair counts in [`Interpenetration::pairs_over_10mm`], m.
+pub const INTERPENETRATION_COUNTED_M: f64 = 0.01;
 
 /// `original_footprint_m`: [min, max] along x and y.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

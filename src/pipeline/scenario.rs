@@ -273,6 +273,15 @@ pub struct PhysicsSpec {
     /// Check the monitor's tolerances after every substep (true) or once per 25 Hz frame
     /// as BCB (false): `crate::ruin::stage::StageSettings::monitor_every_substep`.
     pub monitor_every_substep: bool,
+    /// When two pieces a connection holds together start touching: `"never"` (BCB, the
+    /// default: broken pieces pass through each other), `"once_broken"` or
+    /// `"once_yielded"` (once only the plastic spring holds):
+    /// `crate::ruin::separation::PairsTouch` (docs/ruin-numerics.md §16).
+    pub connected_pairs_touch: crate::ruin::separation::PairsTouch,
+    /// Pieces joined to a foundation block also rest on the ground box while joined (BCB,
+    /// true, the default), or touch it only once no foundation connection carries their
+    /// compression (false): `crate::ruin::stage::StageSettings::ground_under_connected_bases`.
+    pub ground_under_connected_bases: bool,
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
     /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
     pub search_distance_m: f64,
@@ -404,6 +413,8 @@ impl Default for PhysicsSpec {
             axial_rows: None,
             spring_cap_per_body: true,
             monitor_every_substep: false,
+            connected_pairs_touch: crate::ruin::separation::PairsTouch::Never,
+            ground_under_connected_bases: true,
             search_distance_m: 0.02,
             sleeping: false,
             time_limit_s: None,

@@ -27,6 +27,7 @@ pub mod groups;
 pub mod monitor;
 pub mod rest;
 pub mod search;
+pub mod separation;
 pub mod stage;
 pub mod strength;
 

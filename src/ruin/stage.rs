@@ -201,6 +201,15 @@ pub struct StageSettings {
     /// for the velocity ERP·e/h (Bullet's `get_limit_motor_info2`), up to tens of m/s on a
     /// light piece (docs/ruin-numerics.md §15).
     pub monitor_every_substep: bool,
+    /// When two bodies a connection holds together start touching each other
+    /// ([`super::separation`]): never (BCB/Blender, the default: Bullet's exemption stays
+    /// for the whole run, so broken pieces pass through each other), once nothing holds
+    /// them, or once only springs do (docs/ruin-numerics.md §16).
+    pub pairs_touch: super::separation::PairsTouch,
+    /// Pieces joined to a foundation block touch the ground box from the start (BCB, the
+    /// default). `false`: only once none of their foundation connections carries
+    /// compression ([`super::separation`]).
+    pub ground_under_connected_bases: bool,
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
@@ -291,6 +300,8 @@ impl Default for StageSettings {
             ground_damping_per_s: 0.0,
             spring_cap_per_body: true,
             monitor_every_substep: false,
+            pairs_touch: super::separation::PairsTouch::Never,
+            ground_under_connected_bases: true,
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
                 Ok("bullet") => crate::physics::Sweep::Bullet,
@@ -539,6 +550,8 @@ pub struct RuinStage {
     /// State changes found by the monitor inside [`Self::substeps`]
     /// ([`StageSettings::monitor_every_substep`]) with their times, s, for `run_with`.
     pending_changes: Vec<(super::monitor::StateChange, f64)>,
+    /// Which bodies may not touch yet, and when they may ([`super::separation`]).
+    separation: super::separation::Separation,
     axial_threshold: Vec<f64>,
 }
 
@@ -921,6 +934,16 @@ impl RuinStage {
             &start_states,
             settings.angle_rule,
         )?;
+        let passive: Vec<bool> = input.bodies.iter().map(|b| b.passive).collect();
+        let separation = super::separation::Separation::new(
+            connections.iter().map(|c| (c.a, c.b, c.disable_collisions)),
+            &passive,
+            settings.pairs_touch,
+            settings.ground_under_connected_bases,
+        );
+        for i in separation.ground_exempt().collect::<Vec<_>>() {
+            world.set_collision_with(handles[i], ground_handle, false)?;
+        }
         let model_height_m = (hi[2] - lo[2]).max(0.0);
         let any_ductile = connections.iter().any(|c| c.ductile);
         let connections_len = connections.len();
@@ -953,14 +976,14 @@ impl RuinStage {
         let names: Vec<String> = input.bodies.iter().map(|b| b.name.clone()).collect();
         let body_trace =
             super::body_trace::BodyTrace::from_env(&names).map_err(|(item, m)| bad(item, m))?;
-        Ok(RuinStage {
+        let mut stage = RuinStage {
             world,
             ground: ground_handle,
             ground_rest,
             ground_half_extents: half,
             ground_spec: ground,
             handles,
-            passive: input.bodies.iter().map(|b| b.passive).collect(),
+            passive,
             passive_start: input.start_poses.clone(),
             rest_bodies,
             total_mass_kg: total_mass,
@@ -1008,8 +1031,12 @@ impl RuinStage {
                 .map(|c| c.constraints.first().map_or(0.0, |k| k.breaking_impulse))
                 .collect(),
             pending_changes: Vec::new(),
+            separation,
             connections,
-        })
+        };
+        let enabled = stage.world.constraints_enabled()?;
+        stage.lift_separations(&enabled)?;
+        Ok(stage)
     }
 
     /// The Bullet world (read access, e.g. for contacts).
@@ -1156,6 +1183,9 @@ impl RuinStage {
             self.note_lost_rows(&enabled, t_next);
             self.restore_ductile_rows(&enabled)?;
             self.check_two_way_axial(&enabled, t_next)?;
+            if self.separation.pending() {
+                self.lift_separations(&self.world.constraints_enabled()?)?;
+            }
             self.damp_relative_to_ground(vg, h)?;
             let vels1 = self.body_velocities()?;
             let b = substep_balance(&self.props, &poses0, &vels0, &vels1, h, g, vg, ld, ad);
@@ -1570,7 +1600,39 @@ impl RuinStage {
                 self.world.set_equilibrium_point(h)?;
             }
         }
-        Ok(self.monitor.last_changes().to_vec())
+        let changes = self.monitor.last_changes().to_vec();
+        if self.separation.pending() && !changes.is_empty() {
+            let enabled = self.world.constraints_enabled()?;
+            self.lift_separations(&enabled)?;
+        }
+        Ok(changes)
+    }
+
+    /// Lets the pairs none of whose connections holds any more touch again
+    /// ([`super::separation`]). `enabled`: every constraint's flag now.
+    fn lift_separations(&mut self, enabled: &[bool]) -> Result<(), StageError> {
+        use super::axial::AxialLeft;
+        use super::separation::{Other, Until};
+        let handles = &self.constraint_handles;
+        let axial_left = &self.axial_left;
+        let lifted = self.separation.lift(|c, until| {
+            let on = |k: usize| handles[c].get(k).is_some_and(|h| enabled[h.index()]);
+            match until {
+                Until::Broken => (0..handles[c].len()).any(on),
+                Until::Yielded => (0..GENERIC_COUNT).any(on),
+                // Constraint 0 is the axial row: BCB's compression row, or the two-way
+                // row, which may have broken in compression and carry tension only.
+                Until::CompressionLost => on(0) && axial_left.get(c) != Some(&AxialLeft::Tension),
+            }
+        });
+        for (i, other) in lifted {
+            let o = match other {
+                Other::Body(j) => self.handles[j],
+                Other::Ground => self.ground,
+            };
+            self.world.set_collision_with(self.handles[i], o, true)?;
+        }
+        Ok(())
     }
 
     /// Kinetic energy of the dynamic bodies relative to the ground (J), the largest point

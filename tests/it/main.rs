@@ -59,6 +59,7 @@ mod ruin {
     mod contacts;
     mod landing;
     mod monitor;
+    mod separation;
     mod speed;
     mod stage_ground;
     mod stage_statics;

@@ -847,6 +847,35 @@ impl World {
         }
         Ok(s)
     }
+
+    /// Whether bodies `a` and `b` may touch (`collide`) or pass through each other.
+    /// `addConstraint(c, true)` makes a constrained pair pass through each other for as
+    /// long as the constraint is in the world, broken or not (Bullet 3.24,
+    /// `btRigidBody::addConstraintRef`); `collide = true` undoes that. Takes effect at the
+    /// next substep.
+    pub fn set_collision_with(
+        &mut self,
+        a: BodyHandle,
+        b: BodyHandle,
+        collide: bool,
+    ) -> Result<(), PhysicsError> {
+        let (ia, ib) = (self.body(a)?, self.body(b)?);
+        // SAFETY: live world, checked indices; the shim rejects a == b.
+        check("set_collision_with", unsafe {
+            sys::bs_body_set_collision_with(self.w(), ia, ib, collide as i32)
+        })
+    }
+
+    /// Whether bodies `a` and `b` may touch ([`Self::set_collision_with`]).
+    pub fn collides_with(&self, a: BodyHandle, b: BodyHandle) -> Result<bool, PhysicsError> {
+        let (ia, ib) = (self.body(a)?, self.body(b)?);
+        let mut c = 0;
+        // SAFETY: live world, checked indices, writable int.
+        check("collides_with", unsafe {
+            sys::bs_body_collides_with(self.w(), ia, ib, &mut c)
+        })?;
+        Ok(c != 0)
+    }
 }
 
 impl Drop for World {
