@@ -129,3 +129,32 @@ pub fn hanging_chain(
     locked_joint(w, light, heavy, [0.0, 0.0, -1.0], [0.0; 3]);
     (light, heavy, top)
 }
+
+/// A group with per-area strengths `s` (BCB's Formula Assistant, N/mm²), BCB's default
+/// tolerances, no plastic length and threshold multiplier 1.
+pub fn per_area_group(
+    name: &str,
+    s: fem2rbd::ruin::strength::StrengthPerArea,
+) -> fem2rbd::ruin::connection::GroupStrength {
+    fem2rbd::ruin::connection::GroupStrength {
+        name: name.into(),
+        strength: fem2rbd::ruin::strength::StrengthSource::PerArea(s),
+        tolerances: fem2rbd::ruin::connection::Tolerances::default(),
+        plastic_length: 0.0,
+        threshold_multiplier: 1.0,
+    }
+}
+
+/// RC per-area strengths with compression 35 and shear 155 N/mm², tension `t`, bending
+/// `b` and plastic `p` (N/mm², or N·m per mm² for bending).
+pub fn rc_per_area(t: f64, b: f64, p: Option<f64>) -> fem2rbd::ruin::strength::StrengthPerArea {
+    fem2rbd::ruin::strength::StrengthPerArea {
+        c: 35.0,
+        t,
+        s: 155.0,
+        s90: None,
+        b,
+        b90: None,
+        p,
+    }
+}

@@ -6,31 +6,16 @@
 //! BCB's compression row.
 
 use fem2rbd::ruin::axial::{axial_offset, AxialRows, COMPRESSION_SIGN};
-use fem2rbd::ruin::connection::{GroupStrength, Tolerances};
+use fem2rbd::ruin::connection::GroupStrength;
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{to_isometry, RuinStage, StageInput, StageSettings};
-use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 
 const G: f64 = 9.81;
 
-use crate::support::{column_pieces, rc_box as body};
+use crate::support::{column_pieces, per_area_group, rc_box as body, rc_per_area};
 
 fn group(name: &str, t: f64) -> GroupStrength {
-    GroupStrength {
-        name: name.into(),
-        strength: StrengthSource::PerArea(StrengthPerArea {
-            c: 35.0,
-            t,
-            s: 155.0,
-            s90: None,
-            b: 1.0,
-            b90: None,
-            p: None,
-        }),
-        tolerances: Tolerances::default(),
-        plastic_length: 0.0,
-        threshold_multiplier: 1.0,
-    }
+    per_area_group(name, rc_per_area(t, 1.0, None))
 }
 
 /// What the axial rows of the column's joints carried, substep by substep.

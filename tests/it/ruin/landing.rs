@@ -4,19 +4,19 @@
 
 use fem2rbd::physics::JointSolve;
 use fem2rbd::ruin::axial::{AxialRows, COMPRESSION_SIGN};
-use fem2rbd::ruin::connection::{GroupStrength, Tolerances};
+use fem2rbd::ruin::connection::GroupStrength;
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings};
-use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
+use fem2rbd::ruin::strength::StrengthPerArea;
 
-use crate::support::{column_pieces, rc_box as body};
+use crate::support::{column_pieces, per_area_group, rc_box as body};
 
 const G: f64 = 9.81;
 
 fn strong(name: &str) -> GroupStrength {
-    GroupStrength {
-        name: name.into(),
-        strength: StrengthSource::PerArea(StrengthPerArea {
+    per_area_group(
+        name,
+        StrengthPerArea {
             c: 1e4,
             t: 1e4,
             s: 1e4,
@@ -24,11 +24,8 @@ fn strong(name: &str) -> GroupStrength {
             b: 1e4,
             b90: None,
             p: None,
-        }),
-        tolerances: Tolerances::default(),
-        plastic_length: 0.0,
-        threshold_multiplier: 1.0,
-    }
+        },
+    )
 }
 
 /// What the column passed on to the upper block in the landing of the lower one.

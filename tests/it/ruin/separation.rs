@@ -4,32 +4,17 @@
 //! through to the ground), and a base joined to its foundation block stands on that
 //! connection alone until the connection no longer carries compression.
 
-use crate::support::rc_box as body;
-use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
+use crate::support::{per_area_group, rc_box as body, rc_per_area};
+use fem2rbd::ruin::connection::{ConnectionState, GroupStrength};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::monitor::FeDamage;
 use fem2rbd::ruin::separation::PairsTouch;
 use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings, StopRule};
-use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 
 const G: f64 = 9.81;
 
 fn group(name: &str) -> GroupStrength {
-    GroupStrength {
-        name: name.into(),
-        strength: StrengthSource::PerArea(StrengthPerArea {
-            c: 35.0,
-            t: 5.2,
-            s: 155.0,
-            s90: None,
-            b: 1.0,
-            b90: None,
-            p: None,
-        }),
-        tolerances: Tolerances::default(),
-        plastic_length: 0.0,
-        threshold_multiplier: 1.0,
-    }
+    per_area_group(name, rc_per_area(5.2, 1.0, None))
 }
 
 fn run_for(stage: &mut RuinStage, seconds: f64) -> fem2rbd::ruin::stage::RuinResult {

@@ -4,34 +4,19 @@
 //! moment its bending row's breaking impulse stands for.
 
 use fem2rbd::physics::Velocity;
-use fem2rbd::ruin::connection::{ConnectionState, ConstraintRole, GroupStrength, Tolerances};
+use fem2rbd::ruin::connection::{ConnectionState, ConstraintRole, GroupStrength};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::monitor::FeDamage;
 use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings, StopRule};
-use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 use fem2rbd::ruin::BodyGeom;
 use nalgebra::UnitQuaternion;
 
 const G: f64 = 9.81;
 
-use crate::support::rc_box as body;
+use crate::support::{per_area_group, rc_box as body, rc_per_area};
 
 fn group(name: &str, b: f64, p: Option<f64>) -> GroupStrength {
-    GroupStrength {
-        name: name.into(),
-        strength: StrengthSource::PerArea(StrengthPerArea {
-            c: 35.0,
-            t: 5.2,
-            s: 155.0,
-            s90: None,
-            b,
-            b90: None,
-            p,
-        }),
-        tolerances: Tolerances::default(),
-        plastic_length: 0.0,
-        threshold_multiplier: 1.0,
-    }
+    per_area_group(name, rc_per_area(5.2, b, p))
 }
 
 /// Five 0.3 × 0.3 × 1.0 m boxes stacked into a column on the ground, CT 22 between
