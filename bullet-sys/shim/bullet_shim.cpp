@@ -2214,6 +2214,30 @@ int bs_constraint_relock(bs_world *w, int c, int mask) {
 
 // fem2rbd (axial rows, src/ruin/axial.rs): sets one axis's limits of a generic6dof
 // constraint (btGeneric6DofConstraint::setLimit; lo > hi frees the axis).
+int bs_constraint_axis_value(bs_world *w, int c, int axis, double *value, double *lo) {
+    return guard([&]() -> int {
+        if (int e = check_constraint(w, c)) return e;
+        Constraint &k = *w->constraints[c];
+        if (k.kind != BS_GENERIC6DOF)
+            return fail(BS_ERR_WRONG_KIND, "axis_value needs a generic6dof constraint");
+        if (axis < 0 || axis > 5) return fail(BS_ERR_BAD_ARG, "axis must be 0..5");
+        if (!value || !lo) return fail(BS_ERR_NULL, "null output");
+        auto *g = static_cast<btGeneric6DofConstraint *>(k.constraint.get());
+        g->calculateTransforms();
+        btVector3 v;
+        if (axis < 3) {
+            g->getLinearLowerLimit(v);
+            *lo = v[axis];
+            *value = g->getRelativePivotPosition(axis);
+        } else {
+            g->getAngularLowerLimit(v);
+            *lo = v[axis - 3];
+            *value = g->getAngle(axis - 3);
+        }
+        return BS_OK;
+    });
+}
+
 int bs_constraint_set_limit(bs_world *w, int c, int axis, double lo, double hi) {
     return guard([&]() -> int {
         if (int e = check_constraint(w, c)) return e;

@@ -172,6 +172,9 @@ int bs_constraint_set_param(bs_world *w, int c, int num, double value, int axis)
  * deformation instead of driving back to the old lock. */
 int bs_constraint_relock(bs_world *w, int c, int mask);
 int bs_constraint_set_limit(bs_world *w, int c, int axis, double lo, double hi);
+/* Axis `axis` of a generic6dof: its current value (relative pivot position or angle) and
+ * its lower limit. */
+int bs_constraint_axis_value(bs_world *w, int c, int axis, double *value, double *lo);
 
 /* Warm starting of joint rows (Bullet 3.24 warm-starts contacts only): every row of every
  * btGeneric6DofConstraint starts the next substep's Gauss-Seidel iterations from factor times

@@ -324,6 +324,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.body.margin_max_share = p.margin_max_share;
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
     s.hinge_keeps_rotation = p.hinge_keeps_rotation;
+    s.hinge_return_mapping = p.hinge_return_mapping;
     s.spring_cap_per_body = p.spring_cap_per_body;
     s.monitor_every_substep = p.monitor_every_substep;
     s.pairs_touch = p.connected_pairs_touch;

@@ -235,6 +235,10 @@ pub struct PhysicsSpec {
     /// §8.1) or drives back to its start pose (false: the first FE-derived version):
     /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
     pub hinge_keeps_rotation: bool,
+    /// With `hinge_keeps_rotation`: re-lock a yielded hinge at its present rotation minus
+    /// the rotation error of its first yield (a return mapping; false: at its present
+    /// rotation): `crate::ruin::stage::StageSettings::hinge_return_mapping`.
+    pub hinge_return_mapping: bool,
     /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
     /// `"member"` (each row an implicit spring–damper of the members' stiffness through
     /// its ERP/CFM): `crate::ruin::stage::JointRows`.
@@ -403,6 +407,7 @@ impl Default for PhysicsSpec {
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
             hinge_keeps_rotation: true,
+            hinge_return_mapping: false,
             joint_rows: JointRowsSpec::Locked,
             joint_modulus_pa: 2.5e10,
             joint_damping_ratio: 1.0,

@@ -154,6 +154,14 @@ pub struct StageSettings {
     /// back with the velocity bias ERP·θ/h up to its full moment — a motor that feeds
     /// energy into the frame (docs/ruin-numerics.md).
     pub hinge_keeps_rotation: bool,
+    /// With `hinge_keeps_rotation`: re-lock a yielded hinge by a return mapping, at its
+    /// present rotation minus the rotation error it had at its first yield, instead of at
+    /// its present rotation. Re-locking at the present rotation throws away the error
+    /// through which the not fully converged solver carries the moment, so the row's
+    /// impulse falls to a quarter and builds back: a saw-tooth that carries 58 % of the
+    /// capacity on average (frame3's base under a slow ramp); the return mapping keeps
+    /// 97 % (docs/handoff.md §5, session 15). `false`: the present rotation (sessions 5–14).
+    pub hinge_return_mapping: bool,
     /// How the connections' locked rows correct their error ([`JointRows`]).
     pub joint_rows: JointRows,
     /// Warm start of the connections' generic rows, 0..=1
@@ -292,6 +300,7 @@ impl Default for StageSettings {
             connect: true,
             spring_rest_at_plastic_onset: false,
             hinge_keeps_rotation: true,
+            hinge_return_mapping: false,
             joint_rows: JointRows::Locked,
             joint_warmstart: 0.0,
             joint_iterations: None,
@@ -552,6 +561,9 @@ pub struct RuinStage {
     pending_changes: Vec<(super::monitor::StateChange, f64)>,
     /// Which bodies may not touch yet, and when they may ([`super::separation`]).
     separation: super::separation::Separation,
+    /// Per (connection, bending row): the rotation error at its first yield
+    /// ([`StageSettings::hinge_return_mapping`]).
+    hinge_error: BTreeMap<(usize, usize), [f64; 6]>,
     axial_threshold: Vec<f64>,
 }
 
@@ -1032,6 +1044,7 @@ impl RuinStage {
                 .collect(),
             pending_changes: Vec::new(),
             separation,
+            hinge_error: Default::default(),
             connections,
         };
         let enabled = stage.world.constraints_enabled()?;
@@ -1504,25 +1517,73 @@ impl RuinStage {
         if !self.any_ductile {
             return Ok(());
         }
+        // (connection, bending row, constraint, locked-axis mask) of every yielded row.
+        let mut yielded = Vec::new();
         for (i, c) in self.connections.iter().enumerate() {
             if !c.ductile || self.monitor.state(i) != ConnectionState::Elastic {
                 continue;
             }
             for k in BENDING_ROWS {
-                if c.constraints.get(k).is_some_and(|s| s.no_strength) {
+                let Some(spec) = c.constraints.get(k) else {
+                    continue;
+                };
+                if spec.no_strength {
                     continue;
                 }
                 if let Some(&h) = self.constraint_handles[i].get(k) {
                     if !enabled[h.index()] {
-                        if self.settings.hinge_keeps_rotation {
-                            let spec = &c.constraints[k];
-                            let mask = (0..6)
-                                .filter(|&a| spec.lower[a] == spec.upper[a])
-                                .fold(0u8, |m, a| m | (1 << a));
-                            self.world.relock_constraint(h, mask)?;
-                        }
-                        self.world.set_constraint_enabled(h, true)?;
+                        let mask = (0..6)
+                            .filter(|&a| spec.lower[a] == spec.upper[a])
+                            .fold(0u8, |m, a| m | (1 << a));
+                        yielded.push((i, k, h, mask));
                     }
+                }
+            }
+        }
+        for (i, k, h, mask) in yielded {
+            if self.settings.hinge_keeps_rotation {
+                if self.settings.hinge_return_mapping {
+                    self.relock_keeping_elastic_error(i, k, h)?;
+                } else {
+                    self.world.relock_constraint(h, mask)?;
+                }
+            }
+            self.world.set_constraint_enabled(h, true)?;
+        }
+        Ok(())
+    }
+
+    /// Re-locks the yielded ductile row `k` of connection `i` (constraint `h`) by a return
+    /// mapping ([`StageSettings::hinge_return_mapping`]): at its first yield the lock stays
+    /// and the row's rotation error e₀ = θ − θ_lock per locked axis is kept; at every later
+    /// yield the lock moves to θ − sign(e)·min(|e₀|, |e|), so the row starts the next
+    /// substep with the error through which the (not fully converged) solver carried its
+    /// capacity, and θ_lock follows the plastic rotation (elastic–plastic return mapping;
+    /// Simo and Hughes, *Computational Inelasticity*, 1998, §1.4), rad (m on linear axes).
+    fn relock_keeping_elastic_error(
+        &mut self,
+        i: usize,
+        k: usize,
+        h: ConstraintHandle,
+    ) -> Result<(), StageError> {
+        let spec = &self.connections[i].constraints[k];
+        let axes: Vec<usize> = (0..6).filter(|&a| spec.lower[a] == spec.upper[a]).collect();
+        let mut err = [0.0; 6];
+        let mut lock = [0.0; 6];
+        for &a in &axes {
+            let (v, lo) = self.world.constraint_axis_value(h, a)?;
+            err[a] = v - lo;
+            lock[a] = lo;
+        }
+        match self.hinge_error.get(&(i, k)) {
+            None => {
+                self.hinge_error.insert((i, k), err);
+            }
+            Some(e0) => {
+                for &a in &axes {
+                    let keep = e0[a].abs().min(err[a].abs()) * err[a].signum();
+                    let l = lock[a] + err[a] - keep;
+                    self.world.set_constraint_limit(h, a, l, l)?;
                 }
             }
         }

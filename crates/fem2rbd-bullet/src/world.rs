@@ -749,6 +749,21 @@ impl World {
         })
     }
 
+    /// Axis `axis` of a generic 6-DOF constraint: (current value, lower limit).
+    pub fn constraint_axis_value(
+        &mut self,
+        c: ConstraintHandle,
+        axis: usize,
+    ) -> Result<(f64, f64), PhysicsError> {
+        let i = self.constraint(c)?;
+        let (mut v, mut lo) = (0.0, 0.0);
+        // SAFETY: live world, checked index, writable outputs.
+        check("axis_value", unsafe {
+            sys::bs_constraint_axis_value(self.w(), i, axis as i32, &mut v, &mut lo)
+        })?;
+        Ok((v, lo))
+    }
+
     /// The poses of all bodies in creation order (one call into Bullet).
     pub fn poses(&self) -> Result<Vec<Pose>, PhysicsError> {
         let n = self.kinds.len();
