@@ -1556,7 +1556,9 @@ impl RuinStage {
     /// Re-locks the yielded ductile row `k` of connection `i` (constraint `h`) by a return
     /// mapping ([`StageSettings::hinge_return_mapping`]): at its first yield the lock stays
     /// and the row's rotation error e₀ = θ − θ_lock per locked axis is kept; at every later
-    /// yield the lock moves to θ − sign(e)·min(|e₀|, |e|), so the row starts the next
+    /// yield the lock moves to θ − sign(e)·min(|e₀|, |e|) (θ when the hinge turned back,
+    /// sign(e) ≠ sign(e₀): a kept error of the other sign would drive it like a motor at
+    /// ERP·e/h), so the row starts the next
     /// substep with the error through which the (not fully converged) solver carried its
     /// capacity, and θ_lock follows the plastic rotation (elastic–plastic return mapping;
     /// Simo and Hughes, *Computational Inelasticity*, 1998, §1.4), rad (m on linear axes).
@@ -1581,7 +1583,11 @@ impl RuinStage {
             }
             Some(e0) => {
                 for &a in &axes {
-                    let keep = e0[a].abs().min(err[a].abs()) * err[a].signum();
+                    let keep = if err[a] * e0[a] > 0.0 {
+                        e0[a].abs().min(err[a].abs()) * err[a].signum()
+                    } else {
+                        0.0
+                    };
                     let l = lock[a] + err[a] - keep;
                     self.world.set_constraint_limit(h, a, l, l)?;
                 }
