@@ -2212,8 +2212,8 @@ int bs_constraint_relock(bs_world *w, int c, int mask) {
     });
 }
 
-// fem2rbd (axial rows, src/ruin/axial.rs): sets one axis's limits of a generic6dof
-// constraint (btGeneric6DofConstraint::setLimit; lo > hi frees the axis).
+// fem2rbd (ductile hinges' return mapping, src/ruin/stage.rs): one axis's current value
+// (relative pivot position or angle, as calculateTransforms() leaves them) and lower limit.
 int bs_constraint_axis_value(bs_world *w, int c, int axis, double *value, double *lo) {
     return guard([&]() -> int {
         if (int e = check_constraint(w, c)) return e;
@@ -2238,6 +2238,8 @@ int bs_constraint_axis_value(bs_world *w, int c, int axis, double *value, double
     });
 }
 
+// fem2rbd (axial rows, src/ruin/axial.rs): sets one axis's limits of a generic6dof
+// constraint (btGeneric6DofConstraint::setLimit; lo > hi frees the axis).
 int bs_constraint_set_limit(bs_world *w, int c, int axis, double lo, double hi) {
     return guard([&]() -> int {
         if (int e = check_constraint(w, c)) return e;

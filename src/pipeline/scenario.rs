@@ -857,6 +857,16 @@ impl Scenario {
                     .into(),
             ));
         }
+        if raw.physics.hinge_return_mapping
+            && !(raw.physics.hinge_keeps_rotation
+                && raw.physics.connection_model(raw.mode) == ConnectionModel::Fe)
+        {
+            return Err(invalid(
+                "physics.hinge_return_mapping = true re-locks the ductile hinges of FE-derived \
+                 connections: it needs connections = \"fe\" and hinge_keeps_rotation = true"
+                    .into(),
+            ));
+        }
         if raw
             .output
             .as_ref()

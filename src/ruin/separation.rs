@@ -88,12 +88,14 @@ pub struct Exemption {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Separation {
     exemptions: Vec<Exemption>,
+    /// Exemptions not lifted yet.
+    left: usize,
 }
 
 impl Separation {
     /// The exemptions of the connections `joins` — (body a, body b, disable_collisions) in
-    /// connection order ([`super::connection::ConnectionSpec`]'s fields) — between bodies of which `passive`
-    /// marks the foundation blocks. `pairs_touch`: when the connected pairs' exemptions
+    /// connection order ([`super::connection::ConnectionSpec`]'s fields) — between bodies
+    /// of which `passive` marks the foundation blocks. `pairs_touch`: when the connected pairs' exemptions
     /// are lifted (BCB: never); `ground_under_connected_bases`: let pieces joined to a
     /// foundation block touch the ground from the start (BCB).
     pub fn new(
@@ -125,26 +127,28 @@ impl Separation {
                 }
             }
         }
+        let exemptions: Vec<Exemption> = map
+            .into_iter()
+            .map(|((body, other), connections)| Exemption {
+                body,
+                other,
+                connections,
+                until: match other {
+                    Other::Body(_) => pair_until,
+                    Other::Ground => Until::CompressionLost,
+                },
+                lifted: false,
+            })
+            .collect();
         Separation {
-            exemptions: map
-                .into_iter()
-                .map(|((body, other), connections)| Exemption {
-                    body,
-                    other,
-                    connections,
-                    until: match other {
-                        Other::Body(_) => pair_until,
-                        Other::Ground => Until::CompressionLost,
-                    },
-                    lifted: false,
-                })
-                .collect(),
+            left: exemptions.len(),
+            exemptions,
         }
     }
 
     /// Whether an exemption is still to be lifted.
     pub fn pending(&self) -> bool {
-        self.exemptions.iter().any(|e| !e.lifted)
+        self.left > 0
     }
 
     /// Every exemption.
@@ -173,6 +177,7 @@ impl Separation {
         for e in self.exemptions.iter_mut().filter(|e| !e.lifted) {
             if !e.connections.iter().any(|&c| holds(c, e.until)) {
                 e.lifted = true;
+                self.left -= 1;
                 out.push((e.body, e.other));
             }
         }
@@ -254,6 +259,7 @@ mod tests {
             vec![(0, Other::Body(1)), (1, Other::Body(2)), (1, Other::Ground)]
         );
         assert!(s.lift(|c, _| holds[c]).is_empty(), "lifted once");
+        assert!(!s.pending());
     }
 
     #[test]

@@ -953,7 +953,7 @@ impl RuinStage {
             settings.pairs_touch,
             settings.ground_under_connected_bases,
         );
-        for i in separation.ground_exempt().collect::<Vec<_>>() {
+        for i in separation.ground_exempt() {
             world.set_collision_with(handles[i], ground_handle, false)?;
         }
         let model_height_m = (hi[2] - lo[2]).max(0.0);
@@ -1543,7 +1543,7 @@ impl RuinStage {
         for (i, k, h, mask) in yielded {
             if self.settings.hinge_keeps_rotation {
                 if self.settings.hinge_return_mapping {
-                    self.relock_keeping_elastic_error(i, k, h)?;
+                    self.relock_keeping_elastic_error(i, k, h, mask)?;
                 } else {
                     self.world.relock_constraint(h, mask)?;
                 }
@@ -1553,7 +1553,8 @@ impl RuinStage {
         Ok(())
     }
 
-    /// Re-locks the yielded ductile row `k` of connection `i` (constraint `h`) by a return
+    /// Re-locks the locked axes `mask` of the yielded ductile row `k` of connection `i`
+    /// (constraint `h`) by a return
     /// mapping ([`StageSettings::hinge_return_mapping`]): at its first yield the lock stays
     /// and the row's rotation error e₀ = θ − θ_lock per locked axis is kept; at every later
     /// yield the lock moves to θ − sign(e)·min(|e₀|, |e|) (θ when the hinge turned back,
@@ -1567,12 +1568,12 @@ impl RuinStage {
         i: usize,
         k: usize,
         h: ConstraintHandle,
+        mask: u8,
     ) -> Result<(), StageError> {
-        let spec = &self.connections[i].constraints[k];
-        let axes: Vec<usize> = (0..6).filter(|&a| spec.lower[a] == spec.upper[a]).collect();
+        let axes = (0..6).filter(|a| mask & (1 << a) != 0);
         let mut err = [0.0; 6];
         let mut lock = [0.0; 6];
-        for &a in &axes {
+        for a in axes.clone() {
             let (v, lo) = self.world.constraint_axis_value(h, a)?;
             err[a] = v - lo;
             lock[a] = lo;
@@ -1582,7 +1583,7 @@ impl RuinStage {
                 self.hinge_error.insert((i, k), err);
             }
             Some(e0) => {
-                for &a in &axes {
+                for a in axes {
                     let keep = if err[a] * e0[a] > 0.0 {
                         e0[a].abs().min(err[a].abs()) * err[a].signum()
                     } else {

@@ -751,7 +751,7 @@ impl World {
 
     /// Axis `axis` of a generic 6-DOF constraint: (current value, lower limit).
     pub fn constraint_axis_value(
-        &mut self,
+        &self,
         c: ConstraintHandle,
         axis: usize,
     ) -> Result<(f64, f64), PhysicsError> {

@@ -243,6 +243,29 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\nhinge_end = \"crumble\"")),
         case(
+            "connected_pairs_touch sometimes",
+            run,
+            1,
+            &["s.toml:", "unknown variant `sometimes`", "never", "once_broken", "once_yielded"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics]\nconnected_pairs_touch = \"sometimes\""),
+        ),
+        case(
+            "hinge_return_mapping without re-locked hinges",
+            run,
+            1,
+            &["s.toml", "physics.hinge_return_mapping", "hinge_keeps_rotation = true"],
+        )
+        .with(
+            "s.toml",
+            scenario(
+                "",
+                "[physics]\nhinge_return_mapping = true\nhinge_keeps_rotation = false",
+            ),
+        ),
+        case(
             "joints nodes",
             run,
             1,
