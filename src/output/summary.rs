@@ -17,6 +17,7 @@ use crate::mapping::Role;
 use crate::mode::Mode;
 use crate::motion::GroundHistory;
 use crate::physics::Pose;
+use crate::ruin::rest::RestSpeed;
 use crate::ruin::stage::{to_isometry, RuinResult, RuinStop};
 use nalgebra::{Point3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -599,6 +600,24 @@ pub(crate) fn energy_summary(
     })
 }
 
+/// The dynamic body with the largest instantaneous point speed at the end (`None` without
+/// dynamic bodies).
+pub(crate) fn instantaneous_at_end(bodies: &[Body], r: &RuinResult) -> Option<UnsettledBody> {
+    r.ledger
+        .final_instantaneous_speeds_mps
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !bodies[*i].passive)
+        .fold(None, |best: Option<(usize, f64)>, (i, v)| match best {
+            Some((_, b)) if b >= *v => best,
+            _ => Some((i, *v)),
+        })
+        .map(|(i, v)| UnsettledBody {
+            body: bodies[i].id.name(),
+            speed_mps: r6(v),
+        })
+}
+
 /// The bodies not at rest at the end (name and point speed relative to the ground, m/s),
 /// in body order.
 pub(crate) fn unsettled(bodies: &[Body], r: &RuinResult) -> Vec<UnsettledBody> {
@@ -732,6 +751,14 @@ pub struct RuinStageSummary {
     pub energy: Option<EnergySummary>,
     /// Bodies not at rest at the end, in body order.
     pub unsettled_bodies: Vec<UnsettledBody>,
+    /// How the rest test measured point speeds (`frame_mean`, `instantaneous`;
+    /// `crate::ruin::rest::RestSpeed`); absent in run folders written before session 16.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rest_speed: Option<RestSpeed>,
+    /// The dynamic body with the largest point speed from its velocities at the end, and
+    /// that speed (m/s): the solver's substep chatter, which the frame-mean test leaves out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instantaneous_at_end: Option<UnsettledBody>,
 }
 
 /// One body not at rest at the end.

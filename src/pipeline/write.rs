@@ -17,8 +17,9 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::{
-    energy_summary, first_contact, floors_down, r6, ruin_measures, unsettled, ConnectionCounts,
-    FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary, TcKind, WallTimes,
+    energy_summary, first_contact, floors_down, instantaneous_at_end, r6, ruin_measures, unsettled,
+    ConnectionCounts, FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary,
+    TcKind, WallTimes,
 };
 use crate::output::AnimationError;
 use crate::physics::Pose;
@@ -167,6 +168,8 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
             max_penetration_m: r6(r.max_penetration_m),
             energy: energy_summary(&rec.bodies, &rec.ground, r),
             unsettled_bodies: unsettled(&rec.bodies, r),
+            rest_speed: Some(r.ledger.rest_speed),
+            instantaneous_at_end: instantaneous_at_end(&rec.bodies, r),
         }
     });
     let wall_time_s = timing.then(|| {

@@ -51,7 +51,7 @@ use super::connection::{
 use super::energy::{mechanical, substep_balance, EnergyFrame, MassProps};
 use super::ground::GroundSpec;
 use super::monitor::{start_state_from_damage, AngleRule, FeDamage, Monitor, StateCounts};
-use super::rest::{body_energy_speed, RestBody, RestTest};
+use super::rest::{body_energy_speed, frame_mean_speed, RestBody, RestSpeed, RestTest};
 use super::search::{find_contacts, Contact};
 use super::{BodyGeom, RuinError};
 use crate::physics::{
@@ -506,8 +506,14 @@ pub struct LedgerSummary {
     pub max_speed_mps: f64,
     /// The body (input index) and time (s) of that speed (`None` without dynamic bodies).
     pub max_speed_at: Option<(usize, f64)>,
-    /// Every body's point speed relative to the ground at the end, m/s (passive: 0).
+    /// Every body's point speed relative to the ground at the end, as the rest test
+    /// measures it ([`LedgerSummary::rest_speed`]), m/s (passive: 0).
     pub final_point_speeds_mps: Vec<f64>,
+    /// Every body's point speed from its velocities at the end (the solver's substep
+    /// chatter included), m/s (passive: 0).
+    pub final_instantaneous_speeds_mps: Vec<f64>,
+    /// How the rest test measured the point speeds.
+    pub rest_speed: RestSpeed,
     /// Energy added by the solver: the sum over substeps of the positive part of
     /// ΔE − ΔW_g + ΔD (a substep that dissipates nothing and injects nothing gives 0), J.
     pub injected_j: f64,
@@ -1729,6 +1735,28 @@ impl RuinStage {
         Ok((e, vmax, speeds))
     }
 
+    /// Each body's frame-mean point speed relative to the ground between two recorded
+    /// poses (m/s; passive: 0) — [`super::rest::frame_mean_speed`].
+    fn frame_mean_speeds(&self, (t0, p0): (f64, &[Pose]), (t1, p1): (f64, &[Pose])) -> Vec<f64> {
+        let (g0, g1) = (
+            self.ground_spec.displacement_at(t0),
+            self.ground_spec.displacement_at(t1),
+        );
+        let shift = [g1[0] - g0[0], g1[1] - g0[1], g1[2] - g0[2]];
+        (0..self.handles.len())
+            .map(|i| match &self.rest_bodies[i] {
+                Some(rb) => frame_mean_speed(
+                    rb,
+                    (p0[i].position, p0[i].orientation),
+                    (p1[i].position, p1[i].orientation),
+                    shift,
+                    t1 - t0,
+                ),
+                None => 0.0,
+            })
+            .collect()
+    }
+
     /// The deepest penetration between any two bodies after the last substep, m (≥ 0).
     pub fn deepest_penetration(&self) -> Result<f64, StageError> {
         Ok(self
@@ -1824,6 +1852,16 @@ impl RuinStage {
             max_pen = max_pen.max(pen);
             if let (Some(r), Some(eb), Some(hf)) = (rest, energy_bound, hold_frames) {
                 let (e, vmax, _) = self.motion_measures()?;
+                let vmax = match r.speed {
+                    RestSpeed::Instantaneous => vmax,
+                    RestSpeed::FrameMean => {
+                        // Frame 0 is pushed before the loop, so there are two.
+                        let (a, b) = (&frames[frames.len() - 2], &frames[frames.len() - 1]);
+                        self.frame_mean_speeds((a.time_s, &a.poses), (b.time_s, &b.poses))
+                            .into_iter()
+                            .fold(0.0, f64::max)
+                    }
+                };
                 if t >= motion_end - 1e-12 && e < eb && vmax < r.max_speed_mps {
                     quiet += 1;
                 } else {
@@ -1840,7 +1878,15 @@ impl RuinStage {
             o.first_row_lost = self.first_lost[i]
                 .and_then(|(k, t)| self.connections[i].constraints.get(k).map(|c| (c.role, t)));
         }
-        let (_, _, speeds) = self.motion_measures()?;
+        let (_, _, instantaneous) = self.motion_measures()?;
+        let speed_measure = rest.unwrap_or_default().speed;
+        let speeds = match (speed_measure, frames.len()) {
+            (RestSpeed::FrameMean, n) if n >= 2 => {
+                let (a, b) = (&frames[n - 2], &frames[n - 1]);
+                self.frame_mean_speeds((a.time_s, &a.poses), (b.time_s, &b.poses))
+            }
+            _ => instantaneous.clone(),
+        };
         let vtol = rest.unwrap_or_default().max_speed_mps;
         let at_rest: Vec<bool> = speeds
             .iter()
@@ -1870,6 +1916,8 @@ impl RuinStage {
                 max_speed_mps: self.max_speed.0,
                 max_speed_at: self.max_speed.1,
                 final_point_speeds_mps: speeds,
+                final_instantaneous_speeds_mps: instantaneous,
+                rest_speed: speed_measure,
                 injected_j: self.injected_j,
                 max_injection: self.max_injection,
             },

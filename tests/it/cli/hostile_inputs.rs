@@ -253,6 +253,16 @@ fn cases() -> Vec<Case> {
             scenario("", "[physics]\nconnected_pairs_touch = \"sometimes\""),
         ),
         case(
+            "rest speed sampled",
+            run,
+            1,
+            &["s.toml:", "unknown variant `sampled`", "frame_mean", "instantaneous"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics.rest]\nspeed = \"sampled\""),
+        ),
+        case(
             "hinge_return_mapping without re-locked hinges",
             run,
             1,

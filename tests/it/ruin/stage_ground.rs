@@ -1,13 +1,15 @@
 //! The ruin stage's moving ground, rest detection and determinism, against closed-form
 //! values: the kinematic ground is exactly where the record puts it at every substep; a
 //! box on a sinusoidally shaken ground sticks or slides as Coulomb friction says; a
-//! dropped box is declared at rest one hold time after it lands; two runs are identical.
+//! dropped box is declared at rest one hold time after it lands; a sliding box one hold
+//! time after Coulomb friction has brought it below the test's bounds, with either speed
+//! measure, and a box sliding without friction never; two runs are identical.
 
 use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
 use fem2rbd::physics::Velocity;
 use fem2rbd::ruin::connection::{GroupStrength, RuinSettings, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
-use fem2rbd::ruin::rest::RestTest;
+use fem2rbd::ruin::rest::{RestSpeed, RestTest};
 use fem2rbd::ruin::stage::{
     BodySettings, RuinStage, RuinStop, StageInput, StageSettings, StopRule,
 };
@@ -243,6 +245,90 @@ fn a_dropped_box_is_at_rest_one_hold_time_after_it_lands() {
     );
     assert!(res.at_rest[0]);
     assert!((res.final_poses[0].position[2] - 0.25).abs() < 1e-3);
+}
+
+/// A 100 kg box (0.5 m cube) on a still ground, started sliding in x at `v0` m/s with a
+/// contact friction `mu` (box × ground), no damping; run to `t_end` s with the rest test
+/// measuring point speeds as `speed` says.
+fn sliding_box(v0: f64, mu: f64, speed: RestSpeed, t_end: f64) -> fem2rbd::ruin::stage::RuinResult {
+    let bodies = vec![body("box", [0.0, 0.0, 0.25], [0.25, 0.25, 0.25], false)];
+    let masses = [100.0];
+    let gr = groups();
+    let mut input = StageInput::physics_only(&bodies, &masses, &gr);
+    input.start_velocities[0] = Velocity {
+        linear: [v0, 0.0, 0.0],
+        angular: [0.0; 3],
+    };
+    let settings = StageSettings {
+        body: BodySettings {
+            friction: mu,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            ..BodySettings::default()
+        },
+        ..StageSettings::default()
+    };
+    let ground = GroundSpec {
+        top_z: Some(0.0),
+        ..GroundSpec::default()
+    };
+    let mut stage = RuinStage::build(&input, ground, &settings).unwrap();
+    stage
+        .run(&StopRule {
+            max_time_s: t_end,
+            rest: Some(RestTest {
+                speed,
+                ..RestTest::default()
+            }),
+        })
+        .unwrap()
+}
+
+#[test]
+fn a_sliding_box_is_at_rest_one_hold_time_after_friction_stops_it_with_either_speed_measure() {
+    // Coulomb: v(t) = v0 − μ·g·t. The test's bounds: point speed < 0.05 m/s and
+    // E_k < ε·M·g·L_ref = 1e-5 · 100 · 9.81 · 1 m (L_ref at least 1 m) = 9.81 mJ, i.e.
+    // v < √(2·9.81e-3/100) = 0.0140 m/s, the binding one. So the box passes both from
+    // t_e = (v0 − 0.0140)/(μ·g) on. The run stops at the 25th quiet frame in a row
+    // (hold 1 s at 1/25 s), the first of them the first frame after t_e: between
+    // t_e + 0.96 s and t_e + 1.00 s, one frame later for the frame mean (its first quiet
+    // frame must have all of its frame after t_e).
+    let (v0, mu) = (1.0, 0.1);
+    let v_e = (2.0 * 1e-5 * G * 1.0_f64).sqrt();
+    let t_e = (v0 - v_e) / (mu * G);
+    for speed in [RestSpeed::FrameMean, RestSpeed::Instantaneous] {
+        let r = sliding_box(v0, mu, speed, 6.0);
+        eprintln!(
+            "{}: at rest at {} s (Coulomb: {:.4} s + 1 s hold)",
+            speed.name(),
+            r.end_time_s,
+            t_e
+        );
+        assert_eq!(r.stop, RuinStop::AtRest);
+        assert!(r.end_time_s >= t_e + 0.96 - 1e-9, "{}", r.end_time_s);
+        assert!(r.end_time_s <= t_e + 1.04 + 1e-9, "{}", r.end_time_s);
+        // It slid v0²/(2μg) = 0.5097 m.
+        let x = r.final_poses[0].position[0];
+        assert!((x - v0 * v0 / (2.0 * mu * G)).abs() < 0.01, "{x}");
+    }
+}
+
+#[test]
+fn a_box_sliding_without_friction_is_never_at_rest_and_its_frame_mean_speed_is_its_speed() {
+    // 0.06 m/s, just above v_tol: the frame mean measures exactly the motion (0.06 m/s),
+    // so the run goes to the time limit with the box named at that speed.
+    let r = sliding_box(0.06, 0.0, RestSpeed::FrameMean, 3.0);
+    assert_eq!(r.stop, RuinStop::TimeLimit);
+    assert!(!r.at_rest[0]);
+    let v = r.ledger.final_point_speeds_mps[0];
+    assert!((v - 0.06).abs() < 1e-6, "{v}");
+    assert!((r.ledger.final_instantaneous_speeds_mps[0] - 0.06).abs() < 1e-6);
+    assert_eq!(r.ledger.rest_speed, RestSpeed::FrameMean);
+    // The same box at 0.04 m/s passes the speed bound but not the energy bound
+    // (0.08 J against 9.81 mJ): never at rest either.
+    let r = sliding_box(0.04, 0.0, RestSpeed::FrameMean, 3.0);
+    assert_eq!(r.stop, RuinStop::TimeLimit);
+    assert!(r.at_rest[0]);
 }
 
 fn pile() -> (Vec<BodyGeom>, Vec<f64>) {
