@@ -327,8 +327,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.hinge_return_mapping = p.hinge_return_mapping;
     s.spring_cap_per_body = p.spring_cap_per_body;
     s.monitor_every_substep = p.monitor_every_substep;
-    s.pairs_touch = p.connected_pairs_touch;
-    s.ground_under_connected_bases = p.ground_under_connected_bases;
+    s.pairs_touch = p.pairs_touch_for(sc.mode);
+    s.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);
     s.ruin.search.search_distance = p.search_distance_m;
     s.joint_rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,

@@ -277,15 +277,16 @@ pub struct PhysicsSpec {
     /// Check the monitor's tolerances after every substep (true) or once per 25 Hz frame
     /// as BCB (false): `crate::ruin::stage::StageSettings::monitor_every_substep`.
     pub monitor_every_substep: bool,
-    /// When two pieces a connection holds together start touching: `"never"` (BCB, the
-    /// default: broken pieces pass through each other), `"once_broken"` or
-    /// `"once_yielded"` (once only the plastic spring holds):
-    /// `crate::ruin::separation::PairsTouch` (docs/ruin-numerics.md §16).
-    pub connected_pairs_touch: crate::ruin::separation::PairsTouch,
+    /// When two pieces a connection holds together start touching: `"never"` (BCB:
+    /// broken pieces pass through each other), `"once_broken"` or `"once_yielded"` (once
+    /// only the plastic spring holds): `crate::ruin::separation::PairsTouch`
+    /// (docs/ruin-numerics.md §16, §18). Absent: [`PhysicsSpec::pairs_touch_for`].
+    pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
     /// Pieces joined to a foundation block also rest on the ground box while joined (BCB,
-    /// true, the default), or touch it only once no foundation connection carries their
-    /// compression (false): `crate::ruin::stage::StageSettings::ground_under_connected_bases`.
-    pub ground_under_connected_bases: bool,
+    /// true), or touch it only once no foundation connection carries their compression
+    /// (false): `crate::ruin::stage::StageSettings::ground_under_connected_bases`. Absent:
+    /// [`PhysicsSpec::ground_under_connected_bases_for`].
+    pub ground_under_connected_bases: Option<bool>,
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
     /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
     pub search_distance_m: f64,
@@ -370,6 +371,31 @@ impl PhysicsSpec {
             })
     }
 
+    /// When connected pieces touch in a run in `mode`: as given, else `once_yielded` with
+    /// FE-derived connections (no two pieces inside each other once only a plastic spring
+    /// holds them; docs/ruin-numerics.md §18) and BCB's `never` with BCB's Formula
+    /// Assistant (the paper's baseline).
+    pub fn pairs_touch_for(&self, mode: Mode) -> crate::ruin::separation::PairsTouch {
+        use crate::ruin::separation::PairsTouch;
+        self.connected_pairs_touch
+            .unwrap_or(match self.connection_model(mode) {
+                ConnectionModel::Fe => PairsTouch::OnceYielded,
+                ConnectionModel::Formula => PairsTouch::Never,
+            })
+    }
+
+    /// Whether connected base pieces also rest on the ground in a run in `mode`: as given,
+    /// else not with FE-derived connections (the base section carries the column, as in
+    /// the FE; docs/ruin-numerics.md §16, §18) and, as BCB, yes with BCB's Formula
+    /// Assistant.
+    pub fn ground_under_connected_bases_for(&self, mode: Mode) -> bool {
+        self.ground_under_connected_bases
+            .unwrap_or(match self.connection_model(mode) {
+                ConnectionModel::Fe => false,
+                ConnectionModel::Formula => true,
+            })
+    }
+
     /// The joint warm start of a run in `mode`: as given, else 0.5 with FE-derived
     /// connections (docs/handoff.md §4.1: with the two-way axial row the hybrid frame3 LC5
     /// debris comes to rest in 6 of 8 ensemble members) and 0 (Bullet/BCB) with BCB's.
@@ -418,8 +444,8 @@ impl Default for PhysicsSpec {
             axial_rows: None,
             spring_cap_per_body: true,
             monitor_every_substep: false,
-            connected_pairs_touch: crate::ruin::separation::PairsTouch::Never,
-            ground_under_connected_bases: true,
+            connected_pairs_touch: None,
+            ground_under_connected_bases: None,
             search_distance_m: 0.02,
             sleeping: false,
             time_limit_s: None,

@@ -53,20 +53,25 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
 
 /// The Bullet frame at the FE's own capacities (docs/handoff.md §2.6, §5 session 10):
 /// FE-derived connections, elastic slab panels, hinges to bar rupture, no BCB correction.
+/// BCB's contacts, the hybrid defaults before session 16 (docs/handoff.md §5 session 16):
+/// connected pieces never touch, and connected column bases also rest on the ground. The
+/// tests that measured a setting of sessions 9–14 name them, so they keep measuring it.
+const BCB_CONTACTS: &str = "connected_pairs_touch = \"never\"\nground_under_connected_bases = true";
+
 const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic\"\n\
      hinge_end = \"rupture\"\nlinear_correction = 1.0\nbending_correction = 1.0";
 
 /// An LC5 hybrid scenario in the "FE throughout" setting ([`FE_CAPACITIES`], the FE's
 /// mass-proportional damping to the ground) with the joints on the column above
-/// (docs/handoff.md §2.7), run to `until_s` s without the rest test; `extra`: more
-/// `[physics]` lines.
+/// (docs/handoff.md §2.7) and [`BCB_CONTACTS`] (the setting of sessions 11–14), run to
+/// `until_s` s without the rest test; `extra`: more `[physics]` lines.
 fn fe_throughout(collapse: &str, until_s: f64, extra: &str) -> String {
     lc5(
         "hybrid",
         collapse,
         &format!(
             "time_limit_s = {until_s}\nstop_at_rest = false\n{FE_CAPACITIES}\n\
-             ground_damping = \"fe\"\njoints = \"column_above\"\n{extra}"
+             ground_damping = \"fe\"\njoints = \"column_above\"\n{BCB_CONTACTS}\n{extra}"
         ),
     )
 }
@@ -279,13 +284,19 @@ fn gravity_peaks_and_rows_1s(extra: &str) -> (f64, f64, usize, Vec<String>) {
 /// Target (c) on frame3 at BCB's 200 substeps/s and 100 iterations, 1 s (every peak comes
 /// before 0.7 s), three ways on the same building:
 ///
-/// * the defaults of FE-derived connections (session 7: the two-way axial row and
-///   `joint_warmstart = 0.5`, docs/handoff.md §4.1), against BCB's two one-way rows without
-///   warm start. Measured 3 s runs (release): defaults 28.34 mm peak sag (0.12 s), 0.0197 %
-///   peak drift (0.64 s); BCB's rows 61.75 mm, 0.275 %. The drift target (≤ 0.02 %) is
-///   met; the sag target (≤ 10 mm) is **not** (the joint rows' Gauss–Seidel residual,
-///   docs/handoff.md §4), so the sag is asserted at the measured 30 mm bound and at less
-///   than half of BCB's rows;
+/// * the defaults of FE-derived connections up to session 15 (session 7: the two-way
+///   axial row and `joint_warmstart = 0.5`, docs/handoff.md §4.1, with
+///   [`BCB_CONTACTS`]), against BCB's two one-way rows without warm start. Measured 3 s
+///   runs (release): 28.34 mm peak sag (0.12 s), 0.0197 % peak drift (0.64 s); BCB's rows
+///   61.75 mm, 0.275 %. The drift target (≤ 0.02 %) is met; the sag target (≤ 10 mm) is
+///   **not** (the joint rows' Gauss–Seidel residual, docs/handoff.md §4), so the sag is
+///   asserted at the measured 30 mm bound and at less than half of BCB's rows;
+/// * the session-16 defaults (the bases on their connections alone, connected pieces
+///   touching once yielded; docs/handoff.md §5 session 16): the same sag, 28.34 mm, and
+///   0.0283 % peak drift, so the drift target is **not** met at 100 iterations (it is with
+///   400: `gravity_alone_the_default_connections_with_400_iterations_meet_target_c`). The
+///   drift is asserted in 0.025–0.032 %, a regression band around the measured figure,
+///   not the target;
 /// * the same with `joint_solve = "direct"` (the joints' bilateral rows solved by a sparse
 ///   LDLᵀ factorisation at every substep, ε = 1e-3; docs/ruin-numerics.md §11.1).
 ///   Measured 3 s runs (release): 3.33 mm peak sag, 0.0110 % peak drift, 28 J injected
@@ -294,8 +305,11 @@ fn gravity_peaks_and_rows_1s(extra: &str) -> (f64, f64, usize, Vec<String>) {
 #[test]
 fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
     let run = gravity_peaks_1s;
-    let (sag, drift, lost) = run("");
-    let (sag_bcb, drift_bcb, _) = run("axial_rows = \"bcb\"\njoint_warmstart = 0.0");
+    let (sag, drift, lost) = run(BCB_CONTACTS);
+    let (sag_new, drift_new, lost_new) = run("");
+    let (sag_bcb, drift_bcb, _) = run(&format!(
+        "axial_rows = \"bcb\"\njoint_warmstart = 0.0\n{BCB_CONTACTS}"
+    ));
     let (sag_d, drift_d, lost_d) = run("joint_solve = \"direct\"");
     eprintln!(
         "gravity alone 1 s, 200 substeps/s: defaults sag {:.2} mm, drift {:.4} %; \
@@ -307,8 +321,20 @@ fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
         sag_d * 1e3,
         drift_d * 100.0
     );
+    eprintln!(
+        "session-16 defaults: sag {:.2} mm, drift {:.4} %",
+        sag_new * 1e3,
+        drift_new * 100.0
+    );
     assert_eq!(lost, 0, "connections gave way under gravity");
     assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
+    assert_eq!(lost_new, 0, "session-16 defaults: connections gave way");
+    assert!((sag_new - sag).abs() < 1e-3, "{sag_new} against {sag}");
+    assert!(
+        (2.5e-4..=3.2e-4).contains(&drift_new),
+        "session-16 defaults: roof drift {:.4} %",
+        drift_new * 100.0
+    );
     assert!(sag <= 0.030, "sag {:.2} mm > 30 mm", sag * 1e3);
     assert!(
         sag < 0.5 * sag_bcb,
@@ -788,7 +814,8 @@ fn bullet_pushover(until_s: f64, extra: &str) -> pipeline::RunRecord {
     pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap()
 }
 
-/// Static lateral strength (docs/handoff.md §5, session 14): under a slow ground ramp
+/// Static lateral strength (docs/handoff.md §5, session 14, with [`BCB_CONTACTS`]: the
+/// bases also on the ground): under a slow ground ramp
 /// (0.03 g/s) the Bullet frame at the FE's capacities, solved with 400 iterations, runs
 /// away at the strength of the rigid-plastic story-1 mechanism of its sections (measured
 /// 0.238 g against 0.254 g; the force-based FE under the same ramp 0.239 g); with BCB's 100 iterations the unconverged rows make it about
@@ -797,8 +824,11 @@ fn bullet_pushover(until_s: f64, extra: &str) -> pipeline::RunRecord {
 #[test]
 fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
     let mech = story1_mechanism_g();
-    let conv = ramp_capacity_g(&bullet_pushover(9.0, "solver_iterations = 400"), 0.03);
-    let bcb = bullet_pushover(4.0, "");
+    let conv = ramp_capacity_g(
+        &bullet_pushover(9.0, &format!("solver_iterations = 400\n{BCB_CONTACTS}")),
+        0.03,
+    );
+    let bcb = bullet_pushover(4.0, BCB_CONTACTS);
     let at_003 = roof_to_base_drift(&bcb)
         .iter()
         .find(|(t, _)| (t - 1.0).abs() < 1e-9)
@@ -838,7 +868,8 @@ fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
 #[test]
 fn on_its_connections_alone_the_bullet_frame_keeps_its_hinges_with_the_return_mapping() {
     let mech = story1_mechanism_g();
-    let alone = "solver_iterations = 400\nground_under_connected_bases = false";
+    let alone = "solver_iterations = 400\nground_under_connected_bases = false\n\
+                 connected_pairs_touch = \"never\"";
     let relock = ramp_capacity_g(&bullet_pushover(9.0, alone), 0.03);
     let mapped = ramp_capacity_g(
         &bullet_pushover(9.0, &format!("{alone}\nhinge_return_mapping = true")),
