@@ -156,11 +156,17 @@ fn coulomb_relative_slip(hist: &GroundHistory, mu: f64, t_end: f64) -> f64 {
     xb - dg[0]
 }
 
-fn shaken_box(hist: &GroundHistory, mu: f64, t_end: f64) -> f64 {
+/// A 100 kg box (0.5 m cube) on `ground`, started at `v0` m/s in x, with a contact
+/// friction `mu` (box × ground) and no damping.
+fn box_on(ground: GroundSpec, mu: f64, v0: f64) -> RuinStage {
     let bodies = vec![body("box", [0.0, 0.0, 0.25], [0.25, 0.25, 0.25], false)];
     let masses = [100.0];
     let gr = groups();
-    let input = StageInput::physics_only(&bodies, &masses, &gr);
+    let mut input = StageInput::physics_only(&bodies, &masses, &gr);
+    input.start_velocities[0] = Velocity {
+        linear: [v0, 0.0, 0.0],
+        angular: [0.0; 3],
+    };
     let settings = StageSettings {
         body: BodySettings {
             friction: mu,
@@ -170,7 +176,11 @@ fn shaken_box(hist: &GroundHistory, mu: f64, t_end: f64) -> f64 {
         },
         ..StageSettings::default()
     };
-    let mut stage = RuinStage::build(&input, GroundSpec::moving(hist.clone()), &settings).unwrap();
+    RuinStage::build(&input, ground, &settings).unwrap()
+}
+
+fn shaken_box(hist: &GroundHistory, mu: f64, t_end: f64) -> f64 {
+    let mut stage = box_on(GroundSpec::moving(hist.clone()), mu, 0.0);
     let res = stage
         .run(&StopRule {
             max_time_s: t_end,
@@ -247,33 +257,14 @@ fn a_dropped_box_is_at_rest_one_hold_time_after_it_lands() {
     assert!((res.final_poses[0].position[2] - 0.25).abs() < 1e-3);
 }
 
-/// A 100 kg box (0.5 m cube) on a still ground, started sliding in x at `v0` m/s with a
-/// contact friction `mu` (box × ground), no damping; run to `t_end` s with the rest test
+/// [`box_on`] a still ground, sliding at `v0` m/s, run to `t_end` s with the rest test
 /// measuring point speeds as `speed` says.
 fn sliding_box(v0: f64, mu: f64, speed: RestSpeed, t_end: f64) -> fem2rbd::ruin::stage::RuinResult {
-    let bodies = vec![body("box", [0.0, 0.0, 0.25], [0.25, 0.25, 0.25], false)];
-    let masses = [100.0];
-    let gr = groups();
-    let mut input = StageInput::physics_only(&bodies, &masses, &gr);
-    input.start_velocities[0] = Velocity {
-        linear: [v0, 0.0, 0.0],
-        angular: [0.0; 3],
-    };
-    let settings = StageSettings {
-        body: BodySettings {
-            friction: mu,
-            linear_damping: 0.0,
-            angular_damping: 0.0,
-            ..BodySettings::default()
-        },
-        ..StageSettings::default()
-    };
     let ground = GroundSpec {
         top_z: Some(0.0),
         ..GroundSpec::default()
     };
-    let mut stage = RuinStage::build(&input, ground, &settings).unwrap();
-    stage
+    box_on(ground, mu, v0)
         .run(&StopRule {
             max_time_s: t_end,
             rest: Some(RestTest {
