@@ -18,8 +18,8 @@
 //! velocity alternates between 0 and 0.07 rad/s every substep while its centre moves
 //! 0.5 mm in 0.3 s. Sampled at one substep, that chatter is 0.05–0.1 m/s and holds off
 //! the test for the whole settle window; averaged over a frame (8 substeps at 200/s) it is
-//! gone, and a body that really creeps or rocks (periods of 0.2 s and more) still counts
-//! in full.
+//! gone, while a body that really creeps or slides counts in full, and one that rocks
+//! with a period T ≥ 0.2 s at no less than sin(πΔt/T)/(πΔt/T) ≥ 93 % of its peak speed.
 //!
 //! The debris is **at rest** when E_k < ε·M·g·L_ref **and** the largest point speed is
 //! below v_tol, at every frame for [`RestTest::hold_s`] seconds in a row, and only after
