@@ -1735,26 +1735,33 @@ impl RuinStage {
         Ok((e, vmax, speeds))
     }
 
-    /// Each body's frame-mean point speed relative to the ground between two recorded
-    /// poses (m/s; passive: 0) — [`super::rest::frame_mean_speed`].
-    fn frame_mean_speeds(&self, (t0, p0): (f64, &[Pose]), (t1, p1): (f64, &[Pose])) -> Vec<f64> {
+    /// Each body's frame-mean point speed relative to the ground over the last of
+    /// `frames` (m/s; passive: 0) — [`super::rest::frame_mean_speed`]; `None` before a
+    /// frame has ended.
+    fn last_frame_mean_speeds(&self, frames: &[Frame]) -> Option<Vec<f64>> {
+        let [.., f0, f1] = frames else {
+            return None;
+        };
+        let (t0, t1, p0, p1) = (f0.time_s, f1.time_s, &f0.poses, &f1.poses);
         let (g0, g1) = (
             self.ground_spec.displacement_at(t0),
             self.ground_spec.displacement_at(t1),
         );
         let shift = [g1[0] - g0[0], g1[1] - g0[1], g1[2] - g0[2]];
-        (0..self.handles.len())
-            .map(|i| match &self.rest_bodies[i] {
-                Some(rb) => frame_mean_speed(
-                    rb,
-                    (p0[i].position, p0[i].orientation),
-                    (p1[i].position, p1[i].orientation),
-                    shift,
-                    t1 - t0,
-                ),
-                None => 0.0,
-            })
-            .collect()
+        Some(
+            (0..self.handles.len())
+                .map(|i| match &self.rest_bodies[i] {
+                    Some(rb) => frame_mean_speed(
+                        rb,
+                        (p0[i].position, p0[i].orientation),
+                        (p1[i].position, p1[i].orientation),
+                        shift,
+                        t1 - t0,
+                    ),
+                    None => 0.0,
+                })
+                .collect(),
+        )
     }
 
     /// The deepest penetration between any two bodies after the last substep, m (≥ 0).
@@ -1854,13 +1861,10 @@ impl RuinStage {
                 let (e, vmax, _) = self.motion_measures()?;
                 let vmax = match r.speed {
                     RestSpeed::Instantaneous => vmax,
-                    RestSpeed::FrameMean => {
-                        // Frame 0 is pushed before the loop, so there are two.
-                        let (a, b) = (&frames[frames.len() - 2], &frames[frames.len() - 1]);
-                        self.frame_mean_speeds((a.time_s, &a.poses), (b.time_s, &b.poses))
-                            .into_iter()
-                            .fold(0.0, f64::max)
-                    }
+                    // Frame 0 is pushed before the loop, so there is a last frame.
+                    RestSpeed::FrameMean => self
+                        .last_frame_mean_speeds(&frames)
+                        .map_or(0.0, |v| v.into_iter().fold(0.0, f64::max)),
                 };
                 if t >= motion_end - 1e-12 && e < eb && vmax < r.max_speed_mps {
                     quiet += 1;
@@ -1880,13 +1884,11 @@ impl RuinStage {
         }
         let (_, _, instantaneous) = self.motion_measures()?;
         let speed_measure = rest.unwrap_or_default().speed;
-        let speeds = match (speed_measure, frames.len()) {
-            (RestSpeed::FrameMean, n) if n >= 2 => {
-                let (a, b) = (&frames[n - 2], &frames[n - 1]);
-                self.frame_mean_speeds((a.time_s, &a.poses), (b.time_s, &b.poses))
-            }
-            _ => instantaneous.clone(),
-        };
+        let speeds = match speed_measure {
+            RestSpeed::FrameMean => self.last_frame_mean_speeds(&frames),
+            RestSpeed::Instantaneous => None,
+        }
+        .unwrap_or_else(|| instantaneous.clone());
         let vtol = rest.unwrap_or_default().max_speed_mps;
         let at_rest: Vec<bool> = speeds
             .iter()
