@@ -7,30 +7,24 @@
 
 use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
 use fem2rbd::physics::Velocity;
-use fem2rbd::ruin::connection::{GroupStrength, RuinSettings, Tolerances};
+use fem2rbd::ruin::connection::{GroupStrength, RuinSettings};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::rest::{RestSpeed, RestTest};
 use fem2rbd::ruin::stage::{
     BodySettings, RuinStage, RuinStop, StageInput, StageSettings, StopRule,
 };
-use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
+use fem2rbd::ruin::strength::StrengthPerArea;
 use fem2rbd::ruin::BodyGeom;
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 
 const G: f64 = 9.81;
 
-use crate::support::rc_box as body;
+use crate::support::{per_area_group, rc_box as body};
 
 fn groups() -> Vec<GroupStrength> {
     ["rc", "base"]
         .iter()
-        .map(|n| GroupStrength {
-            name: (*n).into(),
-            strength: StrengthSource::PerArea(StrengthPerArea::bcb_default_preset()),
-            tolerances: Tolerances::default(),
-            plastic_length: 0.0,
-            threshold_multiplier: 1.0,
-        })
+        .map(|n| per_area_group(n, StrengthPerArea::bcb_default_preset()))
         .collect()
 }
 
