@@ -16,6 +16,14 @@ member 0 unperturbed) and the variant runs OUT/MODE-sps400-it100, -sps800-it100,
   variant lie inside the ensemble's range widened by the same tolerance,
   [min − tol, max + tol] (the variant is indistinguishable from a member).
 
+With VARIANT_ENSEMBLE (OUT/MODE-sps400-it100-ens etc., ensembles of the variants, same
+seed) a third table compares the distributions: a variant agrees on a measure when its
+ensemble mean differs from the reference ensemble's mean by at most max(tol, s), tol now
+10 % of the reference mean, s the reference spread; the Welch statistic
+t = Δmean / √(sd₀²/n₀ + sd₁²/n₁) is printed beside it (|t| > 2.1 — about 5 % two-sided for
+two ensembles of 8 — marks a shift of the mean that the ensembles resolve, whether or not
+it is inside the tolerance).
+
 The measures are those of scripts/ruin-table.py: floor-centroid offsets, slab overlap
 ratios of consecutive floors, debris footprint area, the 50th / 90th / 100th percentile of
 the body-centre distance beyond the original footprint, the maximum debris height.
@@ -56,6 +64,7 @@ def measures(d):
     facts = {
         'stop': rs.get('stop', '-'), 'end': rs.get('end_s', float('nan')),
         'speed': e.get('speed', {}).get('max_mps', float('nan')),
+        'speed_ok': bool(e.get('speed', {}).get('ok', False)),
         'rise': e.get('settle_phase', {}).get('max_rise_ratio', float('nan')),
         'injected': e.get('injected_j', float('nan')) / 1000,
         'unsettled': len(rs.get('unsettled_bodies', [])),
@@ -122,6 +131,64 @@ def main():
             ' | '.join('%s %.2f, %.1f, %d, %.1f' % (x['stop'], x['end'], x['speed'], x['unsettled'], x['injected'])
                        for _, (_, x) in variants)))
         print('\nAgreeing measures (|x − x0| ≤ max(tol, s)): ' + ', '.join('%s %d/%d' % (v, passed[v], len(names)) for v, _ in variants) + '; inside the ensemble range ± tol: ' + ', '.join('%s %d/%d' % (v, inside[v], len(names)) for v, _ in variants) + '\n')
+
+        ens = []
+        for v in ('sps400-it100', 'sps800-it100', 'sps200-it200'):
+            mem = sorted(glob.glob(os.path.join(out, '%s-%s-ens' % (mode, v), 'member-*')))
+            if mem:
+                ens.append((v, [measures(d) for d in mem]))
+        if ens:
+            distributions(mode, names, ratio, vals, spread, f, ens)
+
+
+def welch(a, b):
+    """Welch's t of the difference of the means of samples a and b (0 if both constant)."""
+    se = math.sqrt(statistics.variance(a) / len(a) + statistics.variance(b) / len(b))
+    d = statistics.mean(b) - statistics.mean(a)
+    return d / se if se > 0 else (0.0 if d == 0 else math.inf)
+
+
+def run_facts(f, bound_ok):
+    rest = sum(x['stop'] == 'at_rest' for x in f)
+    return '%d/%d at rest, speed bound %d/%d, fastest %.1f–%.1f m/s, injected %.1f kJ mean' % (
+        rest, len(f), sum(bound_ok), len(f), min(x['speed'] for x in f), max(x['speed'] for x in f),
+        statistics.mean(x['injected'] for x in f))
+
+
+def distributions(mode, names, ratio, vals, spread, f0, ens):
+    """The third table: every setting an ensemble (module docs)."""
+    print('### %s: convergence of the distributions (an ensemble at every setting)\n' % mode)
+    head = ['measure', 'sps200-it100 mean ± std', 'allowed ±'] + ['%s mean ± std (t)' % v for v, _ in ens]
+    print('| ' + ' | '.join(head) + ' |')
+    print('|' + '---|' * len(head))
+    passed = {v: 0 for v, _ in ens}
+    shifted = {v: 0 for v, _ in ens}
+    for n in names:
+        a = vals[n]
+        mu0 = statistics.mean(a)
+        tol = 0.1 if ratio[n] else 0.1 * abs(mu0)
+        allowed = max(tol, spread[n])
+        row = [n, '%s ± %s' % (fmt(mu0), fmt(statistics.stdev(a))),
+               fmt(allowed) + (' (s)' if spread[n] > tol else (' (0.1)' if ratio[n] else ' (10 %)'))]
+        for v, ms in ens:
+            b = [dict((k, y) for k, y, _ in m[0])[n] for m in ms]
+            ok = abs(statistics.mean(b) - mu0) <= allowed + 1e-12
+            t = welch(a, b)
+            passed[v] += ok
+            shifted[v] += abs(t) > 2.1
+            row.append('%s ± %s (%+.1f) %s' % (fmt(statistics.mean(b)), fmt(statistics.stdev(b)), t, '✓' if ok else '✗'))
+        print('| ' + ' | '.join(row) + ' |')
+    print()
+    print('* sps200-it100: ' + run_facts(f0, [bound(m) for m in f0]))
+    for v, ms in ens:
+        print('* %s: %s' % (v, run_facts([m[1] for m in ms], [bound(m[1]) for m in ms])))
+    print('\nAgreeing means (|Δmean| ≤ max(tol, s)): ' + ', '.join(
+        '%s %d/%d' % (v, passed[v], len(names)) for v, _ in ens) + '; means shifted beyond the ensembles\' '
+        'resolution (|t| > 2.1): ' + ', '.join('%s %d/%d' % (v, shifted[v], len(names)) for v, _ in ens) + '\n')
+
+
+def bound(facts):
+    return facts['speed_ok']
 
 
 main()

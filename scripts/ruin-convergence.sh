@@ -13,7 +13,10 @@
 #
 # Environment: ENSEMBLE (members, default 8), SEED (default 1), THREADS (ensemble worker
 # threads, default 2), FEM2RBD (the binary, default target/release/fem2rbd, built first),
-# RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05').
+# RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05'),
+# VARIANT_ENSEMBLE (default 0; N > 0 also runs every variant as an ensemble of N members,
+# same seed, into MODE-spsX-itY-ens, and the table compares the distributions: a single
+# run of a chaotic pile is one sample, docs/ruin-numerics.md §5 "ensembles at every setting").
 # Runs whose summary.json / ensemble.json exist are kept (delete them to rerun).
 # Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
 # 3 times longer; the whole table (2 ensembles of 8 + 6 variants) took 39 min on the
@@ -53,5 +56,15 @@ for mode in $MODES; do
     echo "== $name" >&2
     "$FEM2RBD" run "$(scenario "$name" "$1" "$2")" --mode "$mode" --out "$OUT/$name" --quiet
   done
+  if [ "${VARIANT_ENSEMBLE:-0}" -gt 0 ]; then
+    for cfg in "400 100" "800 100" "200 200"; do
+      set -- $cfg
+      name="$mode-sps$1-it$2-ens"
+      [ -f "$OUT/$name/ensemble.json" ] && continue
+      echo "== $name ($VARIANT_ENSEMBLE members, seed $SEED)" >&2
+      "$FEM2RBD" run "$(scenario "$name" "$1" "$2")" --mode "$mode" --out "$OUT/$name" \
+        --ensemble "$VARIANT_ENSEMBLE" --seed "$SEED" --threads "$THREADS" --quiet
+    done
+  fi
 done
 python3 scripts/ruin-convergence-table.py "$OUT" $MODES

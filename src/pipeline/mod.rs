@@ -318,8 +318,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.ruin.angular_spring = p.angular_spring;
     s.world.solver.split_impulse = p.split_impulse;
     s.world.solver.split_impulse_penetration_threshold = p.split_impulse_threshold_m;
-    s.world.solver.erp2 = p.contact_erp;
-    s.world.solver.erp = p.joint_erp;
+    s.world.solver.erp2 = (p.contact_erp * p.erp_scale()).min(1.0);
+    s.world.solver.erp = (p.joint_erp * p.erp_scale()).min(1.0);
     s.body.margin = p.margin_m;
     s.body.margin_max_share = p.margin_max_share;
     s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
@@ -1131,4 +1131,37 @@ fn element_damage(model: &Model, built: &crate::fe::build::BuiltDomain) -> BTree
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The ERPs handed to Bullet: BCB's 0.2 at 200 substeps/s whatever
+    /// `erp_steps_per_second` says; 0.05 at 800 when given per time (the default),
+    /// 0.2 at 800 with `erp_steps_per_second = 0` (per substep, Bullet's and BCB's);
+    /// capped at 1 below the reference rate.
+    #[test]
+    fn erps_given_per_time_scale_with_the_substep() {
+        let erps = |physics: &str| {
+            // The shipped frame3 LC5 scenario (its [physics] table comes last).
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/frame3/lc5.toml");
+            let text = std::fs::read_to_string(&path).unwrap() + "\n" + physics + "\n";
+            let sc = Scenario::parse(&text, &path).unwrap();
+            let s = stage_settings(&sc);
+            (s.world.solver.erp2, s.world.solver.erp)
+        };
+        assert_eq!(erps(""), (0.2, 0.2));
+        assert_eq!(erps("steps_per_second = 800"), (0.05, 0.05));
+        assert_eq!(
+            erps("steps_per_second = 800\ncontact_erp = 0.4\njoint_erp = 0.1"),
+            (0.1, 0.025)
+        );
+        assert_eq!(
+            erps("steps_per_second = 800\nerp_steps_per_second = 0"),
+            (0.2, 0.2)
+        );
+        assert_eq!(erps("steps_per_second = 20\njoint_erp = 0.5"), (1.0, 1.0));
+    }
 }

@@ -220,6 +220,12 @@ pub struct PhysicsSpec {
     pub contact_erp: f64,
     /// Bullet's joint ERP `m_erp` (0.2): the same for the connections' constraint rows.
     pub joint_erp: f64,
+    /// The substep rate at which `contact_erp` and `joint_erp` hold, 1/s (200, BCB's
+    /// rate; 0 = as Bullet and BCB, per substep at any rate). At another rate each ERP
+    /// becomes ERP·`erp_steps_per_second`/`steps_per_second` (at most 1), so the
+    /// Baumgarte bias ERP·e/h removes an error at the same rate per second whatever the
+    /// substep h: [`Self::erp_scale`], docs/ruin-numerics.md §19.
+    pub erp_steps_per_second: f64,
     /// Collision margin of every body, m (Blender/BCB 0.04; capped at the smallest half
     /// extent of each box).
     pub margin_m: f64,
@@ -396,6 +402,22 @@ impl PhysicsSpec {
             })
     }
 
+    /// The factor on `contact_erp` and `joint_erp` at this substep rate:
+    /// `erp_steps_per_second / steps_per_second` (1 when `erp_steps_per_second` is 0).
+    /// Bullet's bias velocity of a row with error e is ERP·e/h (Baumgarte stabilisation;
+    /// Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005), so with a fixed
+    /// ERP the error is removed with the time constant h/ERP: 25 ms at BCB's 200
+    /// substeps/s and ERP 0.2, 6.25 ms at 800 — a faster, different correction at every
+    /// rate. Scaled, h/ERP stays 25 ms and the ruin stage converges as h → 0
+    /// (docs/ruin-numerics.md §19).
+    pub fn erp_scale(&self) -> f64 {
+        if self.erp_steps_per_second > 0.0 {
+            self.erp_steps_per_second / self.steps_per_second
+        } else {
+            1.0
+        }
+    }
+
     /// The joint warm start of a run in `mode`: as given, else 0.5 with FE-derived
     /// connections (docs/handoff.md §4.1: with the two-way axial row the hybrid frame3 LC5
     /// debris comes to rest in 6 of 8 ensemble members) and 0 (Bullet/BCB) with BCB's.
@@ -429,6 +451,7 @@ impl Default for PhysicsSpec {
             split_impulse_threshold_m: -0.04_f32 as f64,
             contact_erp: 0.2,
             joint_erp: 0.2,
+            erp_steps_per_second: 200.0,
             margin_m: 0.04,
             margin_max_share: 1.0,
             spring_rest_at_plastic_onset: false,
@@ -649,6 +672,14 @@ impl PhysicsSpec {
         // −0.04 m) and the collision margin.
         r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
         r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
+        r(
+            "physics.erp_steps_per_second",
+            self.erp_steps_per_second,
+            0.0,
+            false,
+            1e5,
+            "1/s",
+        )?;
         r(
             "physics.joint_modulus_pa",
             self.joint_modulus_pa,

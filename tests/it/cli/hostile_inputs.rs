@@ -297,6 +297,16 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", scenario("", "[physics]\nsteps_per_second = 1e9")),
         case(
+            "erp_steps_per_second negative",
+            run,
+            1,
+            &["s.toml", "physics.erp_steps_per_second"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics]\nerp_steps_per_second = -200"),
+        ),
+        case(
             "rest.hold_s negative",
             run,
             1,

@@ -725,3 +725,57 @@ fn a_rigid_landing_passes_its_impulse_through_a_joint_in_one_substep() {
     let ratio = peaks[3] / peaks[0];
     assert!((6.0..=10.0).contains(&ratio), "force ratio {ratio}");
 }
+
+/// A locked joint's error decays by the factor (1 − ERP) per substep: Bullet's row asks
+/// for the bias velocity −ERP·e/h (Baumgarte). A free 1 kg box (no gravity) starts 10 mm
+/// off its joint with a fixed anchor; after n substeps its offset is 10 mm·(1 − ERP)ⁿ.
+/// With ERP 0.2 per substep at any rate (Bullet, BCB) the 0.05 s decay depends on the
+/// substep: 0.8¹⁰, 0.8²⁰, 0.8⁴⁰ at 200 / 400 / 800 substeps/s (10.7 %, 1.2 %, 0.01 % left).
+/// With the ERP given per time (`[physics] erp_steps_per_second = 200`, the default:
+/// ERP = 0.2·200/rate) it is 0.8¹⁰, 0.9²⁰, 0.95⁴⁰ and converges, at first order in h, to
+/// exp(−0.2·200/s·0.05 s) = exp(−2) = 13.5 % (docs/ruin-numerics.md §19).
+#[test]
+fn a_joint_error_decays_by_one_minus_erp_per_substep() {
+    let offset_after = |sps: u32, erp: f64| {
+        let mut s = WorldSettings::default();
+        s.gravity = [0.0; 3];
+        s.solver.erp = erp;
+        let mut w = World::new(&s).unwrap();
+        let anchor = w
+            .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0; 3])))
+            .unwrap();
+        let b = w
+            .add_box(&BoxDesc::dynamic([0.1; 3], 1.0, Pose::at([0.01, 0.0, 0.0])))
+            .unwrap();
+        crate::support::locked_joint(&mut w, anchor, b, [0.0; 3], [0.0; 3]);
+        let n = sps / 20;
+        w.step(1.0 / f64::from(sps), n).unwrap();
+        (w.pose(b).unwrap().position[0], n)
+    };
+    let exact = 0.01 * (-2.0f64).exp();
+    let mut last_gap = f64::INFINITY;
+    for sps in [200u32, 400, 800] {
+        let per_time = 0.2 * 200.0 / f64::from(sps);
+        for erp in [0.2, per_time] {
+            let (x, n) = offset_after(sps, erp);
+            let want = 0.01 * (1.0 - erp).powi(n as i32);
+            println!(
+                "{sps} substeps/s, ERP {erp}: offset {x:.6e} m, 10 mm·(1 − ERP)^{n} = {want:.6e}"
+            );
+            assert!(
+                (x - want).abs() <= 1e-9 * 0.01,
+                "{sps}/s ERP {erp}: {x} vs {want}"
+            );
+        }
+        let gap = (offset_after(sps, per_time).0 - exact).abs();
+        assert!(
+            gap < 0.6 * last_gap,
+            "{sps}/s: {gap} against {last_gap} at half the rate"
+        );
+        last_gap = gap;
+    }
+    assert!(
+        last_gap < 0.07 * exact,
+        "800/s: {last_gap} m from exp(-2)·10 mm"
+    );
+}
