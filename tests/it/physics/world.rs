@@ -737,9 +737,14 @@ fn a_rigid_landing_passes_its_impulse_through_a_joint_in_one_substep() {
 #[test]
 fn a_joint_error_decays_by_one_minus_erp_per_substep() {
     let offset_after = |sps: u32, erp: f64| {
-        let mut s = WorldSettings::default();
-        s.gravity = [0.0; 3];
-        s.solver.erp = erp;
+        let s = WorldSettings {
+            gravity: [0.0; 3],
+            solver: SolverSettings {
+                erp,
+                ..SolverSettings::default()
+            },
+            ..WorldSettings::default()
+        };
         let mut w = World::new(&s).unwrap();
         let anchor = w
             .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([0.0; 3])))
