@@ -1,7 +1,11 @@
 #!/usr/bin/env python3
 """The tables of scripts/ruin-convergence.sh (docs/ruin-numerics.md §5).
 
-Usage: python3 scripts/ruin-convergence-table.py OUT MODE...
+Usage: python3 scripts/ruin-convergence-table.py OUT[,OUT2...] MODE...
+
+Several OUT folders, comma-separated (e.g. the script's runs with SEED=1 and SEED=2),
+pool their ensembles: every member of the first, the perturbed members of the others
+(their member 0 is the same unperturbed run); single variant runs come from the first.
 
 Per mode it reads OUT/MODE-ensemble/member-NNN/ (the ensemble at the default substep,
 member 0 unperturbed) and the variant runs OUT/MODE-sps400-it100, -sps800-it100,
@@ -76,10 +80,20 @@ def fmt(x):
     return '%.2f' % x
 
 
+def pooled(outs, name):
+    """The member folders of ensemble `name` pooled over the OUT folders (module docs)."""
+    dirs = []
+    for k, out in enumerate(outs):
+        mem = sorted(glob.glob(os.path.join(out, name, 'member-*')))
+        dirs += mem if k == 0 else [m for m in mem if not m.endswith('member-000')]
+    return dirs
+
+
 def main():
-    out, modes = sys.argv[1], sys.argv[2:]
+    outs, modes = sys.argv[1].split(','), sys.argv[2:]
+    out = outs[0]
     for mode in modes:
-        members = sorted(glob.glob(os.path.join(out, mode + '-ensemble', 'member-*')))
+        members = pooled(outs, mode + '-ensemble')
         if not members:
             print('no ensemble for %s in %s' % (mode, out))
             continue
@@ -134,7 +148,7 @@ def main():
 
         ens = []
         for v in ('sps400-it100', 'sps800-it100', 'sps200-it200'):
-            mem = sorted(glob.glob(os.path.join(out, '%s-%s-ens' % (mode, v), 'member-*')))
+            mem = pooled(outs, '%s-%s-ens' % (mode, v))
             if mem:
                 ens.append((v, [measures(d) for d in mem]))
         if ens:
