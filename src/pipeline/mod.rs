@@ -326,6 +326,7 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.hinge_keeps_rotation = p.hinge_keeps_rotation;
     s.hinge_return_mapping = p.hinge_return_mapping;
     s.spring_cap_per_body = p.spring_cap_per_body;
+    s.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
     s.monitor_every_substep = p.monitor_every_substep;
     s.pairs_touch = p.pairs_touch_for(sc.mode);
     s.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);

@@ -280,6 +280,10 @@ pub struct PhysicsSpec {
     /// spring as Bullet/BCB (false):
     /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
+    /// The substep rate whose step the per-body spring cap uses, 1/s (0 = the run's own
+    /// substep; option 200):
+    /// `crate::ruin::stage::StageSettings::spring_cap_steps_per_second`.
+    pub spring_cap_steps_per_second: f64,
     /// Check the monitor's tolerances after every substep (true) or once per 25 Hz frame
     /// as BCB (false): `crate::ruin::stage::StageSettings::monitor_every_substep`.
     pub monitor_every_substep: bool,
@@ -466,6 +470,7 @@ impl Default for PhysicsSpec {
             joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
             axial_rows: None,
             spring_cap_per_body: true,
+            spring_cap_steps_per_second: 0.0,
             monitor_every_substep: false,
             connected_pairs_touch: None,
             ground_under_connected_bases: None,
@@ -672,6 +677,14 @@ impl PhysicsSpec {
         // −0.04 m) and the collision margin.
         r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
         r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
+        r(
+            "physics.spring_cap_steps_per_second",
+            self.spring_cap_steps_per_second,
+            0.0,
+            false,
+            1e5,
+            "1/s",
+        )?;
         r(
             "physics.erp_steps_per_second",
             self.erp_steps_per_second,

@@ -202,6 +202,15 @@ pub struct StageSettings {
     /// by four plastic springs (up to 24 explicit spring rows) at lever arms is beyond
     /// explicit stability and never comes to rest (docs/ruin-numerics.md).
     pub spring_cap_per_body: bool,
+    /// The substep rate whose step the per-body spring cap uses, 1/s (default 0 = the
+    /// run's own substep h; option: 200, BCB's rate). The cap k ≤ 1/(16·h²·w·n) grows as
+    /// h shrinks, so with h a finer substep carries stiffer springs — a different model,
+    /// whose light pieces the springs whip faster; with a rate the cap takes
+    /// max(h, 1/rate) and the springs are those that rate carries, at every finer substep
+    /// (docs/ruin-numerics.md §19: it keeps every piece within the speed bound at 400 and
+    /// 800 substeps/s but moves the ruin further from the 200-substep one, so it is an
+    /// option).
+    pub spring_cap_steps_per_second: f64,
     /// Run the monitor's tolerance check ([`super::monitor`]) after every substep instead
     /// of once per frame (BCB: 25 Hz). A connection whose rows leave it a mechanism (e.g.
     /// a shear row broken: the other rows become a slider) can be carried far beyond its
@@ -308,6 +317,7 @@ impl Default for StageSettings {
             joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
             ground_damping_per_s: 0.0,
             spring_cap_per_body: true,
+            spring_cap_steps_per_second: 0.0,
             monitor_every_substep: false,
             pairs_touch: super::separation::PairsTouch::Never,
             ground_under_connected_bases: true,
@@ -874,7 +884,7 @@ impl RuinStage {
                                         k,
                                         &handles,
                                         input,
-                                        h,
+                                        spring_cap_step(h, settings.spring_cap_steps_per_second),
                                         springs_on[c.a].max(springs_on[c.b]),
                                     )?;
                                     stiffness = stiffness.min(kc);
@@ -1932,6 +1942,17 @@ impl RuinStage {
 
 /// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular;
 /// the spring frame is world-aligned on the undeformed bodies) of connection `c`, on which
+/// The step the spring cap is computed for, s: max(h, 1/`rate`), or h when `rate` is 0
+/// ([`StageSettings::spring_cap_steps_per_second`]). Never below h: a coarser substep
+/// than the rate's needs its own, lower cap for stability.
+fn spring_cap_step(h: f64, rate: f64) -> f64 {
+    if rate > 0.0 {
+        h.max(1.0 / rate)
+    } else {
+        h
+    }
+}
+
 /// `n` springs at most act per body ([`StageSettings::spring_cap_per_body`]). Bullet
 /// integrates each spring explicitly (`btGeneric6DofSpring2Constraint`: the force k·e·h
 /// from the error at the substep's start), stable for ω·h < 2 and sampled well for
@@ -2057,5 +2078,22 @@ fn shifted(pose: &Pose, d: [f64; 3]) -> Pose {
             pose.position[2] + d[2],
         ],
         orientation: pose.orientation,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spring_cap_step;
+
+    /// The spring cap's step: BCB's 1/200 s at 400 and 800 substeps/s (so k ≤ 1/(16·h²·w·n)
+    /// is the same at every finer substep), the run's own at 200 and coarser, and the
+    /// run's own everywhere with the rate 0.
+    #[test]
+    fn the_spring_cap_uses_the_reference_step_at_finer_substeps() {
+        assert_eq!(spring_cap_step(1.0 / 800.0, 200.0), 1.0 / 200.0);
+        assert_eq!(spring_cap_step(1.0 / 400.0, 200.0), 1.0 / 200.0);
+        assert_eq!(spring_cap_step(1.0 / 200.0, 200.0), 1.0 / 200.0);
+        assert_eq!(spring_cap_step(1.0 / 100.0, 200.0), 1.0 / 100.0);
+        assert_eq!(spring_cap_step(1.0 / 800.0, 0.0), 1.0 / 800.0);
     }
 }

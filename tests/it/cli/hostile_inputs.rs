@@ -307,6 +307,16 @@ fn cases() -> Vec<Case> {
             scenario("", "[physics]\nerp_steps_per_second = -200"),
         ),
         case(
+            "spring_cap_steps_per_second negative",
+            run,
+            1,
+            &["s.toml", "physics.spring_cap_steps_per_second"],
+        )
+        .with(
+            "s.toml",
+            scenario("", "[physics]\nspring_cap_steps_per_second = -1"),
+        ),
+        case(
             "rest.hold_s negative",
             run,
             1,
