@@ -412,7 +412,7 @@ impl PhysicsSpec {
     /// Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005), so with a fixed
     /// ERP the error is removed with the time constant h/ERP: 25 ms at BCB's 200
     /// substeps/s and ERP 0.2, 6.25 ms at 800 — a faster, different correction at every
-    /// rate. Scaled, h/ERP stays 25 ms and the ruin stage converges as h → 0
+    /// rate. Scaled, h/ERP stays 25 ms: the same correction at every substep
     /// (docs/ruin-numerics.md §19).
     pub fn erp_scale(&self) -> f64 {
         if self.erp_steps_per_second > 0.0 {
