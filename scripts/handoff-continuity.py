@@ -37,7 +37,8 @@ member 0 the hand-off itself, the others with its velocities perturbed by up to 
 per hand-off and substep, because one ensemble's own members already spread their slab
 overlaps by more than 0.2 (docs/ruin-numerics.md §5); it prints each setting's
 distribution and the range of the mean overlaps over all settings. THREADS sets the
-ensembles' worker threads (default 2). FEM2RBD=path overrides the binary.
+ensembles' worker threads (default 2); with --reuse an ensemble with an ensemble.json is kept. FEM2RBD=path
+overrides the binary.
 
 Writes OUT/table.md (the tables of docs/handoff.md) and keeps every run folder, so
 `fem2rbd plot OUT/<run>` draws the tool's own plots of any of them. Needs
@@ -47,6 +48,7 @@ import argparse
 import csv
 import json
 import os
+import statistics
 import subprocess
 import sys
 
@@ -78,10 +80,12 @@ def scenario(path, model, out, mode, ts, collapse, physics, zeros=None, fe_extra
         fh.write("\n".join(lines))
 
 
-def run(path):
-    if REUSE and os.path.isfile(os.path.join(path[:-len(".toml")], "summary.json")):
+def run(path, extra=(), marker="summary.json"):
+    """Runs scenario `path` (fem2rbd `run` with `extra` arguments) unless --reuse and its
+    folder already has `marker`."""
+    if REUSE and os.path.isfile(os.path.join(path[:-len(".toml")], marker)):
         return
-    r = subprocess.run([BIN, "--quiet", "run", path], capture_output=True, text=True)
+    r = subprocess.run([BIN, "--quiet", "run", path, *extra], capture_output=True, text=True)
     if r.returncode != 0:
         sys.stderr.write(r.stderr)
         raise SystemExit(f"fem2rbd failed on {path}")
@@ -134,23 +138,6 @@ def ruin_cells(ru):
             ", ".join(f"{o:.2f}" for o in ov))
 
 
-def run_ensemble(path, n):
-    d = path[:-len(".toml")]
-    if os.path.isfile(os.path.join(d, "ensemble.json")):
-        return
-    r = subprocess.run([BIN, "--quiet", "run", path, "--ensemble", str(n), "--seed", "1",
-                        "--threads", os.environ.get("THREADS", "2")], capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.stderr.write(r.stderr)
-        raise SystemExit(f"fem2rbd failed on {path}")
-
-
-def stats(xs):
-    m = sum(xs) / len(xs)
-    sd = (sum((x - m) ** 2 for x in xs) / (len(xs) - 1)) ** 0.5 if len(xs) > 1 else 0.0
-    return m, sd
-
-
 def ruin_ensembles(p, out, model, ts, n, sps_list):
     """(d) as distributions (--ruin-ensemble): per hand-off and substep an ensemble of n."""
     p(f"### (d) as distributions: an ensemble of {n} members per hand-off and substep\n")
@@ -163,7 +150,8 @@ def ruin_ensembles(p, out, model, ts, n, sps_list):
             d = os.path.join(out, f"ruin-ens-{name}-{sps}")
             scenario(d + ".toml", model, d, "hybrid", ts, crit,
                      f"steps_per_second = {sps}\nsettle_s = 5.0\nstop_at_rest = true")
-            run_ensemble(d + ".toml", n)
+            run(d + ".toml", ("--ensemble", str(n), "--seed", "1",
+                              "--threads", os.environ.get("THREADS", "2")), "ensemble.json")
             members = sorted(os.path.join(d, m) for m in os.listdir(d) if m.startswith("member-"))
             ss = [summary(m) for m in members]
             ovs = [ruin_cells(s.get("ruins", {}))[0] for s in ss]
@@ -171,9 +159,9 @@ def ruin_ensembles(p, out, model, ts, n, sps_list):
             cells, mu = [], []
             for j in range(k):
                 xs = [o[j] for o in ovs]
-                m, sd = stats(xs)
+                m = statistics.mean(xs)
                 mu.append(m)
-                cells.append(f"{m:.2f} ± {sd:.2f} ({min(xs):.2f}–{max(xs):.2f})")
+                cells.append(f"{m:.2f} ± {statistics.stdev(xs):.2f} ({min(xs):.2f}–{max(xs):.2f})")
             means.append((name, sps, mu))
             downs = [floor1_down(m) for m in members]
             ts_down = [fd[0] for fd in downs if fd is not None]

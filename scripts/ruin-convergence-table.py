@@ -162,10 +162,11 @@ def welch(a, b):
     return d / se if se > 0 else (0.0 if d == 0 else math.inf)
 
 
-def run_facts(f, bound_ok):
+def run_facts(f):
+    """One line on the runs' facts `f` (stop, speed bound, fastest piece, injection)."""
     rest = sum(x['stop'] == 'at_rest' for x in f)
     return '%d/%d at rest, speed bound %d/%d, fastest %.1f–%.1f m/s, injected %.1f kJ mean' % (
-        rest, len(f), sum(bound_ok), len(f), min(x['speed'] for x in f), max(x['speed'] for x in f),
+        rest, len(f), sum(x['speed_ok'] for x in f), len(f), min(x['speed'] for x in f), max(x['speed'] for x in f),
         statistics.mean(x['injected'] for x in f))
 
 
@@ -193,16 +194,12 @@ def distributions(mode, names, ratio, vals, spread, f0, ens):
             row.append('%s ± %s (%+.1f) %s' % (fmt(statistics.mean(b)), fmt(statistics.stdev(b)), t, '✓' if ok else '✗'))
         print('| ' + ' | '.join(row) + ' |')
     print()
-    print('* sps200-it100: ' + run_facts(f0, [bound(m) for m in f0]))
+    print('* sps200-it100: ' + run_facts(f0))
     for v, ms in ens:
-        print('* %s: %s' % (v, run_facts([m[1] for m in ms], [bound(m[1]) for m in ms])))
+        print('* %s: %s' % (v, run_facts([m[1] for m in ms])))
     print('\nAgreeing means (|Δmean| ≤ max(tol, s)): ' + ', '.join(
         '%s %d/%d' % (v, passed[v], len(names)) for v, _ in ens) + '; means shifted beyond the ensembles\' '
         'resolution (|t| > 2.1): ' + ', '.join('%s %d/%d' % (v, shifted[v], len(names)) for v, _ in ens) + '\n')
-
-
-def bound(facts):
-    return facts['speed_ok']
 
 
 main()

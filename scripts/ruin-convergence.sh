@@ -16,7 +16,7 @@
 # RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05'),
 # VARIANT_ENSEMBLE (default 0; N > 0 also runs every variant as an ensemble of N members,
 # same seed, into MODE-spsX-itY-ens, and the table compares the distributions: a single
-# run of a chaotic pile is one sample, docs/ruin-numerics.md §5 "ensembles at every setting").
+# run of a chaotic pile is one sample, docs/ruin-numerics.md §19).
 # Runs whose summary.json / ensemble.json exist are kept (delete them to rerun).
 # Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
 # 3 times longer; the whole table (2 ensembles of 8 + 6 variants) took 39 min on the

@@ -1940,8 +1940,6 @@ impl RuinStage {
     }
 }
 
-/// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular;
-/// the spring frame is world-aligned on the undeformed bodies) of connection `c`, on which
 /// The step the spring cap is computed for, s: max(h, 1/`rate`), or h when `rate` is 0
 /// ([`StageSettings::spring_cap_steps_per_second`]). Never below h: a coarser substep
 /// than the rate's needs its own, lower cap for stability.
@@ -1953,6 +1951,8 @@ fn spring_cap_step(h: f64, rate: f64) -> f64 {
     }
 }
 
+/// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular;
+/// the spring frame is world-aligned on the undeformed bodies) of connection `c`, on which
 /// `n` springs at most act per body ([`StageSettings::spring_cap_per_body`]). Bullet
 /// integrates each spring explicitly (`btGeneric6DofSpring2Constraint`: the force k·e·h
 /// from the error at the substep's start), stable for ω·h < 2 and sampled well for
