@@ -6,7 +6,7 @@ use clap::{Args, Subcommand};
 use fem2rbd::export::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};
 use fem2rbd::model::Model;
 use fem2rbd::output::gltf::{encode_glb, run_scene, AnimatedScene};
-use fem2rbd::output::location::check_output_file;
+use fem2rbd::output::location::{check_not_an_input, check_output_file};
 use fem2rbd::output::run_folder::RunFolder;
 use std::path::{Path, PathBuf};
 
@@ -48,6 +48,15 @@ pub fn run_folder_scene(dir: &Path) -> Result<AnimatedScene> {
     let rf = RunFolder::load(dir)?;
     run_scene(&rf.bodies, &rf.frames, &rf.ground_per_frame())
         .with_context(|| format!("cannot build the scene of run folder {}", dir.display()))
+}
+
+/// The files of the run folder `dir` that `export gltf` and `export vtk` read (and so must
+/// not write).
+fn run_folder_inputs(dir: &Path) -> Vec<PathBuf> {
+    ["bodies.csv", "keyframes.csv", "history.csv"]
+        .iter()
+        .map(|f| dir.join(f))
+        .collect()
 }
 
 /// The bytes of the glTF binary of the run folder `dir`: the same as the run's own
@@ -104,6 +113,11 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
     match cmd {
         ExportCommand::Opensees(a) => {
             check_output_file(&a.output, "--output")?;
+            let gms: Vec<GroundMotionInput> =
+                a.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?;
+            let mut inputs = vec![a.model.as_path()];
+            inputs.extend(gms.iter().map(|g| g.path.as_path()));
+            check_not_an_input(&a.output, &inputs, "--output")?;
             let model = Model::load(&a.model)?;
             let variant = match a.variant.as_deref() {
                 None => Variant::AsModel,
@@ -113,7 +127,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 Some(o) => bail!("--variant {o:?}: use force, disp or elastic"),
             };
             let opts = OpenSeesOptions {
-                ground_motions: a.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?,
+                ground_motions: gms,
                 time_scale: a.time_scale,
                 dt: a.dt,
                 duration: a.duration,
@@ -130,6 +144,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 .clone()
                 .unwrap_or_else(|| a.run_dir.join("collapse.glb"));
             check_output_file(&out, "--output")?;
+            check_not_an_input(&out, &run_folder_inputs(&a.run_dir), "--output")?;
             let bytes = run_folder_glb(&a.run_dir)?;
             fem2rbd::output::write_atomic(&out, &bytes)
                 .with_context(|| format!("cannot write {}", out.display()))
@@ -139,6 +154,16 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
                 .output
                 .clone()
                 .unwrap_or_else(|| a.run_dir.join("vtk").join("collapse.pvd"));
+            // The .pvd and the folder of frames beside it (named after its stem).
+            let inputs = run_folder_inputs(&a.run_dir);
+            check_not_an_input(&out, &inputs, "--output")?;
+            if let Some(stem) = out.file_stem() {
+                fem2rbd::output::location::check_holds_no_input(
+                    &out.with_file_name(stem),
+                    &inputs,
+                    "the folder of VTK frames",
+                )?;
+            }
             let scene = run_folder_scene(&a.run_dir)?;
             fem2rbd::output::vtk::write_pvd(&scene, &out)
                 .with_context(|| format!("cannot write {}", out.display()))?;

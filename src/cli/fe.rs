@@ -14,15 +14,21 @@ use fem2rbd::fe::shell::layers::ConcreteIntegration;
 use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
 use fem2rbd::model::Model;
 use fem2rbd::motion::{Format, GroundMotion};
-use fem2rbd::output::location::{check_output_dir, check_replaceable, replace_dir};
+use fem2rbd::output::location::{
+    check_holds_no_input, check_output_dir, check_replaceable, replace_dir, FolderKind,
+};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
-/// What `fe --out DIR` owns: a non-empty DIR holding none of these is refused.
-pub const FE_OWNED: &[&str] = &["fe_summary.json", "nodes.csv"];
+/// `fe --out DIR`: an existing DIR is replaced only when `fe` wrote it and it holds nothing
+/// else ([`fem2rbd::output::location`]).
+pub const FE_FOLDER: FolderKind = FolderKind {
+    name: "fe",
+    owns: &["fe_summary.json", "nodes.csv"],
+};
 
 /// Options of `fe`.
 #[derive(Debug, Args)]
@@ -154,10 +160,13 @@ pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
 
 /// Runs `fe`.
 pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
-    check_output_dir(&args.out, "--out")?;
-    check_replaceable(&args.out, FE_OWNED, "--out")?;
-    let model = Model::load(&args.model)?;
     let specs: Vec<GmSpec> = args.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?;
+    let mut inputs = vec![args.model.as_path()];
+    inputs.extend(specs.iter().map(|s| s.path.as_path()));
+    check_holds_no_input(&args.out, &inputs, "--out")?;
+    check_output_dir(&args.out, "--out")?;
+    check_replaceable(&args.out, &FE_FOLDER, "--out")?;
+    let model = Model::load(&args.model)?;
     let gm = ground_motion(&specs, args.time_scale)?;
     check_range("--dt", args.dt, FE_DT.0, false, FE_DT.1, "s")?;
     if args.every == 0 {
@@ -215,7 +224,7 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
     let text = serde_json::to_string_pretty(&summary(&result, wall))? + "\n";
     replace_dir(
         &args.out,
-        FE_OWNED,
+        &FE_FOLDER,
         &[
             ("nodes.csv", nodes_csv(&result).as_bytes()),
             ("fe_summary.json", text.as_bytes()),

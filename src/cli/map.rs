@@ -33,6 +33,7 @@ pub fn run(args: &MapArgs, quiet: bool) -> Result<()> {
         );
     }
     fem2rbd::output::location::check_output_file(&args.output, "--output")?;
+    fem2rbd::output::location::check_not_an_input(&args.output, &[&args.model], "--output")?;
     let model = Model::load(&args.model)?;
     let input =
         mapping::from_model(&model).with_context(|| format!("mapping {}", args.model.display()))?;

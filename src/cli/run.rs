@@ -118,13 +118,18 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     if let Some(o) = &args.out {
         sc.output = o.clone();
     }
-    // The output location and the work are checked before anything runs.
-    fem2rbd::output::location::check_output_dir(&sc.output, "output folder")?;
-    fem2rbd::output::location::check_replaceable(
-        &sc.output,
-        pipeline::write::RUN_OWNED,
-        "output folder",
-    )?;
+    // The output location and the work are checked before anything runs: the folder is
+    // replaced as a whole, so it must hold none of the inputs and nothing but an earlier
+    // output of the same kind.
+    use fem2rbd::output::location::{check_holds_no_input, check_output_dir, check_replaceable};
+    check_holds_no_input(&sc.output, &sc.inputs(), "output folder")?;
+    check_output_dir(&sc.output, "output folder")?;
+    let kind = if args.ensemble.is_some() {
+        &pipeline::ensemble::ENSEMBLE_FOLDER
+    } else {
+        &pipeline::write::RUN_FOLDER
+    };
+    check_replaceable(&sc.output, kind, "output folder")?;
     if args.estimate {
         let (size, work, e) = fem2rbd::estimate::for_scenario(&sc)?;
         println!("{}", fem2rbd::estimate::report(&size, &work, &e));

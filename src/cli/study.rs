@@ -284,6 +284,10 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
             Ok(())
         }
         StudyCommand::Slurm(a) => {
+            // Checked before the study folder is touched: it goes into the job script.
+            if let Some(v) = &a.partition {
+                fem2rbd::study::slurm::check_slurm_name(v, "--partition")?;
+            }
             let (study, store) = load(&a.common.study, &a.common.out)?;
             let mut spec = study.slurm.clone();
             let mut extra = String::new();

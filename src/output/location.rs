@@ -12,9 +12,15 @@
 //!   leaves the old folder as it was and nothing else. Everything in the old folder goes
 //!   (also files another command put there, such as `plots/` or `vtk/`, which described
 //!   the old run). So that this never removes a user's own files, an existing non-empty
-//!   folder is replaced only if it holds one of the files its writer owns (a run folder's
-//!   `summary.json`, `fe`'s `fe_summary.json`, `step_*.vtu` frames); otherwise the
-//!   command refuses before any work.
+//!   folder is replaced only if fem2rbd wrote it and it holds nothing else: it carries
+//!   the marker file [`MARKER`] of the same [`FolderKind`] (written into every folder
+//!   [`replace_dir`] builds), and every other entry is a name that kind owns (a run
+//!   folder's tables, `plots/`, `vtk/`, …). A folder without the marker, with another
+//!   kind's marker, or holding anything else (the user's scenario, model or record, say)
+//!   is refused before any work, naming what it holds.
+//! * [`check_holds_no_input`] and [`check_not_an_input`] refuse an output folder that
+//!   contains an input of the command, and an output file that is an input (the same
+//!   file, however it is named), before any work.
 //! * Temporary names carry the process id. A process killed mid-write (SIGKILL, power
 //!   loss) leaves its `.NAME.tmp-PID` behind; the next write of the same target removes
 //!   the temporaries of processes that no longer run ([`sweep_stale`], Linux `/proc`).
@@ -112,38 +118,172 @@ pub fn check_output_file(path: &Path, what: &str) -> Result<()> {
     probe(&dir, what, path)
 }
 
-/// Whether the existing folder `dir` may be replaced: empty, or holding one of `owned`
-/// (file names; a trailing `*` matches a prefix).
-fn replaceable(dir: &Path, owned: &[&str]) -> Result<bool> {
-    let mut empty = true;
-    for e in fs::read_dir(dir).map_err(OutputError::io("cannot list", dir))? {
-        let name = e
-            .map_err(OutputError::io("cannot list", dir))?
-            .file_name()
-            .to_string_lossy()
-            .into_owned();
-        empty = false;
-        let hit = owned.iter().any(|o| match o.strip_suffix('*') {
-            Some(prefix) => name.starts_with(prefix),
-            None => name == *o,
-        });
-        if hit {
-            return Ok(true);
-        }
-    }
-    Ok(empty)
+/// The marker file fem2rbd writes into every folder it replaces as a whole
+/// ([`replace_dir`]); its first line names the folder's [`FolderKind`].
+pub const MARKER: &str = ".fem2rbd";
+
+/// A kind of output folder that fem2rbd replaces as a whole: its name (the marker's first
+/// line) and the entries it may hold besides the marker (file or folder names; a trailing
+/// `*` matches a prefix). Entries that other commands add to such a folder (`plot`'s
+/// `plots/`, `export vtk`'s `vtk/`) are among them, so that a rerun replaces them too.
+#[derive(Debug, Clone, Copy)]
+pub struct FolderKind {
+    /// The kind's name, e.g. `"run"`.
+    pub name: &'static str,
+    /// What the folder may hold besides [`MARKER`].
+    pub owns: &'static [&'static str],
 }
 
-/// Refuses before any work when `dir` exists, is not empty and holds none of `owned`
-/// (module docs).
-pub fn check_replaceable(dir: &Path, owned: &[&str], what: &str) -> Result<()> {
-    if dir.is_dir() && !replaceable(dir, owned)? {
-        bail!(
-            "{what} {} exists and holds files fem2rbd did not write (none of {}); \
-             give a new or empty folder: the output folder is replaced as a whole",
-            dir.display(),
-            owned.join(", ")
-        );
+impl FolderKind {
+    /// The marker file's content.
+    pub fn marker_text(&self) -> String {
+        format!(
+            "{}\nThis folder was written by fem2rbd ({} folder). The next write to it replaces it \
+             as a whole: keep no files of your own here.\n",
+            self.name, self.name
+        )
+    }
+
+    fn owns(&self, entry: &str) -> bool {
+        self.owns.iter().any(|o| match o.strip_suffix('*') {
+            Some(prefix) => entry.starts_with(prefix),
+            None => entry == *o,
+        })
+    }
+}
+
+/// Why the existing folder `dir` may not be replaced by a folder of `kind`, or `None`
+/// when it may (module docs).
+fn not_replaceable(dir: &Path, kind: &FolderKind) -> Result<Option<String>> {
+    let mut names = Vec::new();
+    for e in fs::read_dir(dir).map_err(OutputError::io("cannot list", dir))? {
+        let e = e.map_err(OutputError::io("cannot list", dir))?;
+        names.push(e.file_name().to_string_lossy().into_owned());
+    }
+    if names.is_empty() {
+        return Ok(None);
+    }
+    names.sort();
+    let marker = dir.join(MARKER);
+    if !marker.is_file() {
+        return Ok(Some(format!(
+            "is not empty and fem2rbd did not write it (no {MARKER} marker; it holds {})",
+            listing(&names)
+        )));
+    }
+    let text = fs::read_to_string(&marker).unwrap_or_default();
+    let found = text.lines().next().unwrap_or("").trim();
+    if found != kind.name {
+        return Ok(Some(format!(
+            "is a fem2rbd {} folder, not a {} folder",
+            if found.is_empty() { "(unknown)" } else { found },
+            kind.name
+        )));
+    }
+    let foreign: Vec<String> = names
+        .into_iter()
+        .filter(|n| n != MARKER && !kind.owns(n))
+        .collect();
+    if !foreign.is_empty() {
+        return Ok(Some(format!(
+            "holds {}, which fem2rbd did not write there",
+            listing(&foreign)
+        )));
+    }
+    Ok(None)
+}
+
+/// Up to five names, quoted, and how many more.
+fn listing(names: &[String]) -> String {
+    let shown: Vec<String> = names.iter().take(5).map(|n| format!("{n:?}")).collect();
+    match names.len() {
+        n if n > 5 => format!("{} and {} more", shown.join(", "), n - 5),
+        _ => shown.join(", "),
+    }
+}
+
+/// Refuses before any work when `dir` exists and may not be replaced by a folder of
+/// `kind` (module docs).
+pub fn check_replaceable(dir: &Path, kind: &FolderKind, what: &str) -> Result<()> {
+    if dir.is_dir() {
+        if let Some(why) = not_replaceable(dir, kind)? {
+            bail!(
+                "{what} {} {why}; the output folder is replaced as a whole, so give a new or \
+                 empty folder",
+                dir.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `p` made absolute and free of `.`/`..` and links where it exists; where it does not,
+/// its nearest existing ancestor is resolved and the rest appended.
+fn resolved(p: &Path) -> PathBuf {
+    let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let mut tail = Vec::new();
+    let mut cur = abs.as_path();
+    loop {
+        if let Ok(c) = fs::canonicalize(cur) {
+            let mut out = c;
+            for t in tail.iter().rev() {
+                out.push(t);
+            }
+            return out;
+        }
+        match (cur.parent(), cur.file_name()) {
+            (Some(parent), Some(name)) => {
+                tail.push(name.to_os_string());
+                cur = parent;
+            }
+            _ => return abs,
+        }
+    }
+}
+
+/// Whether `a` and `b` are the same existing file (the same device and inode: also through
+/// a link or another name).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (fs::metadata(a), fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    a.exists() && resolved(a) == resolved(b)
+}
+
+/// Refuses an output file that is one of the command's `inputs` (module docs).
+pub fn check_not_an_input<P: AsRef<Path>>(out: &Path, inputs: &[P], what: &str) -> Result<()> {
+    for input in inputs {
+        let input = input.as_ref();
+        if same_file(out, input) {
+            bail!(
+                "{what} {} is the input {}: writing it would destroy the input; give another \
+                 file name",
+                out.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an output folder (replaced as a whole) that is or contains one of the
+/// command's `inputs` (module docs).
+pub fn check_holds_no_input<P: AsRef<Path>>(dir: &Path, inputs: &[P], what: &str) -> Result<()> {
+    let d = resolved(dir);
+    for input in inputs {
+        let input = input.as_ref();
+        if resolved(input).starts_with(&d) {
+            bail!(
+                "{what} {} holds the input {}: the output folder is replaced as a whole, so \
+                 give a folder that holds none of the inputs",
+                dir.display(),
+                input.display()
+            );
+        }
     }
     Ok(())
 }
@@ -204,10 +344,11 @@ pub(crate) struct StagedDir {
 
 impl StagedDir {
     /// Starts building `target` (module docs): sweeps stale temporaries, refuses a
-    /// non-empty folder holding none of `owned`, creates `.NAME.tmp-PID`.
-    pub fn new(target: &Path, owned: &[&str]) -> Result<StagedDir> {
+    /// folder that a folder of `kind` may not replace, creates `.NAME.tmp-PID` holding the
+    /// marker of `kind`.
+    pub fn new(target: &Path, kind: &FolderKind) -> Result<StagedDir> {
         check_output_dir(target, "output folder")?;
-        check_replaceable(target, owned, "output folder")?;
+        check_replaceable(target, kind, "output folder")?;
         sweep_stale(target);
         let parent = parent_of(target);
         fs::create_dir_all(&parent).map_err(OutputError::io("cannot create", &parent))?;
@@ -216,11 +357,13 @@ impl StagedDir {
             fs::remove_dir_all(&stage).map_err(OutputError::io("cannot remove", &stage))?;
         }
         fs::create_dir(&stage).map_err(OutputError::io("cannot create", &stage))?;
-        Ok(StagedDir {
+        let staged = StagedDir {
             target: target.to_path_buf(),
             stage,
             done: false,
-        })
+        };
+        staged.write(MARKER, kind.marker_text().as_bytes())?;
+        Ok(staged)
     }
 
     /// Writes one file into the staged folder (synced, so the swap publishes whole files).
@@ -277,8 +420,8 @@ impl Drop for StagedDir {
 
 /// Writes `files` (name, bytes) as the whole content of folder `dir`, replacing any
 /// previous content at once (module docs). Returns the paths written.
-pub fn replace_dir(dir: &Path, owned: &[&str], files: &[(&str, &[u8])]) -> Result<Vec<PathBuf>> {
-    let staged = StagedDir::new(dir, owned)?;
+pub fn replace_dir(dir: &Path, kind: &FolderKind, files: &[(&str, &[u8])]) -> Result<Vec<PathBuf>> {
+    let staged = StagedDir::new(dir, kind)?;
     for (name, bytes) in files {
         staged.write(name, bytes)?;
     }
@@ -299,20 +442,25 @@ mod tests {
         v
     }
 
+    const RUN: FolderKind = FolderKind {
+        name: "run",
+        owns: &["a.csv", "summary.json", "plots"],
+    };
+
     #[test]
     fn a_folder_is_replaced_as_a_whole() {
         let t = tempfile::tempdir().unwrap();
         let run = t.path().join("run");
-        replace_dir(
-            &run,
-            &["summary.json"],
-            &[("a.csv", b"1"), ("summary.json", b"{}")],
-        )
-        .unwrap();
-        assert_eq!(names(&run), ["a.csv", "summary.json"]);
+        replace_dir(&run, &RUN, &[("a.csv", b"1"), ("summary.json", b"{}")]).unwrap();
+        assert_eq!(names(&run), [MARKER, "a.csv", "summary.json"]);
+        assert!(fs::read_to_string(run.join(MARKER))
+            .unwrap()
+            .starts_with("run\n"));
+        // What another command added to it (plots/) is replaced too.
+        fs::create_dir(run.join("plots")).unwrap();
         // A second, smaller run leaves nothing of the first.
-        replace_dir(&run, &["summary.json"], &[("summary.json", b"{\"x\":1}")]).unwrap();
-        assert_eq!(names(&run), ["summary.json"]);
+        replace_dir(&run, &RUN, &[("summary.json", b"{\"x\":1}")]).unwrap();
+        assert_eq!(names(&run), [MARKER, "summary.json"]);
         assert_eq!(fs::read(run.join("summary.json")).unwrap(), b"{\"x\":1}");
         assert_eq!(names(t.path()), ["run"]);
     }
@@ -323,10 +471,86 @@ mod tests {
         let dir = t.path().join("mine");
         fs::create_dir(&dir).unwrap();
         fs::write(dir.join("thesis.tex"), "x").unwrap();
-        let e = replace_dir(&dir, &["summary.json"], &[("summary.json", b"{}")]).unwrap_err();
-        assert!(e.to_string().contains("did not write"), "{e}");
+        let e = replace_dir(&dir, &RUN, &[("summary.json", b"{}")]).unwrap_err();
+        let e = e.to_string();
+        assert!(
+            e.contains("did not write") && e.contains("thesis.tex"),
+            "{e}"
+        );
         assert_eq!(names(&dir), ["thesis.tex"]);
         assert_eq!(names(t.path()), ["mine"]);
+    }
+
+    #[test]
+    fn a_file_of_ones_own_among_a_run_s_files_is_never_deleted() {
+        // The user's scenario beside an old run's summary.json: the summary alone does not
+        // make it fem2rbd's folder.
+        let t = tempfile::tempdir().unwrap();
+        let dir = t.path().join("in");
+        fs::create_dir(&dir).unwrap();
+        fs::write(dir.join("summary.json"), "{}").unwrap();
+        fs::write(dir.join("s.toml"), "x").unwrap();
+        let e = replace_dir(&dir, &RUN, &[("summary.json", b"{}")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no .fem2rbd marker") && e.contains("s.toml"),
+            "{e}"
+        );
+        // A folder fem2rbd wrote, to which the user then added a file.
+        let run = t.path().join("run");
+        replace_dir(&run, &RUN, &[("a.csv", b"1")]).unwrap();
+        fs::write(run.join("notes.txt"), "mine").unwrap();
+        let e = replace_dir(&run, &RUN, &[("a.csv", b"2")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("\"notes.txt\", which fem2rbd did not write"),
+            "{e}"
+        );
+        assert_eq!(names(&run), [MARKER, "a.csv", "notes.txt"]);
+        assert_eq!(fs::read(run.join("a.csv")).unwrap(), b"1");
+        // Another kind's folder is not this kind's.
+        let fe = FolderKind {
+            name: "fe",
+            owns: &["a.csv"],
+        };
+        let e = replace_dir(&t.path().join("in2"), &fe, &[("a.csv", b"1")]).map(|_| ());
+        assert!(e.is_ok());
+        let e = replace_dir(&t.path().join("in2"), &RUN, &[("a.csv", b"1")])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("is a fem2rbd fe folder, not a run folder"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn outputs_that_are_inputs_are_refused() {
+        let t = tempfile::tempdir().unwrap();
+        let dir = t.path().join("in");
+        fs::create_dir_all(dir.join("sub")).unwrap();
+        let model = dir.join("sub").join("model.toml");
+        fs::write(&model, "x").unwrap();
+        // The folder, or one above it, holds the input.
+        for out in [dir.clone(), t.path().to_path_buf(), dir.join("sub/../sub")] {
+            let e = check_holds_no_input(&out, &[&model], "output folder")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("holds the input"), "{e}");
+        }
+        check_holds_no_input(&dir.join("out"), &[&model], "output folder").unwrap();
+        check_holds_no_input(&t.path().join("in-out"), &[&model], "output folder").unwrap();
+        // The same file under another name, or through a hard link.
+        let e = check_not_an_input(&dir.join("./sub/model.toml"), &[&model], "--output")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is the input"), "{e}");
+        let link = t.path().join("link.toml");
+        fs::hard_link(&model, &link).unwrap();
+        assert!(check_not_an_input(&link, &[&model], "--output").is_err());
+        check_not_an_input(&dir.join("model.toml"), &[&model], "--output").unwrap();
     }
 
     #[test]

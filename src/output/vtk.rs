@@ -43,6 +43,12 @@ pub const HEX_CORNERS: [[f64; 3]; 8] = [
     [-1.0, 1.0, 1.0],
 ];
 
+/// The folder of `.vtu` frames beside a `.pvd`, replaced as a whole at each write.
+pub const VTK_FRAMES: crate::output::location::FolderKind = crate::output::location::FolderKind {
+    name: "vtk-frames",
+    owns: &["step_*"],
+};
+
 /// Writes `scene` as `pvd_path` (e.g. `out/collapse.pvd`) plus one `.vtu` per keyframe in
 /// the folder beside it named after its stem (`out/collapse/step_000000.vtu`, …), which is
 /// created if needed. Returns the `.vtu` paths in time order.
@@ -75,7 +81,7 @@ pub fn write_pvd(scene: &AnimatedScene, pvd_path: impl AsRef<Path>) -> Result<Ve
     // The frames are written into a folder beside their target and swapped in as a
     // whole, with the .pvd renamed right after (crate::output::location): a shorter
     // run leaves no stale frames, an interrupted one no partial folder.
-    let staged = crate::output::location::StagedDir::new(&folder, &["step_*"])?;
+    let staged = crate::output::location::StagedDir::new(&folder, &VTK_FRAMES)?;
 
     let types = type_names(scene);
     let digits = scene

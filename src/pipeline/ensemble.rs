@@ -16,6 +16,7 @@
 //!   results do not depend on the thread count (tested in `tests/it/pipeline/ensemble.rs`).
 use super::error::{PipelineError, Result};
 use super::{run_perturbed, RunRecord, Scenario, Silent};
+use crate::output::location::FolderKind;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -234,14 +235,28 @@ pub fn ensemble_summary(sc: &Scenario, recs: &[RunRecord], seed: u64) -> Value {
     })
 }
 
+/// An ensemble folder: its members' run folders, `ensemble.json` and `plot`'s `plots/`.
+/// An existing folder is written into only when it is such a folder and holds nothing else
+/// ([`crate::output::location::check_replaceable`]).
+pub const ENSEMBLE_FOLDER: FolderKind = FolderKind {
+    name: "ensemble",
+    owns: &["member-*", "ensemble.json", "plots"],
+};
+
 /// Writes every member into `dir/member-NNN/` (without wall times, so the bytes depend
-/// only on the input) and `dir/ensemble.json`; returns the paths written.
+/// only on the input) and `dir/ensemble.json`, and removes the member folders of an
+/// earlier, larger ensemble in `dir`; returns the paths written.
 pub fn write_ensemble(
     sc: &Scenario,
     recs: &[RunRecord],
     seed: u64,
     dir: &Path,
 ) -> Result<Vec<PathBuf>> {
+    use crate::output::location::{check_replaceable, MARKER};
+    use crate::output::OutputError;
+    check_replaceable(dir, &ENSEMBLE_FOLDER, "output folder")?;
+    std::fs::create_dir_all(dir).map_err(OutputError::io("cannot create", dir))?;
+    crate::output::write_atomic(dir.join(MARKER), ENSEMBLE_FOLDER.marker_text().as_bytes())?;
     let mut out = Vec::new();
     for (m, r) in recs.iter().enumerate() {
         out.extend(super::write::write(
@@ -249,6 +264,20 @@ pub fn write_ensemble(
             &dir.join(format!("member-{m:03}")),
             false,
         )?);
+    }
+    // Members of an earlier, larger ensemble would be read as members of this one.
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let stale = name
+                .strip_prefix("member-")
+                .and_then(|k| k.parse::<usize>().ok())
+                .is_some_and(|k| k >= recs.len());
+            if stale {
+                let p = e.path();
+                std::fs::remove_dir_all(&p).map_err(OutputError::io("cannot remove", &p))?;
+            }
+        }
     }
     let p = dir.join("ensemble.json");
     let text = serde_json::to_string_pretty(&ensemble_summary(sc, recs, seed))? + "\n";

@@ -563,6 +563,15 @@ pub struct Scenario {
     pub physics: PhysicsSpec,
 }
 
+impl Scenario {
+    /// The files a run reads: the scenario, its model and its records.
+    pub fn inputs(&self) -> Vec<&std::path::Path> {
+        let mut v = vec![self.path.as_path(), self.model.as_path()];
+        v.extend(self.components.iter().flatten().map(|c| c.file.as_path()));
+        v
+    }
+}
+
 fn positive(v: f64) -> bool {
     v > 0.0 && v.is_finite()
 }

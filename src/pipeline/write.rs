@@ -11,6 +11,7 @@ use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, EnergyRow, HistoryFrame};
 use crate::output::keyframes::keyframes_csv;
+use crate::output::location::FolderKind;
 use crate::output::ruins::{ruins_csv, RuinRow};
 use crate::output::run_folder::RunFolderError;
 use crate::output::run_folder::{
@@ -301,9 +302,23 @@ enum GlbError {
     Scene(#[from] AnimationError),
 }
 
-/// What a run folder owns: an existing non-empty output folder holding none of these is
-/// refused before the run ([`crate::output::location::check_replaceable`]).
-pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv"];
+/// A run folder: the files [`contents`] writes, and what other commands add to it
+/// (`plot`'s `plots/`, `export vtk`'s `vtk/`). An existing folder is replaced only when it
+/// is such a folder and holds nothing else ([`crate::output::location::check_replaceable`]).
+pub const RUN_FOLDER: FolderKind = FolderKind {
+    name: "run",
+    owns: &[
+        "ruins.csv",
+        "keyframes.csv",
+        "history.csv",
+        "bodies.csv",
+        "connections.csv",
+        "summary.json",
+        "collapse.glb",
+        "plots",
+        "vtk",
+    ],
+};
 
 /// Writes the outputs as the whole content of `dir`: built beside it and swapped in, so
 /// the folder holds this run's files and nothing of an earlier run
@@ -311,7 +326,7 @@ pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv"];
 pub fn write(rec: &RunRecord, dir: &Path, timing: bool) -> Result<Vec<PathBuf>> {
     let files = contents(rec, timing)?;
     let refs: Vec<(&str, &[u8])> = files.iter().map(|(n, b)| (*n, b.as_slice())).collect();
-    crate::output::location::replace_dir(dir, RUN_OWNED, &refs).map_err(|error| {
+    crate::output::location::replace_dir(dir, &RUN_FOLDER, &refs).map_err(|error| {
         PipelineError::RunFolder {
             path: dir.to_path_buf(),
             error: Box::new(error),

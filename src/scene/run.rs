@@ -107,6 +107,7 @@ pub fn run_scene_file_with(
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<()> {
     crate::output::location::check_output_file(out_path, "--out")?;
+    crate::output::location::check_not_an_input(out_path, &[scene_path], "--out")?;
     let scene = Scene::load(scene_path)?;
     let mut file = AtomicFile::create(out_path)?;
     run_scene_with(&scene, every, &mut file, progress).map_err(|e| SceneError::Run {

@@ -548,10 +548,21 @@ impl Study {
         if s.shard == 0 || s.mem_mb == Some(0) {
             bail!("{p}: slurm.shard and slurm.mem_mb must be at least 1");
         }
+        super::slurm::check_slurm_name(&s.partition, &format!("{p}: slurm.partition"))?;
+        super::slurm::check_slurm_name(&s.account, &format!("{p}: slurm.account"))?;
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "study".into());
+        if raw
+            .output
+            .as_ref()
+            .is_some_and(|o| o.as_os_str().is_empty())
+        {
+            bail!(
+                "{p}: output is empty: give a folder name, or leave it out for out/studies/{name}"
+            );
+        }
         let output = raw
             .output
             .clone()

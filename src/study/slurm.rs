@@ -162,6 +162,73 @@ fn sh(p: &Path) -> String {
     format!("'{}'", p.display().to_string().replace('\'', r"'\''"))
 }
 
+/// Checks a Slurm partition or account before it goes into an `#SBATCH` line: Slurm's
+/// names are letters, digits, `_`, `-` and `.`, and a partition may be a list of them
+/// separated by commas. Anything else (a newline, a space, quotes, `$(…)`) would change
+/// the job script, so it is refused, naming `item`.
+pub fn check_slurm_name(value: &str, item: &str) -> Result<()> {
+    let ok = value.split(',').all(|n| {
+        !n.is_empty()
+            && n.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+    });
+    if !value.is_empty() && !ok {
+        bail!(
+            "{item} {value:?}: a Slurm partition or account is letters, digits, '_', '-' and \
+             '.' (a partition list separated by commas); this value would change the job script"
+        );
+    }
+    Ok(())
+}
+
+/// Checks a path before it goes into an `#SBATCH` line, where sbatch splits options at
+/// white space, takes no shell quoting and expands `%` patterns: such a path is refused,
+/// naming `item`.
+fn check_sbatch_path(p: &Path, item: &str) -> Result<()> {
+    let s = p.display().to_string();
+    if let Some(c) = s
+        .chars()
+        .find(|c| c.is_control() || c.is_whitespace() || matches!(c, '"' | '\'' | '\\' | '%'))
+    {
+        bail!(
+            "{item} {s:?} holds {c:?}, which an #SBATCH line cannot carry; run the study from, \
+             and write it to, a folder whose path has no white space, quotes, backslashes or '%'"
+        );
+    }
+    Ok(())
+}
+
+/// Checks the study's name (its file's stem) before it goes into the scripts' comment
+/// lines and the job name: no control characters (a newline would start a new line of
+/// the script).
+fn check_study_name(study: &Study) -> Result<()> {
+    if study.name.chars().any(char::is_control) {
+        bail!(
+            "study file {}: its name holds a control character, which would change the job \
+             script; rename the file",
+            study.path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The job name: `fem2rbd-` and the study's name with every character other than a
+/// letter, digit, `_`, `-` or `.` replaced by `_`.
+fn job_name(study: &Study) -> String {
+    let name: String = study
+        .name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("fem2rbd-{name}")
+}
+
 /// Writes the next batch (module docs) and returns its sbatch script, or `None` when
 /// nothing is pending.
 pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<Option<PathBuf>> {
@@ -174,8 +241,15 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     if spec.shard == 0 {
         bail!("shard must be at least 1");
     }
-    let req = requests(study, spec)?;
+    // Every value that goes into the script is checked before anything is written.
+    check_slurm_name(&spec.partition, "slurm.partition")?;
+    check_slurm_name(&spec.account, "slurm.account")?;
+    check_study_name(study)?;
     let dir = abs(&store.dir.join("slurm"))?;
+    let cwd = abs(Path::new("."))?;
+    check_sbatch_path(&cwd, "the current folder (--chdir)")?;
+    check_sbatch_path(&dir, "the study's slurm folder (--output)")?;
+    let req = requests(study, spec)?;
     std::fs::create_dir_all(dir.join("logs")).at(|| format!("cannot create {}", dir.display()))?;
     let mut k = 0;
     while dir.join(format!("batch-{k:03}.sbatch")).exists() {
@@ -218,7 +292,7 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
         "# time request = {} x {:.1} s x {} + 60 s; memory = {} MiB.",
         spec.shard, req.estimate_s, spec.safety, req.mem_mb
     );
-    let _ = writeln!(s, "#SBATCH --job-name=fem2rbd-{}", study.name);
+    let _ = writeln!(s, "#SBATCH --job-name={}", job_name(study));
     let throttle = if spec.throttle > 0 {
         format!("%{}", spec.throttle)
     } else {
@@ -229,7 +303,7 @@ pub fn write_batch(study: &Study, store: &Store, opt: &SlurmOptions) -> Result<O
     let _ = writeln!(s, "#SBATCH --cpus-per-task=1");
     let _ = writeln!(s, "#SBATCH --time={}", time_request(spec, req.estimate_s));
     let _ = writeln!(s, "#SBATCH --mem={}M", req.mem_mb);
-    let _ = writeln!(s, "#SBATCH --chdir={}", abs(Path::new("."))?.display());
+    let _ = writeln!(s, "#SBATCH --chdir={}", cwd.display());
     let _ = writeln!(
         s,
         "#SBATCH --output={}",
@@ -271,6 +345,7 @@ pub fn submit_script(
     opt: &SlurmOptions,
     extra: &str,
 ) -> Result<PathBuf> {
+    check_study_name(study)?;
     let dir = abs(&store.dir.join("slurm"))?;
     std::fs::create_dir_all(&dir).at(|| format!("cannot create {}", dir.display()))?;
     let p = dir.join("submit.sh");

@@ -11,6 +11,7 @@ mod cli {
     mod fe;
     mod hostile_inputs;
     mod model;
+    mod own_files;
 }
 mod mapping {
     mod frame3;

@@ -1,4 +1,4 @@
-//! The standing hostile-input suite (issue 16, docs/reliability.md).
+//! The standing hostile-input suite (docs/reliability.md).
 //!
 //! `every_bad_input_is_refused_cleanly`: a table of bad inputs for every subcommand and
 //! file format, each run through the real binary. Every case asserts
@@ -975,10 +975,9 @@ proptest! {
     }
 }
 
-/// Defect 10: `fe` exits 1 when a step diverges, naming the time and the reason, and
-/// still writes the history up to the last converged step. Defect 6: `fe --out` replaces
-/// its folder as a whole (a stale file of an earlier run is gone) and leaves no temporary
-/// folder beside it.
+/// `fe` exits 1 when a step diverges, naming the time and the reason, and still writes
+/// the history up to the last converged step. `fe --out` replaces a folder it wrote as a
+/// whole (an earlier run's history is gone) and leaves no temporary folder beside it.
 #[test]
 fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
     let tmp = tempfile::tempdir().unwrap();
@@ -986,8 +985,10 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
     setup(w);
     let out_dir = w.join("feout");
     std::fs::create_dir(&out_dir).unwrap();
+    // An earlier `fe` folder: the marker, a summary and a history.
+    std::fs::write(out_dir.join(".fem2rbd"), "fe\n").unwrap();
     std::fs::write(out_dir.join("fe_summary.json"), "{}").unwrap();
-    std::fs::write(out_dir.join("stale.csv"), "old run").unwrap();
+    std::fs::write(out_dir.join("nodes.csv"), "old run").unwrap();
     let out = Command::new(BIN)
         .arg("fe")
         .arg(root().join("tests/fixtures/yielding-cantilever.toml"))
@@ -1008,7 +1009,11 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["fe_summary.json", "nodes.csv"]);
+    assert_eq!(names, [".fem2rbd", "fe_summary.json", "nodes.csv"]);
+    assert_ne!(
+        std::fs::read_to_string(out_dir.join("nodes.csv")).unwrap(),
+        "old run"
+    );
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("fe_summary.json")).unwrap())
             .unwrap();
