@@ -109,7 +109,7 @@ pub fn parse_gm(s: &str) -> Result<GroundMotionInput> {
 }
 
 /// Runs `export`.
-pub fn run(cmd: &ExportCommand) -> Result<()> {
+pub fn run(cmd: &ExportCommand, allow_unusual: bool) -> Result<()> {
     match cmd {
         ExportCommand::Opensees(a) => {
             check_output_file(&a.output, "--output")?;
@@ -119,6 +119,7 @@ pub fn run(cmd: &ExportCommand) -> Result<()> {
             inputs.extend(gms.iter().map(|g| g.path.as_path()));
             check_not_an_input(&a.output, &inputs, "--output")?;
             let model = Model::load(&a.model)?;
+            super::plausible(&model, &a.model, allow_unusual)?;
             let variant = match a.variant.as_deref() {
                 None => Variant::AsModel,
                 Some("force") => Variant::Force,

@@ -159,7 +159,7 @@ pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
 }
 
 /// Runs `fe`.
-pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
+pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     let specs: Vec<GmSpec> = args.gm.iter().map(|g| parse_gm(g)).collect::<Result<_>>()?;
     let mut inputs = vec![args.model.as_path()];
     inputs.extend(specs.iter().map(|s| s.path.as_path()));
@@ -167,6 +167,7 @@ pub fn run(args: &FeArgs, quiet: bool) -> Result<()> {
     check_output_dir(&args.out, "--out")?;
     check_replaceable(&args.out, &FE_FOLDER, "--out")?;
     let model = Model::load(&args.model)?;
+    super::plausible(&model, &args.model, allow_unusual)?;
     let gm = ground_motion(&specs, args.time_scale)?;
     check_range("--dt", args.dt, FE_DT.0, false, FE_DT.1, "s")?;
     if args.every == 0 {

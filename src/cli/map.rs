@@ -25,7 +25,7 @@ pub struct MapArgs {
 }
 
 /// Runs `map`.
-pub fn run(args: &MapArgs, quiet: bool) -> Result<()> {
+pub fn run(args: &MapArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     if !(args.overlap_tolerance >= 0.0 && args.overlap_tolerance.is_finite()) {
         bail!(
             "--overlap-tolerance must be a finite volume ≥ 0 m³, got {}",
@@ -35,6 +35,7 @@ pub fn run(args: &MapArgs, quiet: bool) -> Result<()> {
     fem2rbd::output::location::check_output_file(&args.output, "--output")?;
     fem2rbd::output::location::check_not_an_input(&args.output, &[&args.model], "--output")?;
     let model = Model::load(&args.model)?;
+    super::plausible(&model, &args.model, allow_unusual)?;
     let input =
         mapping::from_model(&model).with_context(|| format!("mapping {}", args.model.display()))?;
     let opts = MapOptions {

@@ -31,6 +31,10 @@ pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]
     pub quiet: bool,
+    /// Accept a model whose values lie outside their plausible ranges (a 3 000 m column,
+    /// E = 30 Pa, 500 % damping: docs/reliability.md); a run's summary.json lists them.
+    #[arg(long, global = true)]
+    pub allow_unusual: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -61,6 +65,36 @@ pub enum Command {
     Study(study::StudyCommand),
 }
 
+/// Refuses a model with values outside their plausible ranges
+/// ([`fem2rbd::model::plausibility`]) before any work, listing each with its range and
+/// the unit slip it looks like; with `allow` (`--allow-unusual`) it accepts them and
+/// returns them (a run records them in its summary).
+pub fn plausible(
+    model: &fem2rbd::model::Model,
+    file: &std::path::Path,
+    allow: bool,
+) -> anyhow::Result<Vec<String>> {
+    let found: Vec<String> = fem2rbd::model::plausibility::unusual(model)
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    if found.is_empty() || allow {
+        return Ok(found);
+    }
+    let shown: Vec<String> = found.iter().take(10).map(|u| format!("  {u}")).collect();
+    let more = match found.len() {
+        n if n > 10 => format!("\n  … and {} more", n - 10),
+        _ => String::new(),
+    };
+    anyhow::bail!(
+        "{}: {} value(s) outside their plausible ranges (docs/reliability.md):\n{}{more}\n\
+         If they are meant, run again with --allow-unusual (a run's summary.json records them).",
+        file.display(),
+        found.len(),
+        shown.join("\n")
+    )
+}
+
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
@@ -72,12 +106,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Scene(args) => scene::run(args, cli.quiet),
         Command::Generate(cmd) => generate::run(&cmd),
-        Command::Export(cmd) => export::run(&cmd),
-        Command::Map(args) => map::run(&args, cli.quiet),
-        Command::Modal(args) => modal::run(&args),
-        Command::Fe(args) => fe::run(&args, cli.quiet),
-        Command::Run(args) => run::run(&args, cli.quiet),
+        Command::Export(cmd) => export::run(&cmd, cli.allow_unusual),
+        Command::Map(args) => map::run(&args, cli.quiet, cli.allow_unusual),
+        Command::Modal(args) => modal::run(&args, cli.allow_unusual),
+        Command::Fe(args) => fe::run(&args, cli.quiet, cli.allow_unusual),
+        Command::Run(args) => run::run(&args, cli.quiet, cli.allow_unusual),
         Command::Plot(args) => plot::run(&args, cli.quiet),
-        Command::Study(cmd) => study::run(&cmd, cli.quiet),
+        Command::Study(cmd) => study::run(&cmd, cli.quiet, cli.allow_unusual),
     }
 }

@@ -57,8 +57,9 @@ pub fn report(model: &Model, modes: usize, variant: Variant) -> Result<String> {
 }
 
 /// Runs `modal`.
-pub fn run(args: &ModalArgs) -> Result<()> {
+pub fn run(args: &ModalArgs, allow_unusual: bool) -> Result<()> {
     let model = Model::load(&args.model)?;
+    super::plausible(&model, &args.model, allow_unusual)?;
     print!("{}", report(&model, args.modes, args.variant)?);
     Ok(())
 }

@@ -106,7 +106,7 @@ impl Progress for Bars {
 }
 
 /// Runs `run`.
-pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
+pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     let path = args
         .scenario
         .clone()
@@ -130,6 +130,9 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         &pipeline::write::RUN_FOLDER
     };
     check_replaceable(&sc.output, kind, "output folder")?;
+    let model = fem2rbd::model::Model::load(&sc.model)?;
+    let unusual = super::plausible(&model, &sc.model, allow_unusual)?;
+    drop(model);
     if args.estimate {
         let (size, work, e) = fem2rbd::estimate::for_scenario(&sc)?;
         println!("{}", fem2rbd::estimate::report(&size, &work, &e));
@@ -150,7 +153,10 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
                 fem2rbd::estimate::show_bytes(e.peak_bytes * threads.min(n) as f64)
             );
         }
-        let recs = pipeline::ensemble::run_ensemble(&sc, n, args.seed, threads)?;
+        let mut recs = pipeline::ensemble::run_ensemble(&sc, n, args.seed, threads)?;
+        for r in &mut recs {
+            r.unusual.clone_from(&unusual);
+        }
         let written = pipeline::ensemble::write_ensemble(&sc, &recs, args.seed, &sc.output)?;
         if !quiet {
             eprintln!(
@@ -171,7 +177,8 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
         bar: RefCell::new(None),
         span: Cell::new((0.0, 0.0)),
     };
-    let rec = pipeline::run(&sc, &bars)?;
+    let mut rec = pipeline::run(&sc, &bars)?;
+    rec.unusual = unusual;
     let written = pipeline::write::write(&rec, &sc.output, true)?;
     if !quiet {
         let tc = match rec.tc_s {

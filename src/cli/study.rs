@@ -114,8 +114,18 @@ fn load(study: &PathBuf, out: &Option<PathBuf>) -> Result<(Study, Store)> {
     Ok((s, store))
 }
 
+/// Refuses a study whose models hold values outside their plausible ranges, unless
+/// `allow` ([`super::plausible`]); checked by the commands that start runs.
+fn plausible_models(study: &Study, allow: bool) -> Result<()> {
+    for m in &study.models {
+        let model = fem2rbd::model::Model::load(&m.file)?;
+        super::plausible(&model, &m.file, allow)?;
+    }
+    Ok(())
+}
+
 /// Runs a study subcommand.
-pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
+pub fn run(cmd: &StudyCommand, quiet: bool, allow_unusual: bool) -> Result<()> {
     match cmd {
         StudyCommand::Plan(c) => {
             let (study, store) = load(&c.study, &c.out)?;
@@ -179,6 +189,7 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
         }
         StudyCommand::Run(a) => {
             let (study, store) = load(&a.common.study, &a.common.out)?;
+            plausible_models(&study, allow_unusual)?;
             if a.retry_failed {
                 let plan = store.plan(&study);
                 for (e, o) in plan.entries.iter().zip(&plan.outcomes) {
@@ -289,6 +300,7 @@ pub fn run(cmd: &StudyCommand, quiet: bool) -> Result<()> {
                 fem2rbd::study::slurm::check_slurm_name(v, "--partition")?;
             }
             let (study, store) = load(&a.common.study, &a.common.out)?;
+            plausible_models(&study, allow_unusual)?;
             let mut spec = study.slurm.clone();
             let mut extra = String::new();
             if let Some(v) = a.shard {

@@ -675,6 +675,10 @@ pub struct RunSummary {
     /// Wall times, s (only with timing on: not byte-stable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_time_s: Option<WallTimes>,
+    /// The model's values outside their plausible ranges that the run accepted with
+    /// `--allow-unusual` (absent when there are none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unusual_values: Vec<String>,
 }
 
 /// `floors_down` ([`floors_down`]).

@@ -118,6 +118,9 @@ pub struct RunRecord {
     pub ruin_in_bullet: Duration,
     /// FE end time reached, s.
     pub fe_end_s: Option<f64>,
+    /// The model's values outside their plausible ranges that the user accepted
+    /// (`--allow-unusual`; [`crate::model::plausibility`]); `summary.json` lists them.
+    pub unusual: Vec<String>,
 }
 
 /// Progress reporting hooks (the CLI passes indicatif bars; tests pass nothing).
@@ -932,6 +935,7 @@ pub(crate) fn run_perturbed(
         ruin_wall: Duration::ZERO,
         ruin_in_bullet: Duration::ZERO,
         fe_end_s: None,
+        unusual: Vec::new(),
     };
     let geoms = geoms(bodies);
     let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();

@@ -203,6 +203,7 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         fe_first_contact: fe_first_contact(rec),
         floors_down: floors_down_of(rec),
         wall_time_s,
+        unusual_values: rec.unusual.clone(),
     }
 }
 

@@ -382,6 +382,108 @@ fn cases() -> Vec<Case> {
             scenario("output = \"out\"", "output = \"{w}/mine\""),
         )
         .with("mine/thesis.tex", "x"),
+        // ---- unit slips and impossible buildings: refused before any work, naming the
+        // item, the value, the range and the slip it looks like
+        case(
+            "E0 in GPa typed as Pa",
+            run,
+            1,
+            &["model.toml", "material 7: E0 = 200 Pa", "did you mean 200 GPa", "--allow-unusual"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("E0 = 200000000000.0", "E0 = 200.0")),
+        case(
+            "fpc in MPa typed as Pa",
+            run,
+            1,
+            &["material 1: |fpc| = 22.5 Pa", "did you mean 22.5 MPa"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("fpc = -22500000.0", "fpc = -22.5")),
+        case(
+            "a node in millimetres",
+            run,
+            1,
+            &["node 21: x = 3000 m", "did you mean 3 m?", "element"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("x = 1.5\ny = 0.0\nz = 0.0", "x = 3000.0\ny = 0.0\nz = 0.0")),
+        case(
+            "damping in percent",
+            run,
+            1,
+            &["damping.xi = 5 ", "did you mean 0.05?"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("xi = 0.05", "xi = 5.0")),
+        case(
+            "gravity in mm/s²",
+            run,
+            1,
+            &["gravity.g = 9810 m/s²", "did you mean 9.81 m/s²?"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("g = 9.81", "g = 9810.0")),
+        case(
+            "density a thousand times",
+            run,
+            1,
+            &["material 1: density = 2.5e6 kg/m³", "did you mean 2500 kg/m³?"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("density = 2500.0", "density = 2500000.0")),
+        case(
+            "scale 1e-9",
+            run,
+            1,
+            &["scale = 1e-9 is outside the plausible model scale range [0.01, 10]"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("scale = 0.25", "scale = 1e-9")),
+        case(
+            "1e30 kg on a node",
+            run,
+            1,
+            &["mass on node 101: m = 1e30 kg"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("m = 118.85525", "m = 1e30")),
+        case(
+            "anchor period 500 s",
+            run,
+            1,
+            &["damping.periods[0] = 500 s"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("periods = [0.316,", "periods = [500.0,")),
+        case(
+            "E0 slip in fe",
+            "fe {w}/model.toml --out {w}/feout --gm X={w}/elc180.at2",
+            1,
+            &["model.toml", "did you mean 200 GPa"],
+        )
+        .with("model.toml", model("E0 = 200000000000.0", "E0 = 200.0")),
+        case(
+            "E0 slip in modal",
+            "modal {w}/model.toml",
+            1,
+            &["did you mean 200 GPa"],
+        )
+        .with("model.toml", model("E0 = 200000000000.0", "E0 = 200.0")),
+        case(
+            "E0 slip in map",
+            "map {w}/model.toml -o {w}/b.csv",
+            1,
+            &["did you mean 200 GPa"],
+        )
+        .with("model.toml", model("E0 = 200000000000.0", "E0 = 200.0")),
+        case(
+            "E0 slip in export opensees",
+            "export opensees {w}/model.toml -o {w}/m.py",
+            1,
+            &["did you mean 200 GPa"],
+        )
+        .with("model.toml", model("E0 = 200000000000.0", "E0 = 200.0")),
         case(
             "record is /dev/zero",
             run,
@@ -992,6 +1094,8 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
     let out = Command::new(BIN)
         .arg("fe")
         .arg(root().join("tests/fixtures/yielding-cantilever.toml"))
+        // Its steel yields at 1 kPa on purpose.
+        .arg("--allow-unusual")
         .arg("--gm")
         .arg(format!("X={}", w.join("elc180.at2").display()))
         .args(["--duration", "1", "--out"])
@@ -1103,4 +1207,47 @@ fn a_comma_in_a_name_survives_a_whole_run() {
         .collect();
     left.sort();
     assert_eq!(left, ["collapse", "collapse.pvd"]);
+}
+
+/// A value outside its plausible range that the user means (`--allow-unusual`) runs,
+/// and the run's summary lists it; without the option the same run is refused.
+#[test]
+fn allow_unusual_runs_and_the_summary_records_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    setup(w);
+    std::fs::write(w.join("model.toml"), model("xi = 0.05", "xi = 0.35")).unwrap();
+    std::fs::write(
+        w.join("s.toml"),
+        scenario("mode = \"physics\"", "mode = \"fe\"") + "[fe]\nduration = 0.05\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        Command::new(BIN)
+            .current_dir(w)
+            .args(["run", "s.toml", "--quiet"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = run(&[]);
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(1), "{err}");
+    assert!(err.contains("damping.xi = 0.35 is outside"), "{err}");
+    assert!(!w.join("out").exists());
+    let ok = run(&["--allow-unusual"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(w.join("out/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        s["unusual_values"],
+        serde_json::json!([
+            "damping.xi = 0.35 is outside the plausible damping ratio range [0, 0.3]"
+        ])
+    );
 }

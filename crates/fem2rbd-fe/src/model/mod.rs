@@ -9,6 +9,7 @@ pub mod element;
 pub mod generate;
 pub mod limits;
 pub mod material;
+pub mod plausibility;
 pub mod reference_json;
 pub mod section;
 mod source_map;
