@@ -131,7 +131,7 @@ pub struct RuinResult {
     /// Dynamic bodies asleep at the end (0 unless sleeping is on).
     pub sleeping_at_end: usize,
     /// The direct joint solve's mode and counts over the run
-    /// ([`StageSettings::joint_solve`]).
+    /// ([`crate::ruin::settings::JointSettings::solve`]).
     pub joint_solve: crate::physics::JointSolveStats,
 }
 

@@ -76,53 +76,10 @@ pub struct StageSettings {
     /// Build the CT 22 connections (default). `false`: loose debris only, no constraints
     /// (e.g. the debris phase of the pybullet cross-check).
     pub connect: bool,
-    /// When the monitor switches a connection to plastic, make the spring's rest pose the
-    /// current relative pose (`btGeneric6DofSpring2Constraint::setEquilibriumPoint()`),
-    /// as the monitor resets its own reference d₀ := d. `false` (BCB/Blender): the spring
-    /// keeps the rest pose of its creation (the start), so it is switched on already
-    /// stretched by the elastic stage's deformation (up to tol1D = 10 % of the centre
-    /// distance) and releases that energy into the debris (docs/ruin-numerics.md).
-    pub spring_rest_at_plastic_onset: bool,
-    /// A ductile bending row ([`super::connection::ConnectionSpec::ductile`]) that yielded in a substep is
-    /// locked again at its present rotation before it is re-enabled
-    /// ([`crate::physics::World::relock_constraint`]): the hinge keeps its plastic
-    /// rotation, as a rigid–plastic hinge does. `false` (the first FE-derived version):
-    /// the row keeps its lock at the start pose, so after yielding it drives the hinge
-    /// back with the velocity bias ERP·θ/h up to its full moment — a motor that feeds
-    /// energy into the frame (docs/ruin-numerics.md).
-    pub hinge_keeps_rotation: bool,
-    /// With `hinge_keeps_rotation`: re-lock a yielded hinge by a return mapping, at its
-    /// present rotation minus the rotation error it had at its first yield, instead of at
-    /// its present rotation. Re-locking at the present rotation throws away the error
-    /// through which the not fully converged solver carries the moment, so the row's
-    /// impulse falls to a quarter and builds back: a saw-tooth that carries 58 % of the
-    /// capacity on average (frame3's base under a slow ramp); the return mapping keeps
-    /// 97 % (docs/handoff.md §5, session 15). `false`: the present rotation (sessions 5–14).
-    pub hinge_return_mapping: bool,
-    /// How the connections' locked rows correct their error ([`JointRows`]).
-    pub joint_rows: JointRows,
-    /// Warm start of the connections' generic rows, 0..=1
-    /// ([`crate::physics::World::set_joint_warmstart`]): each row's Gauss–Seidel solve
-    /// starts from this share of its impulse in the last substep. 0 (BCB/Bullet): every
-    /// joint row starts from zero in every substep, as Bullet 3.24's
-    /// `btSequentialImpulseConstraintSolver::convertJoint` does (it warm-starts contacts
-    /// only), so a statically loaded joint is never converged and its residual error is
-    /// pulled back by the Baumgarte velocity ERP·e/h (docs/ruin-numerics.md §11).
-    pub joint_warmstart: f64,
-    /// Gauss–Seidel iterations of the connections' generic rows
-    /// (`btTypedConstraint::setOverrideNumSolverIterations`; Bullet then runs
-    /// max(this, `solver_iterations`) sweeps, contacts only in the first
-    /// `solver_iterations`). `None` (BCB): the world's `solver_iterations`.
-    pub joint_iterations: Option<u32>,
-    /// How the joints' bilateral rows are solved at each substep
-    /// ([`crate::physics::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
-    /// ([`crate::physics::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
-    /// linear system those iterations converge to, (A + diag(Cᵢ/Dᵢ)) λ = rhsᵢ/Dᵢ − Jᵢ·Δv₀
-    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md §11.1).
-    pub joint_solve: crate::physics::JointSolve,
-    /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
-    /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md §11.1).
-    pub joint_solve_regularisation: f64,
+    /// How the connections behave once they yield ([`PlasticSettings`]).
+    pub plastic: PlasticSettings,
+    /// How the connections' generic rows are solved ([`JointSettings`]).
+    pub joints: JointSettings,
     /// Mass-proportional damping relative to the moving ground, a₀ in 1/s (0: none, BCB):
     /// after every substep each active body's linear velocity relative to the ground
     /// decays by exp(−a₀·h). It is the a₀·M term of the FE's Rayleigh damping
@@ -132,12 +89,52 @@ pub struct StageSettings {
     /// ground's share of its work is ground work, the rest is dissipated
     /// (docs/handoff.md §5, session 10).
     pub ground_damping_per_s: f64,
+    /// Run the monitor's tolerance check ([`super::monitor`]) after every substep instead
+    /// of once per frame (BCB: 25 Hz). A connection whose rows leave it a mechanism (e.g.
+    /// a shear row broken: the other rows become a slider) can be carried far beyond its
+    /// tolerances within one frame; its locked rows then see errors of decimetres and ask
+    /// for the velocity ERP·e/h (Bullet's `get_limit_motor_info2`), up to tens of m/s on a
+    /// light piece (docs/ruin-numerics.md §15).
+    pub monitor_every_substep: bool,
+    /// Which bodies touch ([`TouchSettings`]).
+    pub touch: TouchSettings,
+    /// The solver's threads and sweep ([`SpeedSettings`]): the same bits for any choice.
+    pub speed: SpeedSettings,
+}
+
+/// How the connections behave once they yield (part of [`StageSettings`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlasticSettings {
+    /// When the monitor switches a connection to plastic, make the spring's rest pose the
+    /// current relative pose (`btGeneric6DofSpring2Constraint::setEquilibriumPoint()`),
+    /// as the monitor resets its own reference d₀ := d. `false` (BCB/Blender): the spring
+    /// keeps the rest pose of its creation (the start), so it is switched on already
+    /// stretched by the elastic stage's deformation (up to tol1D = 10 % of the centre
+    /// distance) and releases that energy into the debris (docs/ruin-numerics.md).
+    pub spring_rest_at_onset: bool,
+    /// A ductile bending row ([`super::connection::ConnectionSpec::ductile`]) that yielded
+    /// in a substep is locked again at its present rotation before it is re-enabled
+    /// ([`crate::physics::World::relock_constraint`]): the hinge keeps its plastic
+    /// rotation, as a rigid–plastic hinge does. `false` (the first FE-derived version): the
+    /// row keeps its lock at the start pose, so after yielding it drives the hinge back
+    /// with the velocity bias ERP·θ/h up to its full moment — a motor that feeds energy
+    /// into the frame (docs/ruin-numerics.md).
+    pub hinge_keeps_rotation: bool,
+    /// With [`Self::hinge_keeps_rotation`]: re-lock a yielded hinge by a return mapping, at
+    /// its present rotation minus the rotation error it had at its first yield, instead of
+    /// at its present rotation. Re-locking at the present rotation throws away the error
+    /// through which the not fully converged solver carries the moment, so the row's
+    /// impulse falls to a quarter and builds back: a saw-tooth that carries 58 % of the
+    /// capacity on average (frame3's base under a slow ramp); the return mapping keeps 97 %
+    /// (docs/handoff.md §5, session 15). `false`: the present rotation (sessions 5–14).
+    pub hinge_return_mapping: bool,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
-    /// lighter body it acts on, counting all springs on that body (`build::connections::body_spring_cap`).
-    /// `false` (BCB/Blender): only Bullet's per-spring `limitIfNeeded` cap, which takes
-    /// each spring alone and the pair's mass at the centre, so a light column piece held
-    /// by four plastic springs (up to 24 explicit spring rows) at lever arms is beyond
-    /// explicit stability and never comes to rest (docs/ruin-numerics.md).
+    /// lighter body it acts on, counting all springs on that body
+    /// (`build::connections::body_spring_cap`). `false` (BCB/Blender): only Bullet's
+    /// per-spring `limitIfNeeded` cap, which takes each spring alone and the pair's mass at
+    /// the centre, so a light column piece held by four plastic springs (up to 24 explicit
+    /// spring rows) at lever arms is beyond explicit stability and never comes to rest
+    /// (docs/ruin-numerics.md).
     pub spring_cap_per_body: bool,
     /// The substep rate whose step the per-body spring cap uses, 1/s (default 0 = the
     /// run's own substep h; option: 200, BCB's rate). The cap k ≤ 1/(16·h²·w·n) grows as
@@ -148,22 +145,55 @@ pub struct StageSettings {
     /// 800 substeps/s but moves the ruin further from the 200-substep one, so it is an
     /// option).
     pub spring_cap_steps_per_second: f64,
-    /// Run the monitor's tolerance check ([`super::monitor`]) after every substep instead
-    /// of once per frame (BCB: 25 Hz). A connection whose rows leave it a mechanism (e.g.
-    /// a shear row broken: the other rows become a slider) can be carried far beyond its
-    /// tolerances within one frame; its locked rows then see errors of decimetres and ask
-    /// for the velocity ERP·e/h (Bullet's `get_limit_motor_info2`), up to tens of m/s on a
-    /// light piece (docs/ruin-numerics.md §15).
-    pub monitor_every_substep: bool,
+}
+
+/// How the connections' generic (locked) rows are solved (part of [`StageSettings`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointSettings {
+    /// How the connections' locked rows correct their error ([`JointRows`]).
+    pub rows: JointRows,
+    /// Warm start of the connections' generic rows, 0..=1
+    /// ([`crate::physics::World::set_joint_warmstart`]): each row's Gauss–Seidel solve
+    /// starts from this share of its impulse in the last substep. 0 (BCB/Bullet): every
+    /// joint row starts from zero in every substep, as Bullet 3.24's
+    /// `btSequentialImpulseConstraintSolver::convertJoint` does (it warm-starts contacts
+    /// only), so a statically loaded joint is never converged and its residual error is
+    /// pulled back by the Baumgarte velocity ERP·e/h (docs/ruin-numerics.md §11).
+    pub warmstart: f64,
+    /// Gauss–Seidel iterations of the connections' generic rows
+    /// (`btTypedConstraint::setOverrideNumSolverIterations`; Bullet then runs
+    /// max(this, `solver_iterations`) sweeps, contacts only in the first
+    /// `solver_iterations`). `None` (BCB): the world's `solver_iterations`.
+    pub iterations: Option<u32>,
+    /// How the joints' bilateral rows are solved at each substep
+    /// ([`crate::physics::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
+    /// ([`crate::physics::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
+    /// linear system those iterations converge to, (A + diag(Cᵢ/Dᵢ)) λ = rhsᵢ/Dᵢ − Jᵢ·Δv₀
+    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md §11.1).
+    pub solve: crate::physics::JointSolve,
+    /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
+    /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md §11.1).
+    pub solve_regularisation: f64,
+}
+
+/// Which bodies touch (part of [`StageSettings`]; [`super::separation`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TouchSettings {
     /// When two bodies a connection holds together start touching each other
     /// ([`super::separation`]): never (BCB/Blender, the default: Bullet's exemption stays
     /// for the whole run, so broken pieces pass through each other), once nothing holds
     /// them, or once only springs do (docs/ruin-numerics.md §16).
-    pub pairs_touch: super::separation::PairsTouch,
+    pub pairs: super::separation::PairsTouch,
     /// Pieces joined to a foundation block touch the ground box from the start (BCB, the
     /// default). `false`: only once none of their foundation connections carries
     /// compression ([`super::separation`]).
     pub ground_under_connected_bases: bool,
+}
+
+/// The solver's threads and sweep (part of [`StageSettings`]): every choice gives the
+/// same bits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedSettings {
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
     /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
     pub solver_threads: usize,
@@ -244,20 +274,58 @@ impl Default for StageSettings {
             angle_rule: AngleRule::default(),
             warmup_s: 0.0,
             connect: true,
-            spring_rest_at_plastic_onset: false,
+            plastic: PlasticSettings::default(),
+            joints: JointSettings::default(),
+            ground_damping_per_s: 0.0,
+            monitor_every_substep: false,
+            touch: TouchSettings::default(),
+            speed: SpeedSettings::default(),
+        }
+    }
+}
+
+impl Default for PlasticSettings {
+    /// The spring's rest pose from its creation (BCB), hinges that keep their rotation
+    /// without the return mapping, the per-body spring cap at the run's own substep.
+    fn default() -> Self {
+        PlasticSettings {
+            spring_rest_at_onset: false,
             hinge_keeps_rotation: true,
             hinge_return_mapping: false,
-            joint_rows: JointRows::Locked,
-            joint_warmstart: 0.0,
-            joint_iterations: None,
-            joint_solve: crate::physics::JointSolve::Pgs,
-            joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
-            ground_damping_per_s: 0.0,
             spring_cap_per_body: true,
             spring_cap_steps_per_second: 0.0,
-            monitor_every_substep: false,
-            pairs_touch: super::separation::PairsTouch::Never,
+        }
+    }
+}
+
+impl Default for JointSettings {
+    /// BCB's: locked rows, no warm start, the world's iterations, Gauss–Seidel.
+    fn default() -> Self {
+        JointSettings {
+            rows: JointRows::Locked,
+            warmstart: 0.0,
+            iterations: None,
+            solve: crate::physics::JointSolve::Pgs,
+            solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
+        }
+    }
+}
+
+impl Default for TouchSettings {
+    /// BCB's: connected pairs never touch, bases touch the ground from the start.
+    fn default() -> Self {
+        TouchSettings {
+            pairs: super::separation::PairsTouch::Never,
             ground_under_connected_bases: true,
+        }
+    }
+}
+
+impl Default for SpeedSettings {
+    /// `FEM2RBD_THREADS` or the machine's cores; the packed sweep unless `FEM2RBD_SWEEP`
+    /// names another.
+    fn default() -> Self {
+        SpeedSettings {
             solver_threads: crate::fe::domain::default_threads(),
             sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
                 Ok("bullet") => crate::physics::Sweep::Bullet,

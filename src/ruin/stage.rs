@@ -32,8 +32,8 @@ pub use super::record::{
     ConnectionOutcome, Frame, LedgerSummary, RuinResult, RuinStop, StageError, WallTime,
 };
 pub use super::settings::{
-    member_row_erp_cfm, BodySettings, JointRows, StageInput, StageSettings, StopRule,
-    MEMBER_ROW_MAX_CFM,
+    member_row_erp_cfm, BodySettings, JointRows, JointSettings, PlasticSettings, SpeedSettings,
+    StageInput, StageSettings, StopRule, TouchSettings, MEMBER_ROW_MAX_CFM,
 };
 pub use super::world::{to_isometry, to_pose};
 

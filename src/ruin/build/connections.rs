@@ -89,7 +89,7 @@ pub(super) fn add(
                     for (k, s) in springs.iter_mut().enumerate() {
                         if spec.spring[k] {
                             let (mut stiffness, mut damping) = (spec.stiffness[k], spec.damping[k]);
-                            if settings.spring_cap_per_body {
+                            if settings.plastic.spring_cap_per_body {
                                 let (kc, dc) = body_spring_cap(
                                     world,
                                     c,
@@ -97,7 +97,10 @@ pub(super) fn add(
                                     k,
                                     handles,
                                     input,
-                                    spring_cap_step(h, settings.spring_cap_steps_per_second),
+                                    spring_cap_step(
+                                        h,
+                                        settings.plastic.spring_cap_steps_per_second,
+                                    ),
                                     springs_on[c.a].max(springs_on[c.b]),
                                 )?;
                                 stiffness = stiffness.min(kc);
@@ -130,7 +133,7 @@ pub(super) fn add(
             desc.disable_collisions_between = c.disable_collisions;
             desc.enabled = spec.enabled;
             if spec.kind == SpecKind::Generic6Dof {
-                desc.override_solver_iterations = settings.joint_iterations;
+                desc.override_solver_iterations = settings.joints.iterations;
             }
             let hnd = world.add_constraint(&desc).map_err(|e| {
                 bad(
@@ -147,7 +150,7 @@ pub(super) fn add(
                     damping_ratio,
                 },
                 SpecKind::Generic6Dof,
-            ) = (settings.joint_rows, spec.kind)
+            ) = (settings.joints.rows, spec.kind)
             {
                 for axis in (0..6).filter(|&a| spec.lower[a] <= spec.upper[a]) {
                     let (k, inv_m) = member_row(
@@ -178,8 +181,8 @@ pub(super) fn add(
 }
 
 /// The step the spring cap is computed for, s: max(h, 1/`rate`), or h when `rate` is 0
-/// ([`StageSettings::spring_cap_steps_per_second`]). Never below h: a coarser substep
-/// than the rate's needs its own, lower cap for stability.
+/// ([`crate::ruin::settings::PlasticSettings::spring_cap_steps_per_second`]). Never below
+/// h: a coarser substep than the rate's needs its own, lower cap for stability.
 fn spring_cap_step(h: f64, rate: f64) -> f64 {
     if rate > 0.0 {
         h.max(1.0 / rate)
@@ -188,16 +191,17 @@ fn spring_cap_step(h: f64, rate: f64) -> f64 {
     }
 }
 
-/// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular;
-/// the spring frame is world-aligned on the undeformed bodies) of connection `c`, on which
-/// `n` springs at most act per body ([`StageSettings::spring_cap_per_body`]). Bullet
-/// integrates each spring explicitly (`btGeneric6DofSpring2Constraint`: the force k·e·h
-/// from the error at the substep's start), stable for ω·h < 2 and sampled well for
-/// ω·h ≤ 1/4 (Bullet's `limitIfNeeded`: k ≤ m/(16·h²), c ≤ m/h, m the pair's mass at the
-/// centres). Here the effective inverse mass of the axis at the pivot is taken with the
-/// lever arm, w = Σ_bodies 1/m + (r × e)·I⁻¹(r × e) (linear, r = pivot − centre) or
-/// e·I⁻¹e (angular), and the n springs on the same body share the budget:
-/// k ≤ 1/(16·h²·w·n), c ≤ 1/(h·w·n). Returns (k cap, c cap).
+/// The per-body stability cap of plastic-spring axis `axis` (0..2 linear, 3..5 angular; the
+/// spring frame is world-aligned on the undeformed bodies) of connection `c`, on which `n`
+/// springs at most act per body
+/// ([`crate::ruin::settings::PlasticSettings::spring_cap_per_body`]). Bullet integrates
+/// each spring explicitly (`btGeneric6DofSpring2Constraint`: the force k·e·h from the error
+/// at the substep's start), stable for ω·h < 2 and sampled well for ω·h ≤ 1/4 (Bullet's
+/// `limitIfNeeded`: k ≤ m/(16·h²), c ≤ m/h, m the pair's mass at the centres). Here the
+/// effective inverse mass of the axis at the pivot is taken with the lever arm, w =
+/// Σ_bodies 1/m + (r × e)·I⁻¹(r × e) (linear, r = pivot − centre) or e·I⁻¹e (angular), and
+/// the n springs on the same body share the budget: k ≤ 1/(16·h²·w·n), c ≤ 1/(h·w·n).
+/// Returns (k cap, c cap).
 #[allow(clippy::too_many_arguments)]
 fn body_spring_cap(
     world: &World,

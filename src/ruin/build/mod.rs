@@ -88,8 +88,8 @@ pub(crate) fn build(
             .iter()
             .map(|c| (c.a, c.b, c.disable_collisions)),
         &bodies.passive,
-        settings.pairs_touch,
-        settings.ground_under_connected_bases,
+        settings.touch.pairs,
+        settings.touch.ground_under_connected_bases,
     );
     for i in separation.ground_exempt() {
         bullet.set_collision_with(bodies.handles[i], ground.handle, false)?;
@@ -150,8 +150,8 @@ fn passes(
         lost_rows: LostRows::new(r.axial_rows),
         ductile_rows: DuctileRows::new(
             specs.iter().any(|c| c.ductile),
-            settings.hinge_keeps_rotation,
-            settings.hinge_return_mapping,
+            settings.plastic.hinge_keeps_rotation,
+            settings.plastic.hinge_return_mapping,
         ),
         two_way_axial: TwoWayAxial::new(specs, r.axial_rows, r.linear_correction, h),
         separation: Separations::new(separation),
@@ -167,7 +167,7 @@ fn passes(
         monitor: MonitorPass::new(
             monitor,
             settings.monitor_every_substep,
-            settings.spring_rest_at_plastic_onset,
+            settings.plastic.spring_rest_at_onset,
         ),
     }
 }
@@ -258,19 +258,20 @@ fn new_world(settings: &StageSettings) -> Result<World, StageError> {
         ws.gravity = [0.0; 3];
     }
     let mut world = World::new(&ws)?;
-    world.set_solver_threads(settings.solver_threads.max(1))?;
-    if !(settings.joint_warmstart.is_finite() && (0.0..=1.0).contains(&settings.joint_warmstart)) {
+    world.set_solver_threads(settings.speed.solver_threads.max(1))?;
+    if !(settings.joints.warmstart.is_finite() && (0.0..=1.0).contains(&settings.joints.warmstart))
+    {
         return Err(bad(
             "joint_warmstart",
-            format!("{} must be in [0, 1]", settings.joint_warmstart),
+            format!("{} must be in [0, 1]", settings.joints.warmstart),
         ));
     }
-    if settings.joint_iterations == Some(0) {
+    if settings.joints.iterations == Some(0) {
         return Err(bad("joint_iterations", "must be >= 1".into()));
     }
-    world.set_joint_warmstart(settings.joint_warmstart)?;
+    world.set_joint_warmstart(settings.joints.warmstart)?;
     // ε is checked by the wrapper (and by the scenario, with its file and line).
-    world.set_joint_solve(settings.joint_solve, settings.joint_solve_regularisation)?;
-    world.set_sweep(settings.sweep)?;
+    world.set_joint_solve(settings.joints.solve, settings.joints.solve_regularisation)?;
+    world.set_sweep(settings.speed.sweep)?;
     Ok(world)
 }

@@ -11,10 +11,10 @@ use std::collections::BTreeMap;
 /// ([`crate::ruin::connection::ConnectionSpec::ductile`]) of elastic connections that
 /// Bullet disabled in it (their impulse reached the plastic moment's impulse): the row
 /// carries its capacity and yields, as a plastic hinge. Before it is enabled the row is
-/// re-locked ([`crate::ruin::stage::StageSettings::hinge_keeps_rotation`]): at its present
+/// re-locked ([`crate::ruin::stage::PlasticSettings::hinge_keeps_rotation`]): at its present
 /// rotation ([`crate::physics::World::relock_constraint`]), or by a return mapping that
 /// keeps the rotation error of its first yield
-/// ([`crate::ruin::stage::StageSettings::hinge_return_mapping`], [`Self::relock`]).
+/// ([`crate::ruin::stage::PlasticSettings::hinge_return_mapping`], [`Self::relock`]).
 pub(crate) struct DuctileRows {
     /// Some connection is ductile (else the pass does nothing).
     any_ductile: bool,

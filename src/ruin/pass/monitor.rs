@@ -12,7 +12,7 @@ use crate::ruin::world::{to_isometry, RuinWorld};
 /// at the bodies' poses and Bullet's enabled flags ([`Monitor::check`]: its deformation
 /// against BCB's tolerances, docs/bcb.md §7.3) and applies its actions before the next
 /// substep: constraints enabled or disabled, and with
-/// [`crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`] a plastic spring's
+/// [`crate::ruin::stage::PlasticSettings::spring_rest_at_onset`] a plastic spring's
 /// rest pose set to the present relative pose. The state changes are kept with their
 /// times until the frame is recorded.
 pub(crate) struct MonitorPass {
