@@ -325,16 +325,16 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.world.solver.erp = (p.joint_erp * p.erp_scale()).min(1.0);
     s.body.margin = p.margin_m;
     s.body.margin_max_share = p.margin_max_share;
-    s.spring_rest_at_plastic_onset = p.spring_rest_at_plastic_onset;
-    s.hinge_keeps_rotation = p.hinge_keeps_rotation;
-    s.hinge_return_mapping = p.hinge_return_mapping;
-    s.spring_cap_per_body = p.spring_cap_per_body;
-    s.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
+    s.plastic.spring_rest_at_onset = p.spring_rest_at_plastic_onset;
+    s.plastic.hinge_keeps_rotation = p.hinge_keeps_rotation;
+    s.plastic.hinge_return_mapping = p.hinge_return_mapping;
+    s.plastic.spring_cap_per_body = p.spring_cap_per_body;
+    s.plastic.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
     s.monitor_every_substep = p.monitor_every_substep;
-    s.pairs_touch = p.pairs_touch_for(sc.mode);
-    s.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);
+    s.touch.pairs = p.pairs_touch_for(sc.mode);
+    s.touch.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);
     s.ruin.search.search_distance = p.search_distance_m;
-    s.joint_rows = match p.joint_rows {
+    s.joints.rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
         scenario::JointRowsSpec::Member => crate::ruin::stage::JointRows::Member {
             modulus_pa: p.joint_modulus_pa,
@@ -342,13 +342,13 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
         },
     };
     s.body.disable_deactivation = !p.sleeping;
-    s.joint_warmstart = p.joint_warmstart_for(sc.mode);
-    s.joint_iterations = p.joint_iterations;
-    s.joint_solve = match p.joint_solve {
+    s.joints.warmstart = p.joint_warmstart_for(sc.mode);
+    s.joints.iterations = p.joint_iterations;
+    s.joints.solve = match p.joint_solve {
         scenario::JointSolveSpec::Pgs => crate::physics::JointSolve::Pgs,
         scenario::JointSolveSpec::Direct => crate::physics::JointSolve::Direct,
     };
-    s.joint_solve_regularisation = p.joint_solve_regularisation;
+    s.joints.solve_regularisation = p.joint_solve_regularisation;
     s.ruin.axial_rows = p.axial_rows_for(sc.mode);
     s.ruin.hinge_end = p.hinge_end;
     s.ruin.search.joints = p.joints;

@@ -234,16 +234,16 @@ pub struct PhysicsSpec {
     pub margin_max_share: f64,
     /// A plastic spring's rest pose is the pose at the onset of plasticity (true) or at
     /// the stage's start as in BCB (false):
-    /// `crate::ruin::stage::StageSettings::spring_rest_at_plastic_onset`.
+    /// `crate::ruin::stage::PlasticSettings::spring_rest_at_onset`.
     pub spring_rest_at_plastic_onset: bool,
     /// A yielded ductile hinge (FE-derived connections) keeps its plastic rotation (true,
     /// the default: no energy fed in by a hinge driving itself back, docs/ruin-numerics.md
     /// §8.1) or drives back to its start pose (false: the first FE-derived version):
-    /// `crate::ruin::stage::StageSettings::hinge_keeps_rotation`.
+    /// `crate::ruin::stage::PlasticSettings::hinge_keeps_rotation`.
     pub hinge_keeps_rotation: bool,
     /// With `hinge_keeps_rotation`: re-lock a yielded hinge at its present rotation minus
     /// the rotation error of its first yield (a return mapping; false: at its present
-    /// rotation): `crate::ruin::stage::StageSettings::hinge_return_mapping`.
+    /// rotation): `crate::ruin::stage::PlasticSettings::hinge_return_mapping`.
     pub hinge_return_mapping: bool,
     /// The connections' locked rows: `"locked"` (BCB: the world's joint ERP, CFM 0) or
     /// `"member"` (each row an implicit spring–damper of the members' stiffness through
@@ -255,20 +255,20 @@ pub struct PhysicsSpec {
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
     /// Warm start of the connections' generic rows, 0..=1
-    /// (`crate::ruin::stage::StageSettings::joint_warmstart`). Absent: 0.5 with FE-derived
+    /// (`crate::ruin::stage::JointSettings::warmstart`). Absent: 0.5 with FE-derived
     /// connections (docs/handoff.md §4.1), 0 (Bullet/BCB) with BCB's
     /// ([`PhysicsSpec::joint_warmstart_for`]).
     pub joint_warmstart: Option<f64>,
     /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
-    /// `solver_iterations`): `crate::ruin::stage::StageSettings::joint_iterations`.
+    /// `solver_iterations`): `crate::ruin::stage::JointSettings::iterations`.
     pub joint_iterations: Option<u32>,
     /// How the joints' bilateral rows are solved: `"pgs"` (Bullet's Gauss–Seidel, the
     /// default) or `"direct"` (a sparse LDLᵀ solve first):
-    /// `crate::ruin::stage::StageSettings::joint_solve`.
+    /// `crate::ruin::stage::JointSettings::solve`.
     pub joint_solve: JointSolveSpec,
     /// Regularisation ε of the direct solve, in [0, 1] (ε·Aᵢᵢ added to each diagonal
     /// entry, a relative CFM ε on every row; 1e-3, docs/ruin-numerics.md §11.1):
-    /// `crate::ruin::stage::StageSettings::joint_solve_regularisation`.
+    /// `crate::ruin::stage::JointSettings::solve_regularisation`.
     pub joint_solve_regularisation: f64,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
     /// or `"two_way"` (one two-way row, broken in the sense it pushes):
@@ -278,11 +278,11 @@ pub struct PhysicsSpec {
     /// Cap the plastic springs for the explicit stability of each body they act on, all
     /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
     /// spring as Bullet/BCB (false):
-    /// `crate::ruin::stage::StageSettings::spring_cap_per_body`.
+    /// `crate::ruin::stage::PlasticSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
     /// The substep rate whose step the per-body spring cap uses, 1/s (0 = the run's own
     /// substep; option 200):
-    /// `crate::ruin::stage::StageSettings::spring_cap_steps_per_second`.
+    /// `crate::ruin::stage::PlasticSettings::spring_cap_steps_per_second`.
     pub spring_cap_steps_per_second: f64,
     /// Check the monitor's tolerances after every substep (true) or once per 25 Hz frame
     /// as BCB (false): `crate::ruin::stage::StageSettings::monitor_every_substep`.
@@ -294,7 +294,7 @@ pub struct PhysicsSpec {
     pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
     /// Pieces joined to a foundation block also rest on the ground box while joined (BCB,
     /// true), or touch it only once no foundation connection carries their compression
-    /// (false): `crate::ruin::stage::StageSettings::ground_under_connected_bases`. Absent:
+    /// (false): `crate::ruin::stage::TouchSettings::ground_under_connected_bases`. Absent:
     /// [`PhysicsSpec::ground_under_connected_bases_for`].
     pub ground_under_connected_bases: Option<bool>,
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far

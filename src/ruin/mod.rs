@@ -14,22 +14,35 @@
 //!   constraints and one disabled 6-DOF spring — with breaking impulses, limits, frames.
 //! * [`monitor`]: the per-frame elastic → plastic → broken state machine.
 //!
+//! The Bullet layer is the ruin stage ([`stage`]): a world (`world`: the ground box, the
+//! members' boxes, the connections' constraints) built by `build` (ground, bodies,
+//! connections) from [`settings`], stepped by an ordered list of substep passes (`pass`,
+//! one file per rule: the moving ground, Bullet's step, each connection rule, the
+//! separations, the energy ledger, the speed bound, the monitor, the at-rest test) with
+//! the debug traces as observers (`observer`), and recorded as a [`record::RuinResult`].
+//!
 //! Units: SI (m, kg, s, N, N·m, N·s) except where BCB's own inputs are in mm and N/mm²
 //! (the Formula Assistant); every such field says so.
 //! The whole model is described in `docs/ruin-model.md`.
 
 pub mod axial;
 pub(crate) mod body_trace;
+mod build;
 pub mod connection;
 pub mod energy;
 pub mod ground;
 pub mod groups;
 pub mod monitor;
+pub(crate) mod observer;
+pub(crate) mod pass;
+pub mod record;
 pub mod rest;
 pub mod search;
 pub mod separation;
+pub mod settings;
 pub mod stage;
 pub mod strength;
+pub(crate) mod world;
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 

@@ -64,7 +64,7 @@ fn landing(sps: f64, iterations: u32, solve: JointSolve) -> Landing {
     settings.ruin.axial_rows = AxialRows::TwoWay;
     settings.ruin.solver_iterations = iterations;
     settings.ruin.steps_per_second = sps;
-    settings.joint_solve = solve;
+    settings.joints.solve = solve;
     let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
     assert_eq!(stage.connections().len(), 5, "floor1, 3 joints, floor2");
     let top = (0..5)

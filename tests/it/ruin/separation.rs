@@ -9,7 +9,7 @@ use fem2rbd::ruin::connection::{ConnectionState, GroupStrength};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::monitor::FeDamage;
 use fem2rbd::ruin::separation::PairsTouch;
-use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings, StopRule};
+use fem2rbd::ruin::stage::{RuinStage, StageInput, StageSettings, StopRule, TouchSettings};
 
 const G: f64 = 9.81;
 
@@ -43,7 +43,10 @@ fn a_piece_whose_connection_is_broken_rests_on_the_piece_it_was_joined_to() {
     let mut z = Vec::new();
     for touch in [PairsTouch::OnceBroken, PairsTouch::Never] {
         let settings = StageSettings {
-            pairs_touch: touch,
+            touch: TouchSettings {
+                pairs: touch,
+                ..TouchSettings::default()
+            },
             ..StageSettings::default()
         };
         let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
@@ -95,7 +98,10 @@ fn a_base_joined_to_its_foundation_stands_on_the_connection_alone() {
     let mut share = Vec::new();
     for on_ground in [false, true] {
         let settings = StageSettings {
-            ground_under_connected_bases: on_ground,
+            touch: TouchSettings {
+                ground_under_connected_bases: on_ground,
+                ..TouchSettings::default()
+            },
             ..StageSettings::default()
         };
         let mut stage = RuinStage::build(&input, ground.clone(), &settings).unwrap();
@@ -137,7 +143,10 @@ fn a_base_joined_to_its_foundation_stands_on_the_connection_alone() {
 
     input.start_damage.insert((0, 1), FeDamage::Ruptured);
     let settings = StageSettings {
-        ground_under_connected_bases: false,
+        touch: TouchSettings {
+            ground_under_connected_bases: false,
+            ..TouchSettings::default()
+        },
         ..StageSettings::default()
     };
     let mut stage = RuinStage::build(&input, ground, &settings).unwrap();

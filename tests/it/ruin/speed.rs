@@ -5,7 +5,9 @@ use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
 use fem2rbd::physics::{BodyKind, BoxDesc, ParallelCounts, Pose, Sweep, World, WorldSettings};
 use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
-use fem2rbd::ruin::stage::{RuinResult, RuinStage, StageInput, StageSettings, StopRule};
+use fem2rbd::ruin::stage::{
+    RuinResult, RuinStage, SpeedSettings, StageInput, StageSettings, StopRule,
+};
 use fem2rbd::ruin::strength::{StrengthPerArea, StrengthSource};
 use fem2rbd::ruin::BodyGeom;
 use nalgebra::UnitQuaternion;
@@ -105,8 +107,10 @@ fn run_scene(
     let (bodies, masses, groups, hist) = scene;
     let input = StageInput::physics_only(&bodies, &masses, &groups);
     let mut settings = StageSettings {
-        solver_threads: threads,
-        sweep,
+        speed: SpeedSettings {
+            solver_threads: threads,
+            sweep,
+        },
         ..StageSettings::default()
     };
     settings.world.solver.minimum_solver_batch_size = batch;
