@@ -11,6 +11,7 @@ pub mod plot;
 pub mod run;
 pub mod scene;
 pub mod study;
+pub mod voids;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
 fn long_version() -> &'static str {
@@ -59,6 +60,8 @@ pub enum Command {
     /// Batch studies: plan, run locally or on Slurm, collect (IDA, fragility, libraries).
     #[command(subcommand)]
     Study(study::StudyCommand),
+    /// Rescue analysis of a run folder: voids, access routes, rubble height map.
+    Voids(voids::VoidsArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -79,5 +82,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::run(&args, cli.quiet),
         Command::Plot(args) => plot::run(&args, cli.quiet),
         Command::Study(cmd) => study::run(&cmd, cli.quiet),
+        Command::Voids(args) => voids::run(&args, cli.quiet),
     }
 }
