@@ -97,6 +97,7 @@ mod tests {
 
     /// Against brute force on a random-ish pattern.
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn equals_brute_force() {
         let grid = Grid {
             origin: [0.0; 3],

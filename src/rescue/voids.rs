@@ -287,15 +287,15 @@ fn measure(field: &Field, sizes: &Scaled, cells: Vec<usize>, enclosed: bool) -> 
     let mut up = vec![0u32; inside.len()];
     let mut tallest = 0u32;
     let mut col_run = vec![0u32; w[0] * w[1]];
-    for col in 0..w[0] * w[1] {
+    for (col, best) in col_run.iter_mut().enumerate() {
         let mut run = 0u32;
         for k in (0..w[2]).rev() {
             let at = col * w[2] + k;
             run = if inside[at] { run + 1 } else { 0 };
             up[at] = run;
-            col_run[col] = col_run[col].max(run);
+            *best = (*best).max(run);
         }
-        tallest = tallest.max(col_run[col]);
+        tallest = tallest.max(*best);
     }
     let area = |height: f64| -> f64 {
         let need = cells_for(height, h) as u32;
