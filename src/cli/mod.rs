@@ -11,6 +11,7 @@ pub mod plot;
 pub mod run;
 pub mod scene;
 pub mod study;
+pub mod voids;
 
 /// `fem2rbd --version`: the crate version and the Bullet library linked.
 fn long_version() -> &'static str {
@@ -63,6 +64,8 @@ pub enum Command {
     /// Batch studies: plan, run locally or on Slurm, collect (IDA, fragility, libraries).
     #[command(subcommand)]
     Study(study::StudyCommand),
+    /// Rescue analysis of a run folder: voids, access routes, rubble height map.
+    Voids(voids::VoidsArgs),
 }
 
 /// Refuses a model with values outside their plausible ranges
@@ -113,5 +116,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Run(args) => run::run(&args, cli.quiet, cli.allow_unusual),
         Command::Plot(args) => plot::run(&args, cli.quiet),
         Command::Study(cmd) => study::run(&cmd, cli.quiet, cli.allow_unusual),
+        Command::Voids(args) => voids::run(&args, cli.quiet),
     }
 }

@@ -649,6 +649,10 @@ pub struct RunSummary {
     pub tc_detail: String,
     /// End time of the FE stage, s (`None` in the physics mode).
     pub fe_end_s: Option<f64>,
+    /// Geometric scale of the model against its prototype (the model's `scale`; absent in
+    /// run folders written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
     /// Active bodies.
     pub bodies: usize,
     /// Passive foundation blocks.

@@ -192,6 +192,10 @@ pub enum PipelineError {
     /// `collapse.glb` cannot be encoded.
     #[error("cannot build collapse.glb from the run's own tables: {0}")]
     OwnScene(Box<AnimationError>),
+    /// The rescue analysis (`voids.csv`, `voids.json`, `rubble_height.csv`) of the run's
+    /// own tables failed.
+    #[error("rescue analysis of the run's own tables: {0}")]
+    Rescue(Box<crate::rescue::RescueError>),
     /// The run folder cannot be written.
     #[error("cannot write the run folder {}: {error}", path.display())]
     RunFolder {

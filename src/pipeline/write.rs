@@ -86,7 +86,46 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let js = run_summary(rec, timing).to_json()?;
     out.push(("summary.json", js.into_bytes()));
     out.push(("collapse.glb", glb));
+    if rec.ruin.is_some() {
+        let rescue =
+            rescue_files(&out, rec.scale).map_err(|e| PipelineError::Rescue(Box::new(e)))?;
+        out.extend(rescue);
+    }
     Ok(out)
+}
+
+/// The rescue analysis files (`crate::rescue`, default sizes) of a run's own tables,
+/// read back from their text as `fem2rbd voids` reads them, so both give the same bytes.
+fn rescue_files(
+    files: &[(&'static str, Vec<u8>)],
+    scale: f64,
+) -> crate::rescue::Result<Vec<(&'static str, Vec<u8>)>> {
+    let text = |name: &str| {
+        files
+            .iter()
+            .find(|f| f.0 == name)
+            .map_or("", |f| std::str::from_utf8(&f.1).unwrap_or(""))
+    };
+    let ruin = crate::rescue::Ruin::from_texts(
+        text("bodies.csv"),
+        "bodies.csv",
+        text("ruins.csv"),
+        "ruins.csv",
+        text("connections.csv"),
+        "connections.csv",
+        scale,
+    )?;
+    match crate::rescue::analyse(&ruin, crate::rescue::Sizes::default()) {
+        Ok(a) => Ok(a.files()),
+        // Debris thrown far makes the default grid too large: the run keeps its ruin and
+        // says so in voids.json (`fem2rbd voids --cell` analyses it with larger cells).
+        Err(e @ crate::rescue::RescueError::GridTooLarge { .. }) => {
+            let js = serde_json::json!({ "error": e.to_string() });
+            let text = serde_json::to_string_pretty(&js).expect("a JSON value") + "\n";
+            Ok(vec![(crate::rescue::report::FILES[1], text.into_bytes())])
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// The ruin measures of a record (`summary.json` `ruins`): its bodies at their final
@@ -194,6 +233,7 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         tc_reason: reason,
         tc_detail: detail,
         fe_end_s: rec.fe_end_s.map(r6),
+        scale: Some(rec.scale),
         bodies: rec.bodies.iter().filter(|b| !b.passive).count(),
         foundation_blocks: rec.bodies.iter().filter(|b| b.passive).count(),
         keyframes_fe: rec.fe_frames.len(),
@@ -316,6 +356,9 @@ pub const RUN_FOLDER: FolderKind = FolderKind {
         "connections.csv",
         "summary.json",
         "collapse.glb",
+        "voids.csv",
+        "voids.json",
+        "rubble_height.csv",
         "plots",
         "vtk",
     ],

@@ -49,6 +49,12 @@ mod plot {
     mod fonts;
     mod run_folder;
 }
+mod rescue {
+    mod cli;
+    mod occupancy;
+    mod scene;
+    mod voids;
+}
 mod repo {
     mod anyhow_edge;
     mod no_unsafe;

@@ -222,7 +222,7 @@ fn two_runs_give_the_same_bytes() {
     let sc = Scenario::load(&p).unwrap();
     let a = write::contents(&pipeline::run(&sc, &Silent).unwrap(), false).unwrap();
     let b = write::contents(&pipeline::run(&sc, &Silent).unwrap(), false).unwrap();
-    assert_eq!(a.len(), 7);
+    assert_eq!(a.len(), 10);
     for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
         assert_eq!(na, nb);
         assert!(ba == bb, "{na} differs between two runs");

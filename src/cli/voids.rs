@@ -1,0 +1,63 @@
+//! `fem2rbd voids RUN_DIR [--cell M] [--rescuer M] [--camera M] [--timing]`: the rescue
+//! analysis of a run folder's ruin (`src/rescue/`, docs/rescue.md): writes `voids.csv`,
+//! `voids.json` and `rubble_height.csv` into the folder, each atomically, after the whole
+//! analysis succeeded; prints the files written (nothing with `--quiet`).
+use anyhow::Result;
+use clap::Args;
+use fem2rbd::rescue::person::{DEFAULT_CAMERA_M, DEFAULT_CELL_M, DEFAULT_RESCUER_M};
+use fem2rbd::rescue::{analyse, Ruin, Sizes};
+use std::path::PathBuf;
+
+/// Options of `voids`. Sizes are full-scale metres; the analysis multiplies them by the
+/// model's scale (`summary.json` `scale`).
+#[derive(Debug, Args)]
+pub struct VoidsArgs {
+    /// Run folder written by `fem2rbd run` (bodies.csv, ruins.csv, connections.csv,
+    /// summary.json).
+    pub run_dir: PathBuf,
+    /// Grid cell edge, m at full scale.
+    #[arg(long, default_value_t = DEFAULT_CELL_M)]
+    pub cell: f64,
+    /// Width of the passage a crawling rescuer needs, m at full scale.
+    #[arg(long, default_value_t = DEFAULT_RESCUER_M)]
+    pub rescuer: f64,
+    /// Diameter of the search camera's head, m at full scale.
+    #[arg(long, default_value_t = DEFAULT_CAMERA_M)]
+    pub camera: f64,
+    /// Print the analysis' wall time (reading excluded).
+    #[arg(long)]
+    pub timing: bool,
+}
+
+/// Runs `voids`.
+pub fn run(args: &VoidsArgs, quiet: bool) -> Result<()> {
+    let sizes = Sizes {
+        cell_m: args.cell,
+        rescuer_m: args.rescuer,
+        camera_m: args.camera,
+    };
+    // Sizes first (before reading), then the folder.
+    sizes.scaled(1.0)?;
+    let ruin = Ruin::load(&args.run_dir)?;
+    let t0 = std::time::Instant::now();
+    let analysis = analyse(&ruin, sizes)?;
+    let files = analysis.files();
+    let elapsed = t0.elapsed().as_secs_f64();
+    for (name, bytes) in &files {
+        fem2rbd::output::write_atomic(args.run_dir.join(name), bytes)?;
+    }
+    if args.timing {
+        let cells = analysis.field.as_ref().map_or(0, |f| f.grid.len());
+        println!(
+            "rescue analysis: {} bodies, {cells} cells, {} voids in {elapsed:.3} s",
+            ruin.boxes.len(),
+            analysis.voids.len()
+        );
+    }
+    if !quiet {
+        for (name, _) in &files {
+            println!("{}", args.run_dir.join(name).display());
+        }
+    }
+    Ok(())
+}

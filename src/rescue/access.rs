@@ -1,0 +1,242 @@
+//! Access: how a rescuer or a search camera reaches a void from open air, or, where
+//! neither can, the least debris to breach.
+//!
+//! * A body of diameter `w` can stand with its centre in a free cell whose clearance
+//!   ([`super::voids`]) is at least `w/2`: the free space eroded by the radius, through
+//!   the exact distance transform. Starting from such cells on the grid's sides and top
+//!   (open air), a breadth-first search with 0/1 costs (0 through open cells, 1 per
+//!   covered cell) finds, for every cell, the least length of crawl under debris
+//!   (6-connected steps × h) and where the route left open air: the **entry side** is the
+//!   side of the covered region it entered through (`x-` for a step towards +x, …, `top`
+//!   for a step down).
+//! * A void is **reached** when the search gets to one of its cells; the route is the one
+//!   to its reached cell with the largest clearance (the most room; ties by the shorter
+//!   route, then by cell order).
+//! * **Breach**: a 0/1 search from the grid's sides and top where entering a solid cell
+//!   costs 1 and a free cell 0 gives the least number of solid cells between open air and
+//!   each void (× h: the least debris thickness along a 6-connected path; 0 for a void
+//!   open to the air) and the first solid cell of that path (where to start) with the side
+//!   it was entered from.
+use super::voids::{Field, Void};
+use std::collections::VecDeque;
+
+/// No route.
+pub const UNREACHED: u32 = u32::MAX;
+/// No entry side (a route wholly in open air).
+pub const NO_SIDE: u8 = u8::MAX;
+
+/// The name of a step code (`axis · 2 + (sign > 0)`) as the side of the region it enters.
+pub fn side_name(code: u8) -> &'static str {
+    match code {
+        0 => "x+",
+        1 => "x-",
+        2 => "y+",
+        3 => "y-",
+        4 => "top",
+        5 => "below",
+        _ => "",
+    }
+}
+
+fn step_code(axis: usize, sign: i8) -> u8 {
+    (axis * 2) as u8 + u8::from(sign > 0)
+}
+
+/// The step code of entering the grid at boundary cell `idx` from outside (the side it
+/// lies on; the top before the sides).
+fn boundary_code(field: &Field, idx: usize) -> u8 {
+    let g = &field.grid;
+    let [i, j, k] = g.ijk(idx);
+    if k + 1 == g.n[2] {
+        step_code(2, -1)
+    } else if i == 0 {
+        step_code(0, 1)
+    } else if i + 1 == g.n[0] {
+        step_code(0, -1)
+    } else if j == 0 {
+        step_code(1, 1)
+    } else {
+        step_code(1, -1)
+    }
+}
+
+/// Routes of a body of diameter `width` (m, at the model's scale): per cell the crawl
+/// length in covered cells and the entry side.
+#[derive(Debug, Clone)]
+pub struct Routes {
+    /// Covered cells along the best route ([`UNREACHED`] if none).
+    pub cost: Vec<u32>,
+    /// Entry side code per cell.
+    pub side: Vec<u8>,
+}
+
+/// 0/1 breadth-first search: `cost_of(q)` the cost of entering cell `q` (`None`: not
+/// passable), `sources` the cells on the grid's sides and top that may start a route.
+fn search(
+    field: &Field,
+    cost_of: impl Fn(usize) -> Option<u32>,
+    mark: impl Fn(usize) -> bool,
+) -> (Vec<u32>, Vec<u8>, Vec<u32>) {
+    let g = &field.grid;
+    let mut cost = vec![UNREACHED; g.len()];
+    let mut side = vec![NO_SIDE; g.len()];
+    // The first marked cell of the route (breach: the first solid cell).
+    let mut first = vec![u32::MAX; g.len()];
+    let mut deque: VecDeque<usize> = VecDeque::new();
+    for idx in 0..g.len() {
+        if !g.on_open_boundary(idx) {
+            continue;
+        }
+        let Some(c) = cost_of(idx) else { continue };
+        cost[idx] = c;
+        if c > 0 {
+            side[idx] = boundary_code(field, idx);
+        }
+        if mark(idx) {
+            first[idx] = idx as u32;
+        }
+        if c == 0 {
+            deque.push_front(idx);
+        } else {
+            deque.push_back(idx);
+        }
+    }
+    // Cells are settled in order of cost; a cell may be queued more than once and the
+    // stale entries are skipped by the cost test.
+    let mut done = vec![false; g.len()];
+    while let Some(c) = deque.pop_front() {
+        if done[c] {
+            continue;
+        }
+        done[c] = true;
+        for (q, axis, sign) in g.neighbours(c) {
+            if done[q] {
+                continue;
+            }
+            let Some(step) = cost_of(q) else { continue };
+            let nc = cost[c] + step;
+            if nc < cost[q] {
+                cost[q] = nc;
+                side[q] = if step > 0 && side[c] == NO_SIDE {
+                    step_code(axis, sign)
+                } else {
+                    side[c]
+                };
+                first[q] = if first[c] == u32::MAX && mark(q) {
+                    q as u32
+                } else {
+                    first[c]
+                };
+                if step == 0 {
+                    deque.push_front(q);
+                } else {
+                    deque.push_back(q);
+                }
+            }
+        }
+    }
+    (cost, side, first)
+}
+
+/// The routes of a body of diameter `width`, m.
+pub fn routes(field: &Field, width: f64) -> Routes {
+    let r = 0.5 * width;
+    let (cost, side, _) = search(
+        field,
+        |q| {
+            let free = !field.solid[q] && field.clearance[q] as f64 >= r;
+            free.then(|| u32::from(field.covered(q)))
+        },
+        |_| false,
+    );
+    Routes { cost, side }
+}
+
+/// A void's access for one body size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Access {
+    /// Crawl length under debris to the void's most spacious reached cell, m.
+    pub route_m: f64,
+    /// Side the route entered the debris through (`x-`, `x+`, `y-`, `y+`, `top`, `below`;
+    /// empty when the route never passes under debris).
+    pub entry: &'static str,
+    /// The cell reached.
+    pub cell: usize,
+}
+
+/// The access to `void` along `routes` (`None`: not reached).
+pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
+    let mut best: Option<(f32, u32, usize)> = None;
+    for &c in &void.cells {
+        let cost = routes.cost[c];
+        if cost == UNREACHED {
+            continue;
+        }
+        let key = (field.clearance[c], cost, c);
+        let better = match best {
+            None => true,
+            Some((cl, co, _)) => key.0 > cl || (key.0 == cl && key.1 < co),
+        };
+        if better {
+            best = Some(key);
+        }
+    }
+    best.map(|(_, cost, c)| Access {
+        route_m: cost as f64 * field.grid.h,
+        entry: side_name(routes.side[c]),
+        cell: c,
+    })
+}
+
+/// The breach field: per cell the least solid cells from open air, the first of them and
+/// the side it was entered from.
+#[derive(Debug, Clone)]
+pub struct BreachField {
+    /// Solid cells crossed.
+    pub cost: Vec<u32>,
+    /// Entry side code of the first solid cell.
+    pub side: Vec<u8>,
+    /// The first solid cell of the route (`u32::MAX`: none).
+    pub first: Vec<u32>,
+}
+
+/// The breach field of `field`.
+pub fn breach_field(field: &Field) -> BreachField {
+    let (cost, side, first) = search(
+        field,
+        |q| Some(u32::from(field.solid[q])),
+        |q| field.solid[q],
+    );
+    BreachField { cost, side, first }
+}
+
+/// The least breach into a void.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Breach {
+    /// Debris thickness to cut, m (0: open to the air).
+    pub thickness_m: f64,
+    /// Centre of the first solid cell to cut (`None` when nothing is cut), m.
+    pub at_m: Option<[f64; 3]>,
+    /// The side it is entered from.
+    pub side: &'static str,
+}
+
+/// The least breach into `void`.
+pub fn breach(field: &Field, b: &BreachField, void: &Void) -> Breach {
+    let c = void
+        .cells
+        .iter()
+        .copied()
+        .min_by_key(|&c| (b.cost[c], c))
+        .expect("a void has cells");
+    let first = b.first[c];
+    Breach {
+        thickness_m: b.cost[c] as f64 * field.grid.h,
+        at_m: (first != u32::MAX).then(|| field.grid.centre(field.grid.ijk(first as usize))),
+        side: if first != u32::MAX {
+            side_name(b.side[c])
+        } else {
+            ""
+        },
+    }
+}
