@@ -303,7 +303,7 @@ enum GlbError {
 
 /// What a run folder owns: an existing non-empty output folder holding none of these is
 /// refused before the run ([`crate::output::location::check_replaceable`]).
-pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv"];
+pub const RUN_OWNED: &[&str] = &["summary.json", "ruins.csv", "report.html"];
 
 /// Writes the outputs as the whole content of `dir`: built beside it and swapped in, so
 /// the folder holds this run's files and nothing of an earlier run

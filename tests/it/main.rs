@@ -48,6 +48,11 @@ mod plot {
     mod fonts;
     mod run_folder;
 }
+mod report {
+    mod browser;
+    mod command;
+    mod frame3;
+}
 mod repo {
     mod anyhow_edge;
     mod no_unsafe;
