@@ -1,6 +1,7 @@
 //! `fem2rbd report RUN_DIR [-o report.html]`: the self-contained HTML report of a run
 //! folder ([`fem2rbd::report`]): the collapse and the ruin in 3-D over the whole timeline,
-//! the key figures of `summary.json` and the run's figures. Written atomically, by default
+//! the key figures of `summary.json` and the run's figures; of an ensemble folder, the
+//! members' ruins overlaid and the debris-density map. Written atomically, by default
 //! to `RUN_DIR/report.html`; the file written is printed on stdout (nothing with
 //! `--quiet`).
 use anyhow::Result;
@@ -12,7 +13,8 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Args)]
 pub struct ReportArgs {
     /// Run folder written by `fem2rbd run` (bodies.csv, keyframes.csv, history.csv,
-    /// ruins.csv, summary.json; connections.csv and plots/*.svg when present).
+    /// ruins.csv, summary.json; connections.csv and plots/*.svg when present), or an
+    /// ensemble folder (`fem2rbd run --ensemble N`: ensemble.json and member-NNN/).
     pub run_dir: PathBuf,
     /// Output file. Default: RUN_DIR/report.html.
     #[arg(short, long)]

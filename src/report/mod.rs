@@ -21,11 +21,15 @@
 //! plots) and every error names the file. The page is built in memory and written
 //! atomically: on an error nothing is written. The same run folder gives the same bytes.
 //!
+//! An ensemble folder (`ensemble.json` + `member-NNN/`) gets its own page: the members'
+//! final ruins overlaid, their key figures and the debris-density map ([`ensemble`]).
+//!
 //! The page is laid out in sections (`<section id=...>`: view, figures, bodies, plots) so
 //! that further sections of a run folder's results can be added beside them.
 pub mod base64;
 pub mod connections;
 pub mod data;
+pub mod ensemble;
 pub mod figures;
 pub mod ground_strip;
 pub mod html;
@@ -92,16 +96,20 @@ pub(crate) fn inconsistent(file: impl Into<PathBuf>, message: impl Into<String>)
     }
 }
 
-/// The report page of the run folder `dir`, as HTML text.
+/// The report page of the run folder `dir` (of the ensemble folder `dir` when it holds
+/// `ensemble.json`: [`ensemble`]), as HTML text.
 pub fn report_html(dir: &Path) -> Result<String> {
+    if ensemble::is_ensemble(dir) {
+        return ensemble::report_html(dir);
+    }
     let run = RunFolder::load(dir)?;
     let connections = connections::load(dir, &run)?;
     let plots = plots::load(dir)?;
     page::render(&run, connections.as_deref(), &plots)
 }
 
-/// Writes the report of the run folder `dir` to `out` atomically; nothing is written when
-/// the run folder cannot be read. Returns the number of bytes written.
+/// Writes the report of the run or ensemble folder `dir` to `out` atomically; nothing is
+/// written when the folder cannot be read. Returns the number of bytes written.
 pub fn write_report(dir: &Path, out: &Path) -> Result<usize> {
     let html = report_html(dir)?;
     crate::output::write_atomic(out, html.as_bytes()).map_err(|error| ReportError::Write {

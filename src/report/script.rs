@@ -2,7 +2,7 @@
 //! bundled and minified by esbuild into `data/report/three-bundle.min.js` by
 //! `scripts/update-report-js.sh`, which pins the versions and checks the SHA-256;
 //! licence in `data/report/three-LICENSE`), and the page's own script and style
-//! (`src/report/page.js`, `src/report/page.css`). All are compiled into the binary: the
+//! (`src/report/page.js`, `src/report/ensemble.js`, `src/report/page.css`). All are compiled into the binary: the
 //! report needs no node, no network and no file beside it.
 
 /// three.js r187 and OrbitControls as one classic script defining the global `THREE`.
@@ -14,6 +14,9 @@ pub const THREE_LICENSE: &str = include_str!("../../data/report/three-LICENSE");
 /// The page's script: the viewer, the controls, picking and the body table.
 pub const PAGE_JS: &str = include_str!("page.js");
 
+/// The ensemble page's script: the members' final ruins overlaid.
+pub const ENSEMBLE_JS: &str = include_str!("ensemble.js");
+
 /// The page's style sheet.
 pub const PAGE_CSS: &str = include_str!("page.css");
 
@@ -23,7 +26,11 @@ mod tests {
 
     #[test]
     fn inlined_scripts_cannot_close_their_script_element() {
-        for (name, text) in [("three bundle", THREE_BUNDLE), ("page.js", PAGE_JS)] {
+        for (name, text) in [
+            ("three bundle", THREE_BUNDLE),
+            ("page.js", PAGE_JS),
+            ("ensemble.js", ENSEMBLE_JS),
+        ] {
             assert!(
                 !text.to_ascii_lowercase().contains("</script"),
                 "{name} contains </script"

@@ -51,6 +51,7 @@ mod plot {
 mod report {
     mod browser;
     mod command;
+    mod ensemble;
     mod frame3;
 }
 mod repo {
