@@ -91,11 +91,11 @@ fn rows(s: &RunSummary, run: &RunFolder) -> Vec<Row> {
             "ruin_stage.stop",
             "Ruin stage stopped",
             format!(
-                "{} at {} s; {} of {} bodies at rest",
+                "{} at {} s; {} of {} bodies at rest (foundation blocks included)",
                 rs.stop.name(),
                 rs.end_s,
                 rs.bodies_at_rest,
-                s.bodies
+                s.bodies + s.foundation_blocks
             ),
             Some(rs.end_s),
         ));
