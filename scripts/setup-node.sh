@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# Installs the npm packages the glTF tests use, at the versions pinned in
-# tests/gltf/package.json and package-lock.json, into tests/gltf/node_modules:
-#   gltf-validator  the Khronos glTF validator (tests/gltf/validate.mjs, tests/it/output/gltf_validator.rs)
-#   three           three.js, whose GLTFLoader plays our files (tests/gltf/three_sample.mjs,
-#                   tests/it/output/gltf_three.rs)
+# Installs the npm packages the tests use, at the versions pinned in each folder's
+# package.json and package-lock.json, into its node_modules:
+#   tests/gltf:   gltf-validator  the Khronos glTF validator (tests/gltf/validate.mjs,
+#                                 tests/it/output/gltf_validator.rs)
+#                 three           three.js, whose GLTFLoader plays our files
+#                                 (tests/gltf/three_sample.mjs, tests/it/output/gltf_three.rs)
+#   tests/report: playwright-core drives headless Chromium over the report page
+#                                 (tests/report/check.mjs, tests/it/report/browser.rs)
 # Needs Node.js >= 18 and npm (Debian/Ubuntu: `apt-get install nodejs npm`).
 # Idempotent: does nothing when the pinned versions are already installed.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-prefix="$here/tests/gltf"
 
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
   if command -v apt-get >/dev/null && [ "$(id -u)" = 0 ]; then
@@ -34,15 +36,16 @@ versions() {
     }' "$prefix" "$1"
 }
 
-if [ "$(versions have)" = "$(versions want)" ]; then
-  echo "already installed in $prefix/node_modules:" $(versions have)
-  exit 0
-fi
-
-# `npm ci` installs exactly what package-lock.json pins (integrity-checked).
-npm ci --prefix "$prefix" --no-audit --no-fund
-[ "$(versions have)" = "$(versions want)" ] || {
-  echo "setup-node.sh: installed versions differ from package.json:" $(versions have) >&2
-  exit 1
-}
-echo "installed in $prefix/node_modules:" $(versions have)
+for prefix in "$here/tests/gltf" "$here/tests/report"; do
+  if [ "$(versions have)" = "$(versions want)" ]; then
+    echo "already installed in $prefix/node_modules:" $(versions have)
+    continue
+  fi
+  # `npm ci` installs exactly what package-lock.json pins (integrity-checked).
+  npm ci --prefix "$prefix" --no-audit --no-fund
+  [ "$(versions have)" = "$(versions want)" ] || {
+    echo "setup-node.sh: installed versions differ from package.json:" $(versions have) >&2
+    exit 1
+  }
+  echo "installed in $prefix/node_modules:" $(versions have)
+done

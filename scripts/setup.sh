@@ -12,7 +12,9 @@
 #   pip: pybullet==3.2.7 and numpy (pybullet cross-checks), openseespy (OpenSees
 #        cross-checks of the FE stages), meshio==5.3.5 (reads back our VTK files)
 #        matplotlib (plots of the comparison scripts, e.g. scripts/library-opensees.py)
-#   npm: scripts/setup-node.sh (gltf-validator and three.js for the glTF checks)
+#   apt: chromium (Debian's; headless, the report page's browser test tests/it/report/browser.rs)
+#   npm: scripts/setup-node.sh (gltf-validator and three.js for the glTF checks,
+#        playwright-core for the report page's browser test)
 #   Rust: a toolchain >= 1.85 via rustup, only when cargo is missing or older
 #
 # Run as root, or as a user with sudo.
@@ -38,7 +40,7 @@ apt_missing() {
 }
 
 # g++ compiles the C++ shim (the cc crate calls `c++`) and gcc links Rust binaries.
-APT_PACKAGES=(libbullet-dev libeigen3-dev libclang-dev clang pkg-config g++)
+APT_PACKAGES=(libbullet-dev libeigen3-dev libclang-dev clang pkg-config g++ chromium)
 # A python3 with pip from elsewhere (pyenv, venv) is fine; otherwise take Debian's.
 if ! { command -v python3 >/dev/null 2>&1 && python3 -m pip --version >/dev/null 2>&1; }; then
     APT_PACKAGES+=(python3 python3-pip)

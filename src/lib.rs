@@ -27,6 +27,7 @@ pub mod mode;
 pub mod output;
 pub mod pipeline;
 pub mod plot;
+pub mod report;
 pub mod rescue;
 pub mod ruin;
 pub mod scene;

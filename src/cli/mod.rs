@@ -8,6 +8,7 @@ pub mod generate;
 pub mod map;
 pub mod modal;
 pub mod plot;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod study;
@@ -61,6 +62,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Figures of a run folder: ruin plan and elevations, drift/drop and connection histories.
     Plot(plot::PlotArgs),
+    /// A self-contained HTML report of a run folder: the collapse in 3-D, the ruin, the key figures.
+    Report(report::ReportArgs),
     /// Batch studies: plan, run locally or on Slurm, collect (IDA, fragility, libraries).
     #[command(subcommand)]
     Study(study::StudyCommand),
@@ -115,6 +118,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fe(args) => fe::run(&args, cli.quiet, cli.allow_unusual),
         Command::Run(args) => run::run(&args, cli.quiet, cli.allow_unusual),
         Command::Plot(args) => plot::run(&args, cli.quiet),
+        Command::Report(args) => report::run(&args, cli.quiet),
         Command::Study(cmd) => study::run(&cmd, cli.quiet, cli.allow_unusual),
         Command::Voids(args) => voids::run(&args, cli.quiet),
     }

@@ -1,8 +1,9 @@
 //! `fem2rbd run [scenario.toml] [--mode hybrid|physics|fe] [--out DIR]`: the whole
 //! pipeline ([`fem2rbd::pipeline`]). Without a scenario it runs the shipped frame3 LC5
 //! example `data/frame3/lc5.toml`. The scenario is read and checked completely before
-//! anything runs; the outputs are written at the end, each atomically.
-use anyhow::Result;
+//! anything runs; the outputs are written at the end, each atomically, then the run's HTML
+//! report `report.html` from the written folder (unless `--no-report`).
+use anyhow::{Context, Result};
 use clap::Args;
 use fem2rbd::pipeline::{self, Mode, Progress, Scenario};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -38,6 +39,10 @@ pub struct RunArgs {
     /// without running.
     #[arg(long)]
     pub estimate: bool,
+    /// Do not write report.html (the run's HTML report, `fem2rbd report`) into the run
+    /// folder.
+    #[arg(long)]
+    pub no_report: bool,
 }
 
 /// A progress bar on stderr per stage (hidden when quiet or not on a terminal).
@@ -179,7 +184,18 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     };
     let mut rec = pipeline::run(&sc, &bars)?;
     rec.unusual = unusual;
-    let written = pipeline::write::write(&rec, &sc.output, true)?;
+    let mut written = pipeline::write::write(&rec, &sc.output, true)?;
+    if !args.no_report {
+        // Written after the run folder, from its files alone (as `fem2rbd report` would).
+        let out = sc.output.join("report.html");
+        super::report::write(&sc.output, &out).with_context(|| {
+            format!(
+                "the run folder {} is written; its report",
+                sc.output.display()
+            )
+        })?;
+        written.push(out);
+    }
     if !quiet {
         let tc = match rec.tc_s {
             Some(t) => format!("Tc = {t:.3} s"),

@@ -359,6 +359,7 @@ pub const RUN_FOLDER: FolderKind = FolderKind {
         "voids.csv",
         "voids.json",
         "rubble_height.csv",
+        "report.html",
         "plots",
         "vtk",
     ],

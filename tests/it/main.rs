@@ -49,6 +49,12 @@ mod plot {
     mod fonts;
     mod run_folder;
 }
+mod report {
+    mod browser;
+    mod command;
+    mod ensemble;
+    mod frame3;
+}
 mod rescue {
     mod cli;
     mod occupancy;

@@ -1,0 +1,43 @@
+// The parts of three.js the report page uses, as one global `THREE` (with OrbitControls),
+// for a classic inline <script>. Bundled by scripts/update-report-js.sh.
+import {
+  AmbientLight,
+  BoxGeometry,
+  Color,
+  DirectionalLight,
+  GridHelper,
+  InstancedMesh,
+  Matrix4,
+  Mesh,
+  MeshLambertMaterial,
+  PerspectiveCamera,
+  PlaneGeometry,
+  Quaternion,
+  Raycaster,
+  Scene,
+  Vector2,
+  Vector3,
+  WebGLRenderer,
+} from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+
+globalThis.THREE = {
+  AmbientLight,
+  BoxGeometry,
+  Color,
+  DirectionalLight,
+  GridHelper,
+  InstancedMesh,
+  Matrix4,
+  Mesh,
+  MeshLambertMaterial,
+  OrbitControls,
+  PerspectiveCamera,
+  PlaneGeometry,
+  Quaternion,
+  Raycaster,
+  Scene,
+  Vector2,
+  Vector3,
+  WebGLRenderer,
+};

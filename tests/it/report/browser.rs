@@ -1,0 +1,191 @@
+//! The frame3 report in a real browser: Debian's headless Chromium (`apt-get install
+//! chromium`), driven by tests/report/check.mjs through playwright-core (pinned in
+//! tests/report/package.json, installed by scripts/setup-node.sh), loads the page from the
+//! file alone (any network request fails the test) and reports what it shows; this test
+//! asserts it against the run folder's own numbers:
+//!
+//! * the page raised no JavaScript error and logged none;
+//! * the scene draws one box per row of `bodies.csv`, the body table has one row per body;
+//! * the time slider spans the timeline of `keyframes.csv`, and the page's frame times are
+//!   its times;
+//! * the key-figure table shows `summary.json`'s Tc; the `plots/*.svg` are all inlined;
+//!   connection-state colouring is offered (the run has `connections.csv`);
+//! * at rest, the world box of the drawn active bodies (each instance's unit cube through
+//!   its matrix) is the ruin's extent of `summary.json` (original footprint ± debris
+//!   extent per side, top = base level + final ground z + debris height) to 2 mm
+//!   (float32 poses, 6-decimal summary), and the 3-D view shows all of it on the canvas;
+//! * clicking the highest body in plan view shows that body's row;
+//! * screenshots before Tc, at Tc and at rest are PNGs of the view, all different.
+//!
+//! Fails (does not skip) when node, playwright-core or chromium is missing.
+use super::frame3::run_dir;
+use fem2rbd::output::run_folder::RunFolder;
+use fem2rbd::output::summary::corners;
+use serde_json::Value;
+use std::path::Path;
+use std::process::Command;
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
+}
+
+#[test]
+fn frame3_report_in_headless_chromium() {
+    let dir = run_dir();
+    let run = RunFolder::load(dir).unwrap();
+    let s = &run.summary;
+    let tc = s.tc_s.expect("the CI scenario collapses");
+    let t0 = run.frames[0].0;
+    let t1 = run.frames.last().unwrap().0;
+    let shots = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-frame3/shots");
+    std::fs::create_dir_all(&shots).unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/report/check.mjs");
+    let out = Command::new("node")
+        .arg(&script)
+        .arg(dir.join("report.html"))
+        .arg(&shots)
+        .arg(format!("before_tc={}", 0.5 * tc))
+        .arg(format!("at_tc={tc}"))
+        .arg(format!("at_rest={t1}"))
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run `node` ({e}): install Node.js >= 18, then run scripts/setup-node.sh")
+        });
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "check.mjs failed (chromium: `apt-get install chromium`; playwright-core: \
+         scripts/setup-node.sh): {stderr}"
+    );
+    let r: Value = serde_json::from_slice(&out.stdout).expect("check.mjs prints JSON");
+    eprintln!("{}", serde_json::to_string_pretty(&r["pick"]).unwrap());
+
+    assert_eq!(r["errors"], serde_json::json!([]), "JavaScript errors");
+    let n = run.bodies.len();
+    assert_eq!(n, 88, "frame3: 84 mapped bodies + 4 foundation blocks");
+    assert_eq!(r["bodies_in_scene"], n);
+    assert_eq!(r["body_rows"], n);
+    assert_eq!(f(&r["slider_min"]), t0);
+    assert_eq!(f(&r["slider_max"]), t1);
+    let times: Vec<f64> = r["times"].as_array().unwrap().iter().map(f).collect();
+    let want: Vec<f64> = run.frames.iter().map(|fr| fr.0).collect();
+    assert_eq!(times, want);
+    let shown_tc: f64 = r["key_figure_tc"].as_str().unwrap().parse().unwrap();
+    assert_eq!(shown_tc, tc);
+    assert!(
+        r["key_figure_tc_text"]
+            .as_str()
+            .unwrap()
+            .contains(&tc.to_string()),
+        "{}",
+        r["key_figure_tc_text"]
+    );
+    let svgs = std::fs::read_dir(dir.join("plots"))
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
+        .count();
+    assert!(svgs >= 5, "fem2rbd plot wrote {svgs} SVGs");
+    assert_eq!(r["plots"], svgs);
+    assert_eq!(
+        r["colour_options"],
+        serde_json::json!(["type", "story", "connection"])
+    );
+
+    // The ruin's extent, from summary.json and the tables.
+    let ru = &s.ruins;
+    let fp = &ru.original_footprint_m;
+    let e = &ru.extent_beyond_footprint_m;
+    let base = run
+        .bodies
+        .iter()
+        .filter(|b| b.passive)
+        .flat_map(|b| corners(&b.pose0, b.half_extents))
+        .map(|c| c[2])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let ground_z = run.history.last().unwrap().ground_m[2];
+    let lo: Vec<f64> = r["rest_world_min"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let hi: Vec<f64> = r["rest_world_max"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let tol = 2e-3;
+    // A side with debris beyond the footprint: the drawn box reaches exactly there; a side
+    // without: the drawn box stays within the footprint.
+    let side = |drawn: f64, edge: f64, beyond: f64, outward: f64, what: &str| {
+        if beyond > 0.0 {
+            let want = edge + outward * beyond;
+            assert!(
+                (drawn - want).abs() < tol,
+                "{what}: drawn {drawn}, ruin {want}"
+            );
+        } else {
+            assert!(
+                outward * (drawn - edge) < tol,
+                "{what}: drawn {drawn} beyond {edge}"
+            );
+        }
+    };
+    side(lo[0], fp.x[0], e.x_minus, -1.0, "−x");
+    side(hi[0], fp.x[1], e.x_plus, 1.0, "+x");
+    side(lo[1], fp.y[0], e.y_minus, -1.0, "−y");
+    side(hi[1], fp.y[1], e.y_plus, 1.0, "+y");
+    let top = base + ground_z + ru.max_debris_height_m;
+    assert!(
+        (hi[2] - top).abs() < tol,
+        "top: drawn {}, ruin {top}",
+        hi[2]
+    );
+    eprintln!(
+        "drawn ruin at rest: x {:.3}…{:.3}, y {:.3}…{:.3}, top {:.3} m",
+        lo[0], hi[0], lo[1], hi[1], hi[2]
+    );
+
+    // The 3-D view frames the whole ruin, and not as a speck.
+    let px: Vec<f64> = r["rest_pixels"].as_array().unwrap().iter().map(f).collect();
+    let (w, h) = (f(&r["canvas"][0]), f(&r["canvas"][1]));
+    assert!(
+        px[0] >= 0.0 && px[1] >= 0.0 && px[2] <= w && px[3] <= h,
+        "drawn bodies {px:?} outside the {w}×{h} canvas"
+    );
+    assert!(
+        (px[2] - px[0]) > 0.2 * w || (px[3] - px[1]) > 0.2 * h,
+        "drawn bodies {px:?} are a speck on the {w}×{h} canvas"
+    );
+
+    // Picking.
+    let pick = &r["pick"];
+    assert_eq!(pick["shown"], pick["wanted"], "{pick}");
+    let i = pick["wanted"].as_u64().unwrap() as usize;
+    assert_eq!(pick["row_name"], run.bodies[i].id.name());
+
+    // Screenshots: PNGs of the view, each time a different picture.
+    let mut pictures = Vec::new();
+    for (shot, t) in r["shots"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip([0.5 * tc, tc, t1])
+    {
+        assert!((f(&shot["t"]) - t).abs() < 1e-9);
+        let bytes = std::fs::read(shot["file"].as_str().unwrap()).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG", "{shot}");
+        let readout = shot["readout"].as_str().unwrap();
+        assert!(readout.contains(&format!("t = {t:.3} s")), "{readout}");
+        pictures.push(bytes);
+    }
+    assert_eq!(pictures.len(), 3);
+    assert!(pictures[0] != pictures[1] && pictures[1] != pictures[2]);
+}
