@@ -114,6 +114,48 @@ try {
     })
   );
 
+  // Plan view at rest: a screenshot of the canvas alone, the drawn active bodies' box on
+  // it in pixels (corners through the camera), and the legend's box on it (to be left
+  // out of the picture's analysis).
+  const planShot = path.join(outDir, "plan_at_rest.png");
+  Object.assign(
+    out,
+    await page.evaluate(() => {
+      const r = window.fem2rbdReport;
+      const T = window.THREE;
+      r.setView("plan");
+      r.setTime(r.times[r.times.length - 1]);
+      const passive = JSON.parse(document.getElementById("report-data").textContent).bodies.passive;
+      const m = new T.Matrix4();
+      const v = new T.Vector3();
+      const canvas = r.renderer.domElement;
+      const w = canvas.clientWidth;
+      const h = canvas.clientHeight;
+      const px = [Infinity, Infinity, -Infinity, -Infinity];
+      for (let i = 0; i < r.mesh.count; i++) {
+        if (passive[i]) continue;
+        r.mesh.getMatrixAt(i, m);
+        for (let c = 0; c < 8; c++) {
+          v.set(c & 1 ? 0.5 : -0.5, c & 2 ? 0.5 : -0.5, c & 4 ? 0.5 : -0.5).applyMatrix4(m).project(r.camera);
+          const x = ((v.x + 1) / 2) * w;
+          const y = ((1 - v.y) / 2) * h;
+          px[0] = Math.min(px[0], x);
+          px[1] = Math.min(px[1], y);
+          px[2] = Math.max(px[2], x);
+          px[3] = Math.max(px[3], y);
+        }
+      }
+      const c = canvas.getBoundingClientRect();
+      const l = document.getElementById("legend").getBoundingClientRect();
+      return {
+        plan_pixels: px,
+        plan_legend: [l.left - c.left, l.top - c.top, l.right - c.left, l.bottom - c.top],
+      };
+    })
+  );
+  await page.locator("#scene-canvas").screenshot({ path: planShot });
+  out.plan_shot = planShot;
+
   // Picking in plan view at rest: click the projected centre of the top face of the body
   // whose top face is highest; the page must show that body's row.
   const target = await page.evaluate(() => {

@@ -14,6 +14,8 @@
 //!   its matrix) is the ruin's extent of `summary.json` (original footprint ± debris
 //!   extent per side, top = base level + final ground z + debris height) to 2 mm
 //!   (float32 poses, 6-decimal summary), and the 3-D view shows all of it on the canvas;
+//! * in a plan-view screenshot at rest, the pixels in element colours span the drawn
+//!   active bodies' box projected through the camera, to 3 px;
 //! * clicking the highest body in plan view shows that body's row;
 //! * screenshots before Tc, at Tc and at rest are PNGs of the view, all different.
 //!
@@ -24,6 +26,29 @@ use fem2rbd::output::summary::corners;
 use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
+
+/// Width, height and 8-bit RGB pixels of a PNG file (RGB or RGBA, 8 bits).
+fn decode_png(path: &Path) -> (usize, usize, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.bit_depth, png::BitDepth::Eight, "{}", path.display());
+    let channels = match info.color_type {
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        other => panic!("{}: colour type {other:?}", path.display()),
+    };
+    let (w, h) = (info.width as usize, info.height as usize);
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    for y in 0..h {
+        let row = &buf[y * info.line_size..];
+        for x in 0..w {
+            rgb.extend_from_slice(&row[x * channels..x * channels + 3]);
+        }
+    }
+    (w, h, rgb)
+}
 
 fn f(v: &Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
@@ -164,6 +189,44 @@ fn frame3_report_in_headless_chromium() {
         (px[2] - px[0]) > 0.2 * w || (px[3] - px[1]) > 0.2 * h,
         "drawn bodies {px:?} are a speck on the {w}×{h} canvas"
     );
+
+    // The plan-view picture at rest: its saturated pixels (the element colours; the
+    // ground, grid, background and the grey foundations are near-grey) outside the
+    // legend span the drawn active bodies' projected box, to 3 px.
+    let (w_px, h_px, rgb) = decode_png(Path::new(r["plan_shot"].as_str().unwrap()));
+    let legend: Vec<f64> = r["plan_legend"].as_array().unwrap().iter().map(f).collect();
+    let mut seen = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for y in 0..h_px {
+        for x in 0..w_px {
+            let (xf, yf) = (x as f64 + 0.5, y as f64 + 0.5);
+            if xf >= legend[0] && xf <= legend[2] && yf >= legend[1] && yf <= legend[3] {
+                continue;
+            }
+            let p = &rgb[3 * (y * w_px + x)..3 * (y * w_px + x) + 3];
+            let sat = i32::from(*p.iter().max().unwrap()) - i32::from(*p.iter().min().unwrap());
+            if sat >= 50 {
+                seen = [
+                    seen[0].min(x as f64),
+                    seen[1].min(y as f64),
+                    seen[2].max(x as f64 + 1.0),
+                    seen[3].max(y as f64 + 1.0),
+                ];
+            }
+        }
+    }
+    let want: Vec<f64> = r["plan_pixels"].as_array().unwrap().iter().map(f).collect();
+    eprintln!("plan view at rest: bodies drawn over pixels {seen:?}, projected {want:?}");
+    for k in 0..4 {
+        assert!(
+            (seen[k] - want[k]).abs() <= 3.0,
+            "plan view: pixels {seen:?}, projected box {want:?}"
+        );
+    }
 
     // Picking.
     let pick = &r["pick"];
