@@ -118,8 +118,10 @@ fn load(study: &PathBuf, out: &Option<PathBuf>) -> Result<(Study, Store)> {
 /// `allow` ([`super::plausible`]); checked by the commands that start runs.
 fn plausible_models(study: &Study, allow: bool) -> Result<()> {
     for m in &study.models {
-        let model = fem2rbd::model::Model::load(&m.file)?;
-        super::plausible(&model, &m.file, allow)?;
+        // A model that does not load fails its runs, which record the error.
+        if let Ok(model) = fem2rbd::model::Model::load(&m.file) {
+            super::plausible(&model, &m.file, allow)?;
+        }
     }
     Ok(())
 }

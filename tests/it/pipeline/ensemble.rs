@@ -69,8 +69,9 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     write_ensemble(&sc, &one, 42, &tmp.path().join("t1")).unwrap();
     write_ensemble(&sc, &two, 42, &tmp.path().join("t2")).unwrap();
     let (a, b) = (files(&tmp.path().join("t1")), files(&tmp.path().join("t2")));
-    // Seven files and the marker per member; ensemble.json and the ensemble's marker.
-    assert_eq!(a.len(), 3 * 8 + 2);
+    // Per member seven tables, the three files of the rescue analysis and the marker;
+    // ensemble.json and the ensemble's marker.
+    assert_eq!(a.len(), 3 * 11 + 2);
     for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
         assert_eq!(na, nb);
         assert!(ba == bb, "{na} differs between 1 and 2 threads");
