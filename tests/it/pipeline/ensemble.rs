@@ -69,7 +69,7 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     write_ensemble(&sc, &one, 42, &tmp.path().join("t1")).unwrap();
     write_ensemble(&sc, &two, 42, &tmp.path().join("t2")).unwrap();
     let (a, b) = (files(&tmp.path().join("t1")), files(&tmp.path().join("t2")));
-    assert_eq!(a.len(), 3 * 7 + 1);
+    assert_eq!(a.len(), 3 * 10 + 1);
     for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
         assert_eq!(na, nb);
         assert!(ba == bb, "{na} differs between 1 and 2 threads");
