@@ -158,3 +158,44 @@ pub fn rc_per_area(t: f64, b: f64, p: Option<f64>) -> fem2rbd::ruin::strength::S
         p,
     }
 }
+
+/// Frame3 (`data/frame3/model.toml`) under LC5 as shipped (El Centro: X ← ELC180 0.93 g,
+/// Y ← ELC270 1.19 g, Z ← UP 0.57 g, time compressed by 0.5), FE step 5 ms, with the
+/// `[collapse]`, extra `[fe]` and `[physics]` lines given: the scenario of the CI-sized
+/// whole runs.
+pub fn frame3_lc5(mode: &str, collapse: &str, extra_fe: &str, physics: &str) -> String {
+    let root = env!("CARGO_MANIFEST_DIR");
+    format!(
+        r#"model = "{root}/data/frame3/model.toml"
+mode = "{mode}"
+
+[[ground_motion]]
+file = "{root}/data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2"
+direction = "X"
+pga_g = 0.93
+time_scale = 0.5
+
+[[ground_motion]]
+file = "{root}/data/ground-motions/RSN6_IMPVALL.I_I-ELC270.AT2"
+direction = "Y"
+pga_g = 1.19
+time_scale = 0.5
+
+[[ground_motion]]
+file = "{root}/data/ground-motions/RSN6_IMPVALL.I_I-ELC-UP.AT2"
+direction = "Z"
+pga_g = 0.57
+time_scale = 0.5
+
+[fe]
+dt = 0.005
+{extra_fe}
+
+[collapse]
+{collapse}
+
+[physics]
+{physics}
+"#
+    )
+}

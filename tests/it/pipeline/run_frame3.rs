@@ -23,40 +23,9 @@ use std::path::{Path, PathBuf};
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
+/// The CI-sized frame3 LC5 scenario ([`crate::support::frame3_lc5`]).
 fn scenario_text(mode: &str, collapse: &str, extra_fe: &str, physics: &str) -> String {
-    format!(
-        r#"model = "{ROOT}/data/frame3/model.toml"
-mode = "{mode}"
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2"
-direction = "X"
-pga_g = 0.93
-time_scale = 0.5
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC270.AT2"
-direction = "Y"
-pga_g = 1.19
-time_scale = 0.5
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC-UP.AT2"
-direction = "Z"
-pga_g = 0.57
-time_scale = 0.5
-
-[fe]
-dt = 0.005
-{extra_fe}
-
-[collapse]
-{collapse}
-
-[physics]
-{physics}
-"#
-    )
+    crate::support::frame3_lc5(mode, collapse, extra_fe, physics)
 }
 
 fn write_scenario(dir: &Path, name: &str, text: &str) -> PathBuf {

@@ -10,41 +10,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-const ROOT: &str = env!("CARGO_MANIFEST_DIR");
-
-/// The CI-sized hybrid LC5 scenario of frame3.
+/// The CI-sized hybrid LC5 scenario of frame3 (FEMA 356's 4 % drift criterion, 3 s).
 pub fn scenario_text() -> String {
-    format!(
-        r#"model = "{ROOT}/data/frame3/model.toml"
-mode = "hybrid"
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2"
-direction = "X"
-pga_g = 0.93
-time_scale = 0.5
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC270.AT2"
-direction = "Y"
-pga_g = 1.19
-time_scale = 0.5
-
-[[ground_motion]]
-file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC-UP.AT2"
-direction = "Z"
-pga_g = 0.57
-time_scale = 0.5
-
-[fe]
-dt = 0.005
-
-[collapse]
-criterion = "drift_4pct"
-
-[physics]
-time_limit_s = 3.0
-"#
+    crate::support::frame3_lc5(
+        "hybrid",
+        "criterion = \"drift_4pct\"",
+        "",
+        "time_limit_s = 3.0",
     )
 }
 
