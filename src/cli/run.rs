@@ -3,7 +3,7 @@
 //! example `data/frame3/lc5.toml`. The scenario is read and checked completely before
 //! anything runs; the outputs are written at the end, each atomically, then the run's HTML
 //! report `report.html` from the written folder (unless `--no-report`).
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use clap::Args;
 use fem2rbd::pipeline::{self, Mode, Progress, Scenario};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -122,6 +122,25 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     }
     if let Some(o) = &args.out {
         sc.output = o.clone();
+    }
+    // The ensemble's options are checked before any work.
+    if let Some(n) = args.ensemble {
+        if n == 0 || n > pipeline::ensemble::MAX_MEMBERS {
+            bail!(
+                "--ensemble {n}: give 1 to {} members (docs/reliability.md, resource bounds)",
+                pipeline::ensemble::MAX_MEMBERS
+            );
+        }
+        if sc.mode == Mode::Fe {
+            bail!(
+                "--ensemble with the fe mode: its members would be identical (an ensemble \
+                 perturbs the hand-off velocity, or the ground motion of a physics-only run); \
+                 run it with --mode hybrid or --mode physics"
+            );
+        }
+    }
+    if args.threads == Some(0) {
+        bail!("--threads 0: give at least 1 thread");
     }
     // The output location and the work are checked before anything runs: the folder is
     // replaced as a whole, so it must hold none of the inputs and nothing but an earlier

@@ -69,6 +69,9 @@ pub fn run_ensemble(sc: &Scenario, n: usize, seed: u64, threads: usize) -> Resul
     if n == 0 {
         return Err(PipelineError::NoMembers);
     }
+    if n > MAX_MEMBERS {
+        return Err(PipelineError::TooManyMembers(n));
+    }
     let next = AtomicUsize::new(0);
     let slots: Mutex<Vec<Option<Result<RunRecord>>>> = Mutex::new((0..n).map(|_| None).collect());
     std::thread::scope(|s| {
@@ -234,6 +237,11 @@ pub fn ensemble_summary(sc: &Scenario, recs: &[RunRecord], seed: u64) -> Value {
         "measures": Value::Object(stats),
     })
 }
+
+/// Most members of one ensemble: every member is a whole run (frame3 LC5 about 10 s in a
+/// release build, the library building about 20 min), and each keeps its records in
+/// memory until the ensemble is written.
+pub const MAX_MEMBERS: usize = 1000;
 
 /// An ensemble folder: its members' run folders, `ensemble.json` and `plot`'s `plots/`.
 /// An existing folder is written into only when it is such a folder and holds nothing else

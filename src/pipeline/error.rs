@@ -213,6 +213,9 @@ pub enum PipelineError {
     /// An ensemble needs at least one member.
     #[error("an ensemble needs at least 1 member")]
     NoMembers,
+    /// An ensemble over [`super::ensemble::MAX_MEMBERS`] members.
+    #[error("--ensemble {0} exceeds the limit of {max} members (docs/reliability.md, resource bounds)", max = super::ensemble::MAX_MEMBERS)]
+    TooManyMembers(usize),
     /// An ensemble member failed.
     #[error("ensemble member {member}: {error}")]
     Member {

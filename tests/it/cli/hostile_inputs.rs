@@ -382,6 +382,28 @@ fn cases() -> Vec<Case> {
             scenario("output = \"out\"", "output = \"{w}/mine\""),
         )
         .with("mine/thesis.tex", "x"),
+        // ---- ensembles: bounded, not of the fe mode, not on 0 threads
+        case(
+            "ensemble of a million",
+            "run {w}/s.toml --quiet --ensemble 1000000",
+            1,
+            &["--ensemble 1000000", "1 to 1000 members"],
+        )
+        .with("s.toml", SCENARIO),
+        case(
+            "ensemble of the fe mode",
+            "run {w}/s.toml --quiet --mode fe --ensemble 2",
+            1,
+            &["--ensemble with the fe mode", "identical"],
+        )
+        .with("s.toml", SCENARIO),
+        case(
+            "ensemble on 0 threads",
+            "run {w}/s.toml --quiet --ensemble 2 --threads 0",
+            1,
+            &["--threads 0"],
+        )
+        .with("s.toml", SCENARIO),
         // ---- unit slips and impossible buildings: refused before any work, naming the
         // item, the value, the range and the slip it looks like
         case(
