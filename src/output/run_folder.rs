@@ -164,7 +164,7 @@ impl RunFolder {
         }
         let read = |name: &str| -> Result<(String, String)> {
             let p = dir.join(name);
-            let text = match std::fs::read_to_string(&p) {
+            let text = match crate::model::limits::read_regular_file(&p) {
                 Ok(t) => t,
                 Err(error) => return Err(RunFolderError::Read { path: p, error }),
             };

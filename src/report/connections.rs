@@ -42,9 +42,11 @@ pub fn load(dir: &Path, run: &RunFolder) -> Result<Option<Vec<Connection>>> {
         }
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&path).map_err(|error| super::ReportError::Read {
-        path: path.clone(),
-        error,
+    let text = crate::model::limits::read_regular_file(&path).map_err(|error| {
+        super::ReportError::Read {
+            path: path.clone(),
+            error,
+        }
     })?;
     let start_s = match &run.summary.ruin_stage {
         Some(r) => r.start_s,

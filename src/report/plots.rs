@@ -34,7 +34,7 @@ pub fn load(dir: &Path) -> Result<Vec<Plot>> {
     files.sort();
     let mut out = Vec::new();
     for p in files {
-        let text = std::fs::read_to_string(&p).map_err(read_err(&p))?;
+        let text = crate::model::limits::read_regular_file(&p).map_err(read_err(&p))?;
         out.push(Plot {
             name: p
                 .file_stem()

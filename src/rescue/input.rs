@@ -103,7 +103,7 @@ impl Ruin {
         }
         let read = |name: &str| -> Result<(String, String)> {
             let p = dir.join(name);
-            match std::fs::read_to_string(&p) {
+            match crate::model::limits::read_regular_file(&p) {
                 Ok(t) => Ok((p.display().to_string(), t)),
                 Err(error) => Err(RunFolderError::Read { path: p, error }.into()),
             }

@@ -302,7 +302,7 @@ impl Study {
     /// Reads and checks a study file (module docs). Nothing is written.
     pub fn load(path: impl AsRef<Path>) -> Result<Study> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
+        let text = crate::model::limits::read_regular_file(path)
             .at(|| format!("cannot read study file {}", path.display()))?;
         Self::parse(&text, path)
     }

@@ -1273,3 +1273,42 @@ fn allow_unusual_runs_and_the_summary_records_it() {
         ])
     );
 }
+
+/// A pipe given where a file is read (a study file, a run folder's table) is refused at
+/// once, naming it, instead of blocking forever: every reader takes regular files only.
+#[test]
+fn pipes_are_refused_at_once_everywhere() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    let fifo = |p: &Path| {
+        let ok = Command::new("mkfifo").arg(p).status().unwrap().success();
+        assert!(ok, "mkfifo {}", p.display());
+    };
+    fifo(&w.join("study.toml"));
+    let run = w.join("run");
+    std::fs::create_dir(&run).unwrap();
+    fifo(&run.join("bodies.csv"));
+    let cases: [&[&str]; 5] = [
+        &["study", "plan", "study.toml"],
+        &["export", "gltf", "run", "-o", "x.glb"],
+        &["voids", "run"],
+        &["report", "run", "-o", "x.html"],
+        &["plot", "run", "--out", "figs"],
+    ];
+    for args in cases {
+        // `timeout` ends a reader that blocks on the pipe (exit 124).
+        let out = Command::new("timeout")
+            .arg("20")
+            .arg(BIN)
+            .args(args)
+            .current_dir(w)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains("not a regular file"), "{args:?}: {err}");
+        assert!(
+            !w.join("x.glb").exists() && !w.join("x.html").exists() && !w.join("figs").exists()
+        );
+    }
+}

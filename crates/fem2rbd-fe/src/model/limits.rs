@@ -174,6 +174,30 @@ pub fn read_input_file(
     })
 }
 
+/// Reads a text input (a run folder's table, a study file) with the rules of
+/// [`check_input_file`] — a regular file (a pipe or a device could be endless) of at most
+/// [`MAX_INPUT_BYTES`] — as an I/O error whose message says which rule it breaks, for
+/// readers whose errors carry the path themselves.
+pub fn read_regular_file(path: &std::path::Path) -> std::io::Result<String> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a folder, pipe or device is refused: it could be endless)",
+        ));
+    }
+    if meta.len() > MAX_INPUT_BYTES {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "{} bytes exceed the limit of {MAX_INPUT_BYTES} (docs/reliability.md, resource bounds)",
+                meta.len()
+            ),
+        ));
+    }
+    std::fs::read_to_string(path)
+}
+
 /// A count for a message: integers in full up to 10¹², else in scientific notation
 /// (a count from a 300-digit input is not printed in full).
 pub(crate) fn show_count(c: f64) -> String {
