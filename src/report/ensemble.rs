@@ -143,27 +143,13 @@ pub fn report_html(dir: &Path) -> Result<String> {
             s.ruins.debris_footprint_area_m2,
         );
     }
-    let name = dir
-        .canonicalize()
-        .ok()
-        .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
-        .unwrap_or_else(|| dir.display().to_string());
+    let name = super::html::folder_name(dir);
     let title = format!("fem2rbd ensemble report: {name}");
     let n = runs.len();
     let mut h = String::new();
     let _ = write!(
         h,
-        r#"<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<meta name="generator" content="fem2rbd {version}">
-<title>{title}</title>
-<style>{PAGE_CSS}</style>
-</head>
-<body>
-<header><h1>{title}</h1><p id="headline">{n} members of one scenario, {bodies} bodies each: their final ruins overlaid, their key figures and the debris-density map.</p></header>
+        r#"{head}<header><h1>{title}</h1><p id="headline">{n} members of one scenario, {bodies} bodies each: their final ruins overlaid, their key figures and the debris-density map.</p></header>
 <section id="view"><h2>The members' final ruins, overlaid</h2>
 <div id="viewport"><canvas id="scene-canvas" aria-label="the members' final ruins in 3-D"></canvas></div>
 <div id="controls"><button id="view-3d" type="button">3-D view</button><button id="view-plan" type="button">plan view</button><button id="show-all" type="button">all members</button><span class="note">Tick members in the table to show or hide them.</span></div>
@@ -181,7 +167,7 @@ pub fn report_html(dir: &Path) -> Result<String> {
 </body>
 </html>
 "#,
-        version = env!("CARGO_PKG_VERSION"),
+        head = super::html::head(&title, PAGE_CSS),
         title = escape(&title),
         bodies = names.len(),
         cell = grid.cell_m,

@@ -119,12 +119,7 @@ pub fn render(
     plots: &[Plot],
 ) -> Result<String> {
     check(run)?;
-    let name = run
-        .dir
-        .canonicalize()
-        .ok()
-        .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
-        .unwrap_or_else(|| run.dir.display().to_string());
+    let name = super::html::folder_name(&run.dir);
     let title = format!("fem2rbd report: {name}");
     let s = &run.summary;
     let t0 = run.frames.first().map_or(0.0, |f| f.0);
@@ -136,17 +131,7 @@ pub fn render(
     let mut h = String::new();
     let _ = write!(
         h,
-        r#"<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<meta name="generator" content="fem2rbd {version}">
-<title>{title}</title>
-<style>{PAGE_CSS}</style>
-</head>
-<body>
-<header><h1>{title}</h1><p id="headline">{headline}</p></header>
+        r#"{head}<header><h1>{title}</h1><p id="headline">{headline}</p></header>
 <section id="view"><h2>Collapse and ruin in 3-D</h2>
 <div id="viewport"><canvas id="scene-canvas" aria-label="the bodies in 3-D"></canvas><div id="legend"></div><div id="pick-info" hidden></div></div>
 <div id="controls">
@@ -181,7 +166,7 @@ pub fn render(
 </body>
 </html>
 "#,
-        version = env!("CARGO_PKG_VERSION"),
+        head = super::html::head(&title, PAGE_CSS),
         title = escape(&title),
         headline = escape(&format!(
             "{} run: {} bodies and {} foundation blocks; {}; timeline {t0} – {t1} s.",
