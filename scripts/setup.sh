@@ -13,6 +13,7 @@
 #        cross-checks of the FE stages), meshio==5.3.5 (reads back our VTK files)
 #        matplotlib (plots of the comparison scripts, e.g. scripts/library-opensees.py)
 #   apt: chromium (Debian's; headless, the report page's browser test tests/it/report/browser.rs)
+#   apt: libblas3, liblapack3 (openseespy's wheel links against them)
 #   npm: scripts/setup-node.sh (gltf-validator and three.js for the glTF checks,
 #        playwright-core for the report page's browser test)
 #   Rust: a toolchain >= 1.85 via rustup, only when cargo is missing or older
@@ -40,7 +41,9 @@ apt_missing() {
 }
 
 # g++ compiles the C++ shim (the cc crate calls `c++`) and gcc links Rust binaries.
-APT_PACKAGES=(libbullet-dev libeigen3-dev libclang-dev clang pkg-config g++ chromium)
+# libblas3 and liblapack3: the shared libraries openseespy's wheel links against (it does
+# not bundle them).
+APT_PACKAGES=(libbullet-dev libeigen3-dev libclang-dev clang pkg-config g++ chromium libblas3 liblapack3)
 # A python3 with pip from elsewhere (pyenv, venv) is fine; otherwise take Debian's.
 if ! { command -v python3 >/dev/null 2>&1 && python3 -m pip --version >/dev/null 2>&1; }; then
     APT_PACKAGES+=(python3 python3-pip)
@@ -133,6 +136,7 @@ fi
 # ---- checks -----------------------------------------------------------------------------
 pkg-config --exists bullet-float64 || { echo "setup: pkg-config cannot find bullet-float64" >&2; exit 1; }
 python3 -c 'import numpy, pybullet' >/dev/null 2>&1 || { echo "setup: python3 cannot import numpy and pybullet" >&2; exit 1; }
+python3 -c 'import openseespy.opensees' >/dev/null 2>&1 || { echo "setup: python3 cannot import openseespy.opensees (its shared libraries: ldd on openseespylinux/opensees*.so)" >&2; exit 1; }
 log "ok: Bullet $(pkg-config --modversion bullet-float64) (double), $(python3 --version)"
 
 # ---- npm packages (glTF validator, three.js) -------------------------------------------
