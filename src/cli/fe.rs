@@ -1,6 +1,8 @@
 //! `fem2rbd fe model.toml --gm X=path[,pga=G] ... --out DIR`: a nonlinear time history
 //! of a model under a ground motion ([`fem2rbd::fe::run::run_ground_motion`]). Writes
 //! `DIR/nodes.csv` (time and the six displacements of every node) and
+//! `DIR/reactions.csv` (the summed support reactions and the base shear of frames and
+//! walls at the same steps as `nodes.csv` after t = 0, [`fem2rbd::fe::reactions`]) and
 //! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
 //! as one folder replaced as a whole ([`fem2rbd::output::location`]). All input and the
 //! output location are checked before anything runs. The exit code is non-zero when a
@@ -9,6 +11,7 @@ use anyhow::{bail, Result};
 use clap::Args;
 use fem2rbd::fe::analysis::transient::{StepControl, StopReason};
 use fem2rbd::fe::build::{BuildOptions, Variant};
+use fem2rbd::fe::reactions::ReactionSum;
 use fem2rbd::fe::run::{run_ground_motion, RunOptions, RunResult};
 use fem2rbd::fe::shell::layers::ConcreteIntegration;
 use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
@@ -27,7 +30,7 @@ use std::path::PathBuf;
 /// else ([`fem2rbd::output::location`]).
 pub const FE_FOLDER: FolderKind = FolderKind {
     name: "fe",
-    owns: &["fe_summary.json", "nodes.csv"],
+    owns: &["fe_summary.json", "nodes.csv", "reactions.csv"],
 };
 
 /// Options of `fe`.
@@ -109,6 +112,29 @@ pub fn nodes_csv(result: &RunResult) -> String {
             for v in d {
                 let _ = write!(s, ",{v:.9}");
             }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// `reactions.csv`: per recorded step after t = 0, `t` (s), the summed support reactions
+/// `rx_n, ry_n, rz_n, mx_nm, my_nm, mz_nm` and the base shear along x and y carried by the
+/// beam-columns and by the shells (`vx_frame_n, vx_wall_n, vy_frame_n, vy_wall_n`), with 17
+/// significant digits. Reactions are static (R = F_int − P at the fixed DOFs, OpenSees
+/// `reactions` without `-dynamic`): they leave out the damping forces at the supports.
+pub fn reactions_csv(rows: &[(f64, ReactionSum)]) -> String {
+    let mut s = String::from(
+        "t,rx_n,ry_n,rz_n,mx_nm,my_nm,mz_nm,vx_frame_n,vx_wall_n,vy_frame_n,vy_wall_n\n",
+    );
+    for (t, r) in rows {
+        let _ = write!(s, "{t:.6}");
+        for v in r
+            .total
+            .iter()
+            .chain(&[r.frame[0], r.wall[0], r.frame[1], r.wall[1]])
+        {
+            let _ = write!(s, ",{v:.16e}");
         }
         s.push('\n');
     }
@@ -215,12 +241,24 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         eprintln!("estimate: {e} (docs/reliability.md)");
     }
     let start = std::time::Instant::now();
-    let result = run_ground_motion(&model, &gm, &options, &mut |info, _| {
+    let mut reactions = Vec::new();
+    let mut last = None;
+    let every = args.every;
+    let result = run_ground_motion(&model, &gm, &options, &mut |info, domain| {
+        let r = (info.time, ReactionSum::of(domain));
+        if info.step % every == 0 {
+            reactions.push(r);
+            last = None;
+        } else {
+            last = Some(r);
+        }
         bar.set_position(info.step as u64);
         bar.set_message(format!("t = {:.3} / {t_end:.3} s", info.time));
         StepControl::Continue
     })?;
     bar.finish_and_clear();
+    // The final state is recorded whatever `--every` says, as in nodes.csv.
+    reactions.extend(last);
     let wall = start.elapsed().as_secs_f64();
     let text = serde_json::to_string_pretty(&summary(&result, wall))? + "\n";
     replace_dir(
@@ -228,6 +266,7 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         &FE_FOLDER,
         &[
             ("nodes.csv", nodes_csv(&result).as_bytes()),
+            ("reactions.csv", reactions_csv(&reactions).as_bytes()),
             ("fe_summary.json", text.as_bytes()),
         ],
     )?;

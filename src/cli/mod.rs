@@ -8,6 +8,7 @@ pub mod generate;
 pub mod map;
 pub mod modal;
 pub mod plot;
+pub mod pushover;
 pub mod report;
 pub mod run;
 pub mod scene;
@@ -58,6 +59,9 @@ pub enum Command {
     Modal(modal::ModalArgs),
     /// Nonlinear FE time history of a model under a ground motion.
     Fe(fe::FeArgs),
+    /// Static pushover or cyclic displacement protocol of a model after gravity: the
+    /// capacity curve and the reactions.
+    Pushover(pushover::PushoverArgs),
     /// Run a scenario: FE until collapse, then the Bullet ruin stage (or one of them).
     Run(run::RunArgs),
     /// Figures of a run folder: ruin plan and elevations, drift/drop and connection histories.
@@ -116,6 +120,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Map(args) => map::run(&args, cli.quiet, cli.allow_unusual),
         Command::Modal(args) => modal::run(&args, cli.allow_unusual),
         Command::Fe(args) => fe::run(&args, cli.quiet, cli.allow_unusual),
+        Command::Pushover(args) => pushover::run(&args, cli.quiet, cli.allow_unusual),
         Command::Run(args) => run::run(&args, cli.quiet, cli.allow_unusual),
         Command::Plot(args) => plot::run(&args, cli.quiet),
         Command::Report(args) => report::run(&args, cli.quiet),

@@ -1,5 +1,6 @@
 //! `fem2rbd modal model.toml`: eigen periods of a model on its initial stiffness, with
-//! frequencies, effective modal mass ratios and each mode's character (by shape).
+//! frequencies, effective modal mass ratios and each mode's character (by shape); with
+//! `--json`, the same at full precision (f64 round-trip) as one JSON document.
 use anyhow::{Context, Result};
 use clap::Args;
 use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings};
@@ -19,10 +20,15 @@ pub struct ModalArgs {
     /// Element variant: model, force, disp or elastic.
     #[arg(long, default_value = "model")]
     pub variant: Variant,
+    /// Print JSON (periods and ratios at full precision) instead of the table.
+    #[arg(long)]
+    pub json: bool,
 }
 
-/// The report printed by `modal` (one line per mode).
-pub fn report(model: &Model, modes: usize, variant: Variant) -> Result<String> {
+/// The report printed by `modal`: a table with one line per mode, or with `json` one JSON
+/// document `{"modes": [{"mode", "period_s", "frequency_hz", "effective_mass_ratio":
+/// [x, y, z], "character"}, …]}` whose numbers round-trip.
+pub fn report(model: &Model, modes: usize, variant: Variant, json: bool) -> Result<String> {
     let mut built = build_domain(
         model,
         &BuildOptions {
@@ -38,6 +44,20 @@ pub fn report(model: &Model, modes: usize, variant: Variant) -> Result<String> {
         },
     )
     .context("modal analysis")?;
+    if json {
+        let list: Vec<serde_json::Value> = (0..modal.periods.len())
+            .map(|k| {
+                serde_json::json!({
+                    "mode": k + 1,
+                    "period_s": modal.periods[k],
+                    "frequency_hz": 1.0 / modal.periods[k],
+                    "effective_mass_ratio": modal.effective_mass_ratio[k],
+                    "character": mode_character(&built.domain, &modal, k).to_string(),
+                })
+            })
+            .collect();
+        return Ok(serde_json::to_string_pretty(&serde_json::json!({ "modes": list }))? + "\n");
+    }
     let mut out = String::from("mode  T (s)     f (Hz)    MX     MY     MZ     character\n");
     for k in 0..modal.periods.len() {
         let t = modal.periods[k];
@@ -60,6 +80,6 @@ pub fn report(model: &Model, modes: usize, variant: Variant) -> Result<String> {
 pub fn run(args: &ModalArgs, allow_unusual: bool) -> Result<()> {
     let model = Model::load(&args.model)?;
     super::plausible(&model, &args.model, allow_unusual)?;
-    print!("{}", report(&model, args.modes, args.variant)?);
+    print!("{}", report(&model, args.modes, args.variant, args.json)?);
     Ok(())
 }

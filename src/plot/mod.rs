@@ -19,6 +19,7 @@
 //! Text uses the bundled DejaVu Sans ([`font`]), never a system font. Same run folder,
 //! same bytes: drawing orders are sorted, PNGs are encoded in memory with fixed settings
 //! and every file is written atomically.
+pub mod capacity;
 pub mod connections;
 pub mod density;
 pub mod energy;

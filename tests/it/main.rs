@@ -12,6 +12,7 @@ mod cli {
     mod hostile_inputs;
     mod model;
     mod own_files;
+    mod pushover;
 }
 mod mapping {
     mod frame3;

@@ -50,6 +50,41 @@ fn modal_prints_frame3_periods_and_characters() {
 }
 
 #[test]
+fn modal_json_gives_the_table_at_full_precision() {
+    let run = |json: bool| {
+        let mut c = bin();
+        c.args(["modal", "--modes", "4", "--variant", "force"])
+            .arg(root().join("data/frame3-standin/model.toml"));
+        if json {
+            c.arg("--json");
+        }
+        let out = c.output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let table = run(false);
+    let v: serde_json::Value = serde_json::from_str(&run(true)).unwrap();
+    let modes = v["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 4);
+    for (line, m) in table.lines().skip(1).zip(modes) {
+        let cols: Vec<&str> = line.split_whitespace().collect();
+        let t = m["period_s"].as_f64().unwrap();
+        assert_eq!(format!("{t:.5}"), cols[1], "{line}");
+        assert_eq!(m["character"].as_str().unwrap(), cols[6]);
+        let f = m["frequency_hz"].as_f64().unwrap();
+        assert!((f * t - 1.0).abs() < 1e-15);
+    }
+    // Full precision: the period is not the 5-decimal value of the table.
+    let t1 = modes[0]["period_s"].as_f64().unwrap();
+    assert_ne!(t1, 0.316);
+    assert!((t1 - 0.316).abs() < 5e-6);
+}
+
+#[test]
 fn fe_lc1_elastic_two_seconds_matches_opensees() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("run");
@@ -101,6 +136,77 @@ fn fe_lc1_elastic_two_seconds_matches_opensees() {
     // The largest uz is the gravity sag of a slab centre (OpenSees: -8.5 mm elastic).
     let uz = s["peaks"]["uz"]["value"].as_f64().unwrap();
     assert!((uz + 0.0085).abs() < 0.001, "uz peak {uz}");
+    // reactions.csv: the recorded steps after t = 0; frame3 has no shells, so the frames
+    // carry the whole base shear; the vertical reaction is the weight (92.08 kN) give or
+    // take the vertical inertia of a 0.06 g record.
+    let (head, rows) = read_csv(&out_dir.join("reactions.csv"));
+    assert_eq!(
+        head,
+        [
+            "t",
+            "rx_n",
+            "ry_n",
+            "rz_n",
+            "mx_nm",
+            "my_nm",
+            "mz_nm",
+            "vx_frame_n",
+            "vx_wall_n",
+            "vy_frame_n",
+            "vy_wall_n"
+        ]
+    );
+    assert_eq!(rows.len(), 20, "t = 0.1, ..., 2.0");
+    assert!((rows[19][0] - 2.0).abs() < 1e-9);
+    let w = 9386.75 * 9.80665;
+    for r in &rows {
+        assert!(
+            (r[7] + r[1]).abs() <= 1e-9 * r[1].abs() + 1e-6,
+            "vx_frame {} rx {}",
+            r[7],
+            r[1]
+        );
+        assert!(
+            (r[9] + r[2]).abs() <= 1e-9 * r[2].abs() + 1e-6,
+            "vy_frame {} ry {}",
+            r[9],
+            r[2]
+        );
+        assert_eq!((r[8], r[10]), (0.0, 0.0));
+        assert!((r[3] - w).abs() < 0.15 * w, "rz {} against W {w}", r[3]);
+    }
+    // The elastic frame's base shear follows its roof displacement (the first mode carries
+    // 87 % of the mass): V_x = −ΣR_x and ux_312 at the same steps correlate closely and
+    // with a positive stiffness.
+    let (nhead, nrows) = read_csv(&out_dir.join("nodes.csv"));
+    let ux = nhead.iter().position(|h| h == "ux_312").unwrap();
+    let pairs: Vec<(f64, f64)> = rows
+        .iter()
+        .zip(&nrows[1..])
+        .map(|(r, n)| {
+            assert!((r[0] - n[0]).abs() < 1e-9, "same times");
+            (n[ux], -r[1])
+        })
+        .collect();
+    let k = pairs.len() as f64;
+    let (mu, mv) = pairs
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.0 / k, a.1 + p.1 / k));
+    let (mut suv, mut suu, mut svv) = (0.0, 0.0, 0.0);
+    for (u, v) in &pairs {
+        suv += (u - mu) * (v - mv);
+        suu += (u - mu) * (u - mu);
+        svv += (v - mv) * (v - mv);
+    }
+    let rho = suv / (suu * svv).sqrt();
+    eprintln!(
+        "fe LC1 elastic: Vx against ux_312: correlation {rho:.4}, slope {:.3e} N/m",
+        suv / suu
+    );
+    assert!(
+        rho > 0.9,
+        "base shear and roof displacement correlate by {rho}"
+    );
 }
 
 #[test]

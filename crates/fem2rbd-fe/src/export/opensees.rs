@@ -310,6 +310,14 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
     )?;
     writeln!(
         w,
+        "SUPPORT_NODES = [{}]  # nodes with at least one fixed DOF (reactions)",
+        fix.keys()
+            .map(|t| t.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    )?;
+    writeln!(
+        w,
         "MASSES = {{  # lumped: nodal masses + element self-weight (kg, kg m^2); fully fixed nodes left out"
     )?;
     for (t, m) in &massed {

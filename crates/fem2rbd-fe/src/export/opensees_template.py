@@ -171,6 +171,64 @@ def time_history(out_csv):
     return summary
 
 
+def pushover(spec_path):
+    """Gravity (held), then the lateral loads of spec_path (JSON: "node", "dof" 1..6,
+    "loads" [[tag, F], ...], "targets" [m, ...], "step" m) in displacement control of
+    node/dof through the targets in turn, each leg in n = ceil(|leg| / step) equal
+    steps, with the fallbacks KrylovNewton, NewtonLineSearch 0.8 and
+    ModifiedNewton -initial. Returns per converged step the control displacement, the
+    load factor and the summed reactions (Rx, Ry, Rz) of the supported nodes."""
+    with open(spec_path) as fh:
+        spec = json.load(fh)
+    if gravity() != 0:
+        raise SystemExit("gravity analysis failed")
+    node, dof = spec["node"], spec["dof"]
+    ops.timeSeries("Linear", 2)
+    ops.pattern("Plain", 2, 2)
+    for tag, f in spec["loads"]:
+        ops.load(tag, *[f if k == dof else 0.0 for k in range(1, 7)])
+    ops.constraints("Plain")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.test("NormDispIncr", 1e-8, 100)
+    ops.algorithm("Newton")
+    fixed = SUPPORT_NODES
+
+    def point():
+        ops.reactions()
+        r = [sum(ops.nodeReaction(t, k) for t in fixed) for k in (1, 2, 3)]
+        return {"u": ops.nodeDisp(node, dof), "lambda": ops.getLoadFactor(2), "r": r}
+
+    curve = [point()]
+    stop = None
+    for target in spec["targets"]:
+        start = ops.nodeDisp(node, dof)
+        leg = target - start
+        if abs(leg) <= 1e-12:
+            continue
+        n = max(1, math.ceil(abs(leg) / spec["step"] - 1e-9))
+        for k in range(1, n + 1):
+            du = start + leg * k / n - ops.nodeDisp(node, dof)
+            ops.integrator("DisplacementControl", node, dof, du)
+            ops.analysis("Static")
+            ok = ops.analyze(1)
+            if ok != 0:
+                for alg in (("KrylovNewton",), ("NewtonLineSearch", 0.8),
+                            ("ModifiedNewton", "-initial")):
+                    ops.algorithm(*alg)
+                    ok = ops.analyze(1)
+                    ops.algorithm("Newton")
+                    if ok == 0:
+                        break
+            if ok != 0:
+                stop = ops.nodeDisp(node, dof)
+                break
+            curve.append(point())
+        if stop is not None:
+            break
+    return {"curve": curve, "stopped_at": stop}
+
+
 def main(argv):
     cmd = argv[1] if len(argv) > 1 else "eigen"
     build()
@@ -185,11 +243,13 @@ def main(argv):
         ok = gravity()
         disp = {str(n): ops.nodeDisp(n) for n in FREE_NODES}
         print(json.dumps({"ok": ok == 0, "disp": disp}))
+    elif cmd == "pushover":
+        print(json.dumps(pushover(argv[2])))
     elif cmd == "th":
         out = argv[2] if len(argv) > 2 else os.path.splitext(argv[0])[0] + "_disp.csv"
         print(json.dumps(time_history(out)))
     else:
-        raise SystemExit(f"unknown command {cmd!r}: use eigen [N], gravity or th [out.csv]")
+        raise SystemExit(f"unknown command {cmd!r}: use eigen [N], gravity, pushover SPEC.json or th [out.csv]")
 
 
 if __name__ == "__main__":

@@ -451,6 +451,39 @@ impl Domain {
         }
     }
 
+    /// Support reactions of the trial state, per node with at least one fixed DOF:
+    /// R = F_int − P at the fixed DOFs (N, N·m), zero at the free ones, where F_int is the
+    /// elements' resisting force at the node and P the applied load (constant + λ·reference).
+    /// This is OpenSees' `reactions` without `-dynamic`: static equilibrium, no inertia or
+    /// damping force. Returned in node order: `(node index, [Rx, Ry, Rz, Mx, My, Mz])`.
+    pub fn reactions(&self) -> Vec<(usize, [f64; NDF])> {
+        let mut f_int = vec![[0.0; NDF]; self.nodes.len()];
+        let mut f = [0.0; NDF * MAX_ELEMENT_NODES];
+        for el in &self.elements {
+            let n = el.nodes().len();
+            el.resisting_force_into(&mut f[..NDF * n]);
+            for (a, &node) in el.nodes().iter().enumerate() {
+                for k in 0..NDF {
+                    f_int[node][k] += f[NDF * a + k];
+                }
+            }
+        }
+        (0..self.nodes.len())
+            .filter(|&node| self.fixed[node].iter().any(|&x| x))
+            .map(|node| {
+                let mut r = [0.0; NDF];
+                for k in 0..NDF {
+                    if self.fixed[node][k] {
+                        r[k] = f_int[node][k]
+                            - self.constant_load[node][k]
+                            - self.load_factor * self.pattern_load[node][k];
+                    }
+                }
+                (node, r)
+            })
+            .collect()
+    }
+
     fn gather(&self, field: &[[f64; NDF]], out: &mut [f64]) {
         for node in 0..self.nodes.len() {
             for k in 0..NDF {

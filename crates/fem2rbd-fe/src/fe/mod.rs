@@ -9,6 +9,8 @@ pub mod element;
 pub mod linalg;
 pub mod material;
 pub mod profile;
+pub mod pushover;
+pub mod reactions;
 pub mod run;
 pub mod section;
 pub mod shell;

@@ -1,73 +1,68 @@
-//! frame3 pushover in +X after gravity, force-based (as `pushover.py` of the OpenSees
-//! reference): lateral load F = m·z at every massed node above the base (inverted
-//! triangle, mass-weighted), displacement control of the roof-centre node 312 in X in
-//! 1 mm steps (NormDispIncr 1e-8, 100 iterations; initial-stiffness fallback).
-//! Base shear V = λ·Σ m z (static equilibrium of the converged step: the applied
-//! lateral load equals the base reaction), W = g × total mass above the base
+//! frame3 pushover in +X after gravity through [`run_pushover`], force-based (as
+//! `pushover.py` of the OpenSees reference): the triangular pattern F = m·z at every
+//! massed node above the base (z_base = 0), displacement control of the roof-centre node
+//! 312 in X in 1 mm steps (NormDispIncr 1e-8, 100 iterations; initial-stiffness fallback,
+//! the step split into 2, 4, 8 when it fails). W = g × total mass above the base
 //! (9386.75 kg, 92.08 kN). OpenSees: peak V/W = 0.174 at 0.63 % roof drift
 //! (`tests/fixtures/opensees-frame3/pushover_X_force.csv`). CI runs to 1.0 % roof drift
 //! (30 steps) or until a step fails even in 8 sub-steps (it does at 0.80 %, past the
 //! peak; OpenSees's fallback algorithms carry it to 5 %), and compares the whole curve.
+//! The base shear compared is −ΣR_x of the support reactions, not λ: a wrong reaction
+//! fails it.
 use super::support as fe_verify_support;
 
 use fe_verify_support::*;
-use fem2rbd_fe::fe::analysis::static_analysis::displacement_increment;
 use fem2rbd_fe::fe::analysis::ConvergenceTest;
 use fem2rbd_fe::fe::build::{BuildOptions, Variant};
-use fem2rbd_fe::fe::run::prepare;
+use fem2rbd_fe::fe::pushover::{
+    cyclic_targets, run_pushover, LoadPattern, PushoverSettings, PushoverStop,
+};
+
+fn settings(variant: Variant, pattern: LoadPattern, targets: Vec<f64>) -> PushoverSettings {
+    PushoverSettings {
+        build: BuildOptions {
+            variant,
+            ..Default::default()
+        },
+        pattern,
+        direction: 0,
+        control_node: None,
+        targets,
+        increment: 0.001,
+        modes: 3,
+        test: ConvergenceTest {
+            tol: 1e-8,
+            max_iter: 100,
+        },
+    }
+}
 
 #[test]
 fn pushover_force_peak_base_shear_within_5_percent() {
     let model = frame3();
-    let mut p = prepare(
+    let h = 3.0;
+    let r = run_pushover(
         &model,
-        &BuildOptions {
-            variant: Variant::Force,
-            ..Default::default()
-        },
-        1,
+        &settings(Variant::Force, LoadPattern::Triangular, vec![0.01 * h]),
+        &mut |_| {},
     )
     .unwrap();
-    let d = &mut p.built.domain;
-    let fixity = model.fixity();
-    let mut sum_mz = 0.0;
-    let mut mass_above = 0.0;
-    for (tag, m) in model.lumped_masses() {
-        if fixity.contains_key(&tag) {
-            continue;
-        }
-        let z = model.node_map()[&tag].z;
-        mass_above += m[0];
-        sum_mz += m[0] * z;
-        d.add_nodal_load(
-            p.built.node_index[&tag],
-            [m[0] * z, 0.0, 0.0, 0.0, 0.0, 0.0],
-        )
-        .unwrap();
-    }
+    assert_eq!(r.control_node, 312, "the roof-centre node is the default");
+    assert!((r.control_height - h).abs() < 1e-12);
     assert!(
-        (mass_above - 9386.75).abs() < 0.01,
-        "mass above base {mass_above}"
+        (r.weight - 9386.75 * model.gravity.g).abs() < 0.01 * model.gravity.g,
+        "W = {}",
+        r.weight
     );
-    let w = mass_above * model.gravity.g;
-    let roof = p.built.node_index[&312];
-    let h = 3.0;
-    let mut curve = vec![(0.0, 0.0)];
-    let test = ConvergenceTest {
-        tol: 1e-8,
-        max_iter: 100,
+    let curve: Vec<(f64, f64)> = r
+        .curve
+        .iter()
+        .map(|p| (p.control_displacement / h, p.base_shear(0) / r.weight))
+        .collect();
+    let stopped_at = match r.stop {
+        PushoverStop::Completed => None,
+        PushoverStop::NotConverged { at, .. } => Some(at / h),
     };
-    // 1 mm steps; a step that fails is retried as 2, then 4, then 8 sub-steps (the
-    // reference falls back to other algorithms instead); if that fails too the
-    // pushover ends there, as OpenSees's does.
-    let mut stopped_at = None;
-    for _ in 0..30 {
-        if !displacement_increment(d, roof, 0, 0.001, test) {
-            stopped_at = Some(d.displacement(roof)[0] / h);
-            break;
-        }
-        curve.push((d.displacement(roof)[0] / h, d.load_factor() * sum_mz / w));
-    }
     eprintln!(
         "pushover stopped at {stopped_at:?} (roof drift), {} points",
         curve.len()
@@ -105,4 +100,112 @@ fn pushover_force_peak_base_shear_within_5_percent() {
     );
     assert!((peak.1 - 0.174).abs() < 0.05 * 0.174, "peak V/W {}", peak.1);
     assert!(max_diff < 0.05 * peak_ref.1, "curve differs by {max_diff}");
+}
+
+/// Static equilibrium of every converged step: the support reactions balance the applied
+/// loads, ΣR_x = −λ (the pattern sums to 1 N), ΣR_y = 0 and ΣR_z = W (gravity held), to
+/// the Newton tolerance; the base shear of the frame group is all of it (frame3 has no
+/// walls).
+#[test]
+fn pushover_reactions_balance_the_applied_loads() {
+    let model = frame3();
+    let r = run_pushover(
+        &model,
+        &settings(Variant::Force, LoadPattern::Uniform, vec![0.006]),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(r.stop, PushoverStop::Completed);
+    assert_eq!(r.curve.len(), 7, "6 steps of 1 mm and the gravity point");
+    let sum: f64 = r.pattern_loads.iter().map(|(_, f)| f).sum();
+    assert!((sum - 1.0).abs() < 1e-12, "pattern sums to {sum}");
+    for p in &r.curve {
+        let scale = 1.0 + p.load_factor.abs();
+        assert!(
+            (p.reaction_sum[0] + p.load_factor).abs() < 1e-6 * scale,
+            "step {}: ΣRx = {} against λ = {}",
+            p.step,
+            p.reaction_sum[0],
+            p.load_factor
+        );
+        assert!(
+            p.reaction_sum[1].abs() < 1e-6 * scale,
+            "ΣRy {}",
+            p.reaction_sum[1]
+        );
+        assert!(
+            (p.reaction_sum[2] - r.weight).abs() < 1e-8 * r.weight,
+            "ΣRz = {} against W = {}",
+            p.reaction_sum[2],
+            r.weight
+        );
+        assert!((p.base_shear_frame - p.base_shear(0)).abs() < 1e-9 * scale);
+        assert_eq!(p.base_shear_wall, 0.0);
+    }
+    // Uniform: every massed node's load is its mass share.
+    let masses = model.lumped_masses();
+    let fixity = model.fixity();
+    let total: f64 = masses
+        .iter()
+        .filter(|(t, _)| !fixity.contains_key(t))
+        .map(|(_, m)| m[0])
+        .sum();
+    for (tag, f) in &r.pattern_loads {
+        assert!((f - masses[tag][0] / total).abs() < 1e-15);
+    }
+    assert!(r.curve[6].base_shear(0) > 0.0);
+}
+
+/// A cyclic protocol on the elastic frame: the path returns to zero displacement with zero
+/// base shear (no hysteresis), and the base shear at +a and −a is equal and opposite up to
+/// the P-Δ asymmetry of gravity (none: the frame is symmetric), to 1e-6 of the peak.
+/// The force-based frame pushed past yield to 0.6 % and back to zero displacement must be
+/// pulled there: its base shear at zero is negative (more than 5 % of the peak).
+#[test]
+fn cyclic_protocol_elastic_returns_and_force_based_dissipates() {
+    let model = frame3();
+    let a = 0.003 * 3.0;
+    let targets = cyclic_targets(&[a], 1);
+    assert_eq!(targets, vec![a, -a, 0.0]);
+    let r = run_pushover(
+        &model,
+        &settings(Variant::Elastic, LoadPattern::Triangular, targets),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(r.stop, PushoverStop::Completed);
+    let at = |u: f64| {
+        r.curve
+            .iter()
+            .find(|p| (p.control_displacement - u).abs() < 1e-9)
+            .unwrap_or_else(|| panic!("no point at {u}"))
+    };
+    let vp = at(a).base_shear(0);
+    let vm = at(-a).base_shear(0);
+    let v0 = r.curve.last().unwrap().base_shear(0);
+    assert!(vp > 0.0 && vm < 0.0);
+    assert!((vp + vm).abs() < 1e-6 * vp, "V(+a) = {vp}, V(−a) = {vm}");
+    assert!(v0.abs() < 1e-6 * vp, "V back at zero: {v0}");
+    // 9 + 18 + 9 = 36 steps of 1 mm (a = 9 mm) and the gravity point.
+    assert_eq!(r.curve.len(), 37);
+
+    let a = 0.006 * 3.0;
+    let r = run_pushover(
+        &model,
+        &settings(Variant::Force, LoadPattern::Triangular, vec![a, 0.0]),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert_eq!(r.stop, PushoverStop::Completed);
+    let peak = r.curve.iter().map(|p| p.base_shear(0)).fold(0.0, f64::max);
+    let last = r.curve.last().unwrap();
+    eprintln!(
+        "force-based, to 0.6 % and back: peak V = {peak:.1} N, V at zero = {:.1} N",
+        last.base_shear(0)
+    );
+    assert!(
+        last.base_shear(0) < -0.05 * peak,
+        "unloading to zero after yield leaves a negative base shear, got {} (peak {peak})",
+        last.base_shear(0)
+    );
 }
