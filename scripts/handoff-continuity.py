@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hand-off continuity benchmark (issue 11, docs/handoff.md).
+"""Hand-off continuity benchmark (docs/handoff.md).
 
 Runs `fem2rbd` (release) on a model under LC5 and compares the Bullet building with the FE
 alone on the same time axis:
@@ -31,11 +31,11 @@ and the FE-derived one ("fe"). Usage:
 --reuse keeps every run folder that already has a summary.json (rerun by deleting it);
 --connections limits (a)-(c) to the listed connection models (default: formula,fe).
 (d) says whether the ruin mode is the same everywhere: each slab overlap's range over all
-hand-offs and substeps ≤ 0.2 (issue 11's target). --ruin-ensemble N [--ruin-sps 200,400]
+hand-offs and substeps ≤ 0.2 (the benchmark's target). --ruin-ensemble N [--ruin-sps 200,400]
 runs (d) as distributions instead of single runs: an ensemble of N members (seed 1,
 member 0 the hand-off itself, the others with its velocities perturbed by up to 1e-4 m/s)
 per hand-off and substep, because one ensemble's own members already spread their slab
-overlaps by more than 0.2 (docs/ruin-numerics.md §5); it prints each setting's
+overlaps by more than 0.2 (docs/ruin-numerics.md, "Convergence"); it prints each setting's
 distribution and the range of the mean overlaps over all settings. THREADS sets the
 ensembles' worker threads (default 2); with --reuse an ensemble with an ensemble.json is kept. FEM2RBD=path
 overrides the binary.
@@ -238,7 +238,7 @@ def roof_to_base_drift(folder):
     roof: centres within 5 % of the height above the foundations' top below the highest
     centre) less that of the lowest bodies (the base pieces), over the height between
     them. From the base pieces, not the ground: bodies joined to the kinematic ground
-    lead it by v_g·h, centimetres under a ramp (docs/handoff.md §5, session 14)."""
+    lead it by v_g·h, centimetres under a ramp (docs/handoff.md, "The static lateral strength")."""
     with open(os.path.join(folder, "bodies.csv")) as fh:
         rows = list(csv.DictReader(fh))
     b = {r["name"]: (float(r["cx"]), float(r["cz"]), float(r["mass_kg"]))

@@ -1,5 +1,6 @@
 #!/bin/bash
-# Remeasures the structure numbers of issue 10 ("Done when"), debug (test) profile:
+# Remeasures the build-structure numbers (build time after a one-line change, test binary
+# size), debug (test) profile:
 #   1. `cargo test --workspace --no-run` after a one-line change in src/cli/run.rs (a
 #      comment line appended, the file restored after each build): median and all of
 #      RUNS builds (default 3);

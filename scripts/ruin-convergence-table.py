@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The tables of scripts/ruin-convergence.sh (docs/ruin-numerics.md §5).
+"""The tables of scripts/ruin-convergence.sh (docs/ruin-numerics.md, "Convergence").
 
 Usage: python3 scripts/ruin-convergence-table.py OUT[,OUT2...] MODE...
 
@@ -15,7 +15,7 @@ member 0 unperturbed) and the variant runs OUT/MODE-sps400-it100, -sps800-it100,
   and the spread s = max − min;
 * the convergence table: each variant's value and whether it agrees with the unperturbed
   run x0 (member 0): |x − x0| ≤ max(tol, s), tol = 0.1·|x0| for lengths and areas, 0.1 for
-  the slab-overlap ratios (issue 12 item 3: "within 10 % (0.1 for ratios) or within the
+  the slab-overlap ratios (the criterion: "within 10 % (0.1 for ratios) or within the
   ensemble spread, whichever is larger"). A second count says how many measures of each
   variant lie inside the ensemble's range widened by the same tolerance,
   [min − tol, max + tol] (the variant is indistinguishable from a member).

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Convergence of the ruin measures of frame3 LC5 against the ensemble spread
-# (docs/ruin-numerics.md §5, issue 12 item 3). Per mode (hybrid, physics):
+# (docs/ruin-numerics.md, "Convergence"). Per mode (hybrid, physics):
 #   1. an ensemble of N members at the default substep (200 substeps/s, 100 iterations;
 #      `fem2rbd run --ensemble N --seed S`, member 0 = the unperturbed run),
 #   2. the same scenario at 400 and 800 substeps/s (100 iterations) and at 200 iterations,
@@ -16,11 +16,11 @@
 # RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05'),
 # VARIANT_ENSEMBLE (default 0; N > 0 also runs every variant as an ensemble of N members,
 # same seed, into MODE-spsX-itY-ens, and the table compares the distributions: a single
-# run of a chaotic pile is one sample, docs/ruin-numerics.md §19).
+# run of a chaotic pile is one sample, docs/ruin-numerics.md, "The error reduction per second").
 # Runs whose summary.json / ensemble.json exist are kept (delete them to rerun).
 # Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
 # 3 times longer; the whole table (2 ensembles of 8 + 6 variants) took 39 min on the
-# shared 2-core machine in session 5.
+# shared 2-core machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/ruin-convergence}

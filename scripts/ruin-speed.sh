@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Ruin-stage speed of a full-scale 7-story building (docs/performance.md, "Ruin stage"):
-# writes the 6 x 4-bay, 7-story frame of issue 14 with `fem2rbd generate frame` (7.5 m bays,
+# writes the 6 x 4-bay, 7-story frame with `fem2rbd generate frame` (7.5 m bays,
 # 3.6 m stories, 0.7 m columns, scale 1), a physics-only El Centro scenario (X 0.93 g,
 # Y 1.19 g, Z 0.57 g as frame3 LC5, real time), and runs bench_ruin on it: wall time per
 # simulated second with each setting side by side (alternated runs), Bullet's profile

@@ -1,6 +1,6 @@
-//! A time and memory estimate of a run before it starts (issue 16 item 3; issue 15 item 3's
-//! Slurm requests), from the size of the work and per-unit costs. The time costs below were
-//! measured with `scripts/measure-estimate.sh` (release build, CPU time, session 4), which
+//! A time and memory estimate of a run before it starts (printed before long
+//! runs, `--estimate`, and the Slurm requests of studies), from the size of the work and per-unit costs. The time costs below were
+//! measured with `scripts/measure-estimate.sh` (release build, CPU time), which
 //! compares estimate against actual time and peak RSS (`docs/reliability.md`, "Time and
 //! memory estimate").
 //!

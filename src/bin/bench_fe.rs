@@ -3,7 +3,7 @@
 //!
 //! - default: frame3 LC1 (El Centro 0.10/0.08/0.06 g), force-based fiber model, N
 //!   steps (default 2000);
-//! - `--frame7`: the full-scale 7-story 6 × 4-bay frame of issue 14 (`fem2rbd generate
+//! - `--frame7`: the full-scale 7-story 6 × 4-bay frame (`fem2rbd generate
 //!   frame --spans-x 7.5x6 --spans-y 7.5x4 --stories 3.6x7 --column 0.7x0.7 --beam
 //!   0.35x0.7 --slab-thickness 0.15 --scale 1 --ec 30e9 --fc 30e6 --added-mass 200000
 //!   --formulation disp`: 1 099 nodes, 2 646 elements, 6 594 equations, corotational),

@@ -11,12 +11,12 @@
 //! start + S and `stop_at_rest` off); default 1. `--rounds N`: runs of each setting (default
 //! 3; the median is reported). `--configs`: comma-separated settings, each `tN` (N solver
 //! threads) optionally followed by `+sleep` (Bullet's sleeping on) and `+bullet` (Bullet's
-//! own `solveSingleIteration` instead of the shim's packed sweep, the "before" of session 6)
-//! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the "before" of
-//! session 7; docs/performance.md) or `+threads` (the packed sweep always on the threads where
+//! own `solveSingleIteration` instead of the shim's packed sweep, Bullet's own sweep)
+//! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the lean
+//! sweep; docs/performance.md) or `+threads` (the packed sweep always on the threads where
 //! eligible, instead of whichever of one thread and the threads measures faster) and/or
 //! `+direct` (`[physics] joint_solve = "direct"`: the joints' bilateral rows solved by a
-//! sparse LDLᵀ factorisation first, docs/ruin-numerics.md §11.1); default
+//! sparse LDLᵀ factorisation first, docs/ruin-numerics.md, "A direct solve"); default
 //! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
 //! first setting is the baseline of the ratios. Every setting's final poses are compared

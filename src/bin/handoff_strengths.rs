@@ -1,5 +1,5 @@
 //! The connection strengths of a model side by side: BCB's Formula Assistant against the
-//! FE-derived capacities at the gravity axial load (issue 11, docs/handoff.md).
+//! FE-derived capacities at the gravity axial load (docs/handoff.md).
 //!
 //! `cargo run --release --bin handoff_strengths [-- MODEL.toml]` (default
 //! `data/frame3/model.toml`). Prints, per kind of connection (the two bodies' types), the

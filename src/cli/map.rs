@@ -1,5 +1,5 @@
-//! `fem2rbd map model.toml -o bodies.csv`: the rigid-body table of a model (paper §3.1,
-//! issue 3 item 8), written atomically, with a one-line summary on stdout.
+//! `fem2rbd map model.toml -o bodies.csv`: the rigid-body table of a model (paper §3.1),
+//! written atomically, with a one-line summary on stdout.
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fem2rbd::mapping::{self, table, MapOptions};

@@ -1,4 +1,4 @@
-//! Model file → mapping input (issue 3 items 5–8): the converter [`from_model`] that feeds
+//! Model file → mapping input: the converter [`from_model`] that feeds
 //! [`super::map_to_boxes`] from a [`Model`].
 //!
 //! Rules:

@@ -1,4 +1,4 @@
-//! Data mapping at the hand-off (paper §3.2; issue 5 item 2): FE nodal state → rigid-body
+//! Data mapping at the hand-off (paper §3.2): FE nodal state → rigid-body
 //! poses and velocities.
 //!
 //! Inputs, per model node (slice indexed like `model.nodes`), a [`NodeState`]: the FE

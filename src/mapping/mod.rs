@@ -1,4 +1,4 @@
-//! Geometry mapping (paper §3.1, Module 1; issue 3 items 5–7): FE elements → rigid boxes,
+//! Geometry mapping (paper §3.1, Module 1): FE elements → rigid boxes,
 //! overlap removal (BCB step 2) and mass mapping.
 //!
 //! The mapping reads its own plain input ([`MappingInput`]: [`LineMember`], [`Quad`],

@@ -1,4 +1,4 @@
-//! The rigid-body table (issue 3, item 8): one CSV line per body, for `fem2rbd map`.
+//! The rigid-body table: one CSV line per body, for `fem2rbd map`.
 //! Building the text is here; writing it is the caller's (through `output::atomic`).
 //!
 //! Columns: `name, group, type, material, element, kind, cx, cy, cz, qw, qx, qy, qz,

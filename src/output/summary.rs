@@ -466,7 +466,7 @@ pub(crate) const FLOORS_DOWN_SHARE: f64 = 0.7;
 /// The floors' shape when the lowest floor has first come [`FLOORS_DOWN_SHARE`] of its
 /// height above the base down, on a run's timeline (FE keyframes, then the ruin stage's
 /// frames): the last moments before a floor lands, the same measure for the FE alone, a
-/// hybrid and a physics-only run (docs/handoff.md §5, session 11). Floors as in
+/// hybrid and a physics-only run (docs/handoff.md, "The FE's own collapse and ruin"). Floors as in
 /// [`ruin_measures`] (slab bodies by undeformed height, mass-weighted centroids); the base
 /// is the foundations' highest top (else the lowest undeformed corner). **Stories above
 /// whole**: every floor's drop within 0.15 × the lowest floor's height of the lowest
@@ -760,7 +760,7 @@ pub struct RuinStageSummary {
     /// Bodies not at rest at the end, in body order.
     pub unsettled_bodies: Vec<UnsettledBody>,
     /// How the rest test measured point speeds (`frame_mean`, `instantaneous`;
-    /// `crate::ruin::rest::RestSpeed`); absent in run folders written before session 16.
+    /// `crate::ruin::rest::RestSpeed`); absent in run folders of versions without it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rest_speed: Option<RestSpeed>,
     /// The dynamic body with the largest point speed from its velocities at the end, and
@@ -909,7 +909,7 @@ pub struct RuinMeasures {
     pub floors: Vec<FloorMeasure>,
     /// Slab overlap of consecutive floors.
     pub slab_overlap: Vec<SlabOverlap>,
-    /// Bodies that end inside each other (absent in summaries written before session 15).
+    /// Bodies that end inside each other (absent in summaries of versions without it).
     #[serde(default)]
     pub interpenetration: Interpenetration,
 }

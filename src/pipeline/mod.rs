@@ -1,4 +1,4 @@
-//! The pipeline that joins the stages (paper Fig. 1, issue 5): scenario → model → FE with
+//! The pipeline that joins the stages (paper Fig. 1): scenario → model → FE with
 //! the collapse monitor → hand-off at Tc → Bullet ruin stage → outputs, on one timeline.
 //!
 //! * `hybrid`: the FE time history runs with the [`CollapseMonitor`] until the criterion

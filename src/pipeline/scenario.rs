@@ -164,7 +164,7 @@ pub enum JointRowsSpec {
 }
 
 /// How the joints' bilateral rows are solved at each substep
-/// (`crate::physics::JointSolve`, docs/ruin-numerics.md §11.1).
+/// (`crate::physics::JointSolve`, docs/ruin-numerics.md, "A direct solve").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum JointSolveSpec {
@@ -224,7 +224,7 @@ pub struct PhysicsSpec {
     /// rate; 0 = as Bullet and BCB, per substep at any rate). At another rate each ERP
     /// becomes ERP·`erp_steps_per_second`/`steps_per_second` (at most 1), so the
     /// Baumgarte bias ERP·e/h removes an error at the same rate per second whatever the
-    /// substep h: [`Self::erp_scale`], docs/ruin-numerics.md §19.
+    /// substep h: [`Self::erp_scale`], docs/ruin-numerics.md, "The error reduction per second".
     pub erp_steps_per_second: f64,
     /// Collision margin of every body, m (Blender/BCB 0.04; capped at the smallest half
     /// extent of each box).
@@ -267,7 +267,7 @@ pub struct PhysicsSpec {
     /// `crate::ruin::stage::JointSettings::solve`.
     pub joint_solve: JointSolveSpec,
     /// Regularisation ε of the direct solve, in [0, 1] (ε·Aᵢᵢ added to each diagonal
-    /// entry, a relative CFM ε on every row; 1e-3, docs/ruin-numerics.md §11.1):
+    /// entry, a relative CFM ε on every row; 1e-3, docs/ruin-numerics.md, "A direct solve"):
     /// `crate::ruin::stage::JointSettings::solve_regularisation`.
     pub joint_solve_regularisation: f64,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
@@ -276,7 +276,7 @@ pub struct PhysicsSpec {
     /// `"bcb"` with BCB's ([`PhysicsSpec::axial_rows_for`]).
     pub axial_rows: Option<crate::ruin::axial::AxialRows>,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
-    /// its springs together (true, the default: docs/ruin-numerics.md §8.2), or only per
+    /// its springs together (true, the default: docs/ruin-numerics.md, "Plastic springs capped per body"), or only per
     /// spring as Bullet/BCB (false):
     /// `crate::ruin::stage::PlasticSettings::spring_cap_per_body`.
     pub spring_cap_per_body: bool,
@@ -290,7 +290,7 @@ pub struct PhysicsSpec {
     /// When two pieces a connection holds together start touching: `"never"` (BCB:
     /// broken pieces pass through each other), `"once_broken"` or `"once_yielded"` (once
     /// only the plastic spring holds): `crate::ruin::separation::PairsTouch`
-    /// (docs/ruin-numerics.md §16, §18). Absent: [`PhysicsSpec::pairs_touch_for`].
+    /// (docs/ruin-numerics.md, "Which bodies touch"). Absent: [`PhysicsSpec::pairs_touch_for`].
     pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
     /// Pieces joined to a foundation block also rest on the ground box while joined (BCB,
     /// true), or touch it only once no foundation connection carries their compression
@@ -333,7 +333,7 @@ pub struct PhysicsSpec {
     pub ground_damping: GroundDamping,
 }
 
-/// `[physics] ground_damping` (docs/handoff.md §5, session 10).
+/// `[physics] ground_damping` (docs/handoff.md, "The FE's failure modes").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum GroundDamping {
@@ -383,7 +383,7 @@ impl PhysicsSpec {
 
     /// When connected pieces touch in a run in `mode`: as given, else `once_yielded` with
     /// FE-derived connections (no two pieces inside each other once only a plastic spring
-    /// holds them; docs/ruin-numerics.md §18) and BCB's `never` with BCB's Formula
+    /// holds them; docs/ruin-numerics.md, "Which bodies touch") and BCB's `never` with BCB's Formula
     /// Assistant (the paper's baseline).
     pub fn pairs_touch_for(&self, mode: Mode) -> crate::ruin::separation::PairsTouch {
         use crate::ruin::separation::PairsTouch;
@@ -396,7 +396,7 @@ impl PhysicsSpec {
 
     /// Whether connected base pieces also rest on the ground in a run in `mode`: as given,
     /// else not with FE-derived connections (the base section carries the column, as in
-    /// the FE; docs/ruin-numerics.md §16, §18) and, as BCB, yes with BCB's Formula
+    /// the FE; docs/ruin-numerics.md, "Which bodies touch") and, as BCB, yes with BCB's Formula
     /// Assistant.
     pub fn ground_under_connected_bases_for(&self, mode: Mode) -> bool {
         self.ground_under_connected_bases
@@ -413,7 +413,7 @@ impl PhysicsSpec {
     /// ERP the error is removed with the time constant h/ERP: 25 ms at BCB's 200
     /// substeps/s and ERP 0.2, 6.25 ms at 800 — a faster, different correction at every
     /// rate. Scaled, h/ERP stays 25 ms: the same correction at every substep
-    /// (docs/ruin-numerics.md §19).
+    /// (docs/ruin-numerics.md, "The error reduction per second").
     pub fn erp_scale(&self) -> f64 {
         if self.erp_steps_per_second > 0.0 {
             self.erp_steps_per_second / self.steps_per_second

@@ -1,4 +1,4 @@
-//! FE-derived connection strengths of a run's bodies (issue 11, docs/handoff.md): the
+//! FE-derived connection strengths of a run's bodies (docs/handoff.md): the
 //! FE capacity analysis ([`crate::fe::capacity`]) turned into the plain numbers the ruin
 //! stage takes ([`BodyStrength`]).
 //!

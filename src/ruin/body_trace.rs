@@ -6,7 +6,7 @@
 //! body, N) and each contact with another body (points, smallest signed distance, m, and
 //! the sum of the normal impulses, N·s). Written by the pipeline after the ruin stage
 //! ([`super::stage::RuinStage::body_trace_report`]). Used to find where a body that
-//! breaks the speed bound of `super::energy` gets its speed (docs/ruin-numerics.md §15).
+//! breaks the speed bound of `super::energy` gets its speed (docs/ruin-numerics.md, "The monitor's frame").
 
 use std::fmt::Write;
 

@@ -262,7 +262,7 @@ pub enum HingeEnd {
     /// §4), where the connection breaks: the FE's fibre sections carry their gravity load
     /// far beyond the 80 %-moment rotation (Concrete02 keeps a residual strength, the bars
     /// have no rupture strain), so the FE building has no plastic-spring state. The
-    /// connection has no plastic spring. Option (session 10, docs/handoff.md §2.6).
+    /// connection has no plastic spring. Option (docs/handoff.md §2.6).
     Rupture,
     /// BCB's sequence (the default): at the 1st tolerance every generic row is switched
     /// off and BCB's plastic spring (P = f_su·ρ·A/4) takes over until the 2nd tolerances.
@@ -548,7 +548,7 @@ fn combine(a: &StrengthPerArea, b: &StrengthPerArea, weaker: bool) -> StrengthPe
     }
 }
 
-/// FE-derived strengths of one member end (issue 11; from `fe::capacity`, plain
+/// FE-derived strengths of one member end (from `fe::capacity`, plain
 /// numbers): what the section at that end can still carry. Local axes as the member's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EndStrength {
@@ -682,7 +682,7 @@ pub fn build_connections(
 
 /// Builds the CT 22 connection of every contact.
 ///
-/// **FE-derived strengths** (`strengths`, one [`BodyCapacity`] per body or empty; issue 11,
+/// **FE-derived strengths** (`strengths`, one [`BodyCapacity`] per body or empty;
 /// docs/handoff.md): a connection whose body (or bodies) has a [`BodyStrength`] and is
 /// cut by the contact (the contact is at the member's end face, [`BodyStrength::cut_by`])
 /// takes its compression, tension, shear and bending capacities from the member end

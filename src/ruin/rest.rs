@@ -14,7 +14,7 @@
 //!
 //! Why the frame mean: in a resting pile the projected Gauss–Seidel solver does not
 //! converge within a substep, and bodies chatter from one substep to the next without
-//! moving. Traced on frame3 (docs/ruin-numerics.md §17): a beam on the ground whose angular
+//! moving. Traced on frame3 (docs/ruin-numerics.md, "Rest"): a beam on the ground whose angular
 //! velocity alternates between 0 and 0.07 rad/s every substep while its centre moves
 //! 0.5 mm in 0.3 s. Sampled at one substep, that chatter is 0.05–0.1 m/s and holds off
 //! the test for the whole settle window; averaged over a frame (8 substeps at 200/s) it is
@@ -57,7 +57,7 @@ pub enum RestSpeed {
     /// From the pose change over the frame just ended (default).
     #[default]
     FrameMean,
-    /// From the velocities at the frame (sessions 1–15).
+    /// From the velocities at the frame, which also count the solver's substep chatter.
     Instantaneous,
 }
 

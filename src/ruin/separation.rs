@@ -7,9 +7,9 @@
 //! the world, broken or not (`btRigidBody::addConstraintRef` puts each body on the other's
 //! ignore list; only `removeConstraint` takes it off), and Blender never removes a broken
 //! constraint. So in BCB a column piece whose connection to a beam has broken falls
-//! through that beam: in the frame3 LC5 ruins of session 14 every pair of bodies
+//! through that beam: in the frame3 LC5 ruins with BCB's exemption every pair of bodies
 //! overlapping by more than 10 mm was a connected pair, up to 0.14 m deep
-//! (docs/ruin-numerics.md §16).
+//! (docs/ruin-numerics.md, "Which bodies touch").
 //!
 //! Two exemptions are kept here, each lifted when nothing holds any more: every constraint
 //! of the connections that justify it is disabled (broken by Bullet or by the monitor):
@@ -22,7 +22,7 @@
 //!   connections carries compression ([`Until::CompressionLost`]). Its bottom face *is* the connected section, which the connection
 //!   already carries; the ground contact under it was a second, unlimited compression path
 //!   whose warm-started impulse pushed the base up and broke its tension row under gravity
-//!   alone (docs/handoff.md §5, session 14). Once the connection no longer carries
+//!   alone (docs/handoff.md, "The static lateral strength"). Once the connection no longer carries
 //!   compression the ground must: a base left to its tension, shear or spring rows alone
 //!   would sink into the ground.
 //!

@@ -87,14 +87,14 @@ pub struct StageSettings {
     /// ground; Chopra, *Dynamics of Structures*, §11.4), a dashpot from each body to the
     /// ground, so its impulse counts as the ground's in the energy ledger: the moving
     /// ground's share of its work is ground work, the rest is dissipated
-    /// (docs/handoff.md §5, session 10).
+    /// (docs/handoff.md, "The FE's failure modes").
     pub ground_damping_per_s: f64,
     /// Run the monitor's tolerance check ([`super::monitor`]) after every substep instead
     /// of once per frame (BCB: 25 Hz). A connection whose rows leave it a mechanism (e.g.
     /// a shear row broken: the other rows become a slider) can be carried far beyond its
     /// tolerances within one frame; its locked rows then see errors of decimetres and ask
     /// for the velocity ERP·e/h (Bullet's `get_limit_motor_info2`), up to tens of m/s on a
-    /// light piece (docs/ruin-numerics.md §15).
+    /// light piece (docs/ruin-numerics.md, "The monitor's frame").
     pub monitor_every_substep: bool,
     /// Which bodies touch ([`TouchSettings`]).
     pub touch: TouchSettings,
@@ -126,7 +126,7 @@ pub struct PlasticSettings {
     /// through which the not fully converged solver carries the moment, so the row's
     /// impulse falls to a quarter and builds back: a saw-tooth that carries 58 % of the
     /// capacity on average (frame3's base under a slow ramp); the return mapping keeps 97 %
-    /// (docs/handoff.md §5, session 15). `false`: the present rotation (sessions 5–14).
+    /// (docs/handoff.md, "On the connections alone"). `false`: the present rotation.
     pub hinge_return_mapping: bool,
     /// Cap every plastic spring's stiffness and damping for the explicit stability of the
     /// lighter body it acts on, counting all springs on that body
@@ -141,7 +141,7 @@ pub struct PlasticSettings {
     /// h shrinks, so with h a finer substep carries stiffer springs — a different model,
     /// whose light pieces the springs whip faster; with a rate the cap takes
     /// max(h, 1/rate) and the springs are those that rate carries, at every finer substep
-    /// (docs/ruin-numerics.md §19: it keeps every piece within the speed bound at 400 and
+    /// (docs/ruin-numerics.md, "The error reduction per second": it keeps every piece within the speed bound at 400 and
     /// 800 substeps/s but moves the ruin further from the 200-substep one, so it is an
     /// option).
     pub spring_cap_steps_per_second: f64,
@@ -158,7 +158,7 @@ pub struct JointSettings {
     /// joint row starts from zero in every substep, as Bullet 3.24's
     /// `btSequentialImpulseConstraintSolver::convertJoint` does (it warm-starts contacts
     /// only), so a statically loaded joint is never converged and its residual error is
-    /// pulled back by the Baumgarte velocity ERP·e/h (docs/ruin-numerics.md §11).
+    /// pulled back by the Baumgarte velocity ERP·e/h (docs/ruin-numerics.md, "The joint warm start").
     pub warmstart: f64,
     /// Gauss–Seidel iterations of the connections' generic rows
     /// (`btTypedConstraint::setOverrideNumSolverIterations`; Bullet then runs
@@ -169,10 +169,10 @@ pub struct JointSettings {
     /// ([`crate::physics::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
     /// ([`crate::physics::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
     /// linear system those iterations converge to, (A + diag(Cᵢ/Dᵢ)) λ = rhsᵢ/Dᵢ − Jᵢ·Δv₀
-    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md §11.1).
+    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md, "A direct solve").
     pub solve: crate::physics::JointSolve,
     /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
-    /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md §11.1).
+    /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md, "A direct solve").
     pub solve_regularisation: f64,
 }
 
@@ -182,7 +182,7 @@ pub struct TouchSettings {
     /// When two bodies a connection holds together start touching each other
     /// ([`super::separation`]): never (BCB/Blender, the default: Bullet's exemption stays
     /// for the whole run, so broken pieces pass through each other), once nothing holds
-    /// them, or once only springs do (docs/ruin-numerics.md §16).
+    /// them, or once only springs do (docs/ruin-numerics.md, "Which bodies touch").
     pub pairs: super::separation::PairsTouch,
     /// Pieces joined to a foundation block touch the ground box from the start (BCB, the
     /// default). `false`: only once none of their foundation connections carries
@@ -236,7 +236,7 @@ pub enum JointRows {
 /// module docs). The row's own impulse enters its next value with the factor −C, so the
 /// sweeps diverge when C ≥ 1. On frame3 with elastic slab panels, the slab–column angular
 /// rows (k ≈ 10² N·m/rad on a 6.25 kg column piece) got C = 1.4–1.6, and the first
-/// substep after a hand-off threw them to 10⁵¹ N·s (docs/ruin-numerics.md §8.3). With
+/// substep after a hand-off threw them to 10⁵¹ N·s (docs/ruin-numerics.md, "Member stiffness"). With
 /// C ≤ 0.5 the factor leaves half the error per sweep.
 pub const MEMBER_ROW_MAX_CFM: f64 = 0.5;
 

@@ -1,4 +1,4 @@
-//! Batch studies (`fem2rbd study …`, issue 15): many independent runs of one base
+//! Batch studies (`fem2rbd study …`): many independent runs of one base
 //! scenario over models × records × modes × intensities — incremental dynamic analysis
 //! (IDA), collapse fragility, ruin-scenario libraries — on one machine or on a Slurm
 //! cluster.

@@ -64,6 +64,7 @@ mod rescue {
 }
 mod repo {
     mod anyhow_edge;
+    mod docs;
     mod no_unsafe;
     mod test_layout;
 }

@@ -107,7 +107,7 @@ fn cases() -> Vec<Case> {
     let os = "export opensees {w}/model.toml -o {w}/m.py";
     let gen = "generate frame -o {w}/g.toml";
     vec![
-        // ---- scenario (`run`): defects 1, 4, 7, 8 of issue 16
+        // ---- scenario (`run`): defects 1, 4, 7, 8
         case(
             "time_scale 1e300",
             run,
@@ -1156,8 +1156,9 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
 
 /// Defect 3 end to end: a model whose element type and group hold a comma runs (FE
 /// mode, 0.1 s), its run folder reads back, and `export gltf` of the folder gives the
-/// run's own `collapse.glb` byte for byte. (On main before issue 16: "cannot build
-/// collapse.glb from the run's own tables: bodies.csv:2: 19 fields, expected 17".)
+/// run's own `collapse.glb` byte for byte (a comma in a name must not break
+/// `bodies.csv`: "cannot build collapse.glb from the run's own tables: bodies.csv:2: 19
+/// fields, expected 17").
 /// Then `export vtk` twice: the second replaces the frame folder as a whole.
 #[test]
 fn a_comma_in_a_name_survives_a_whole_run() {

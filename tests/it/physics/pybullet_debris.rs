@@ -1,4 +1,4 @@
-//! The debris phase against pybullet 3.2.7 (issue 5, item 6): 30 boxes of a two-storey
+//! The debris phase against pybullet 3.2.7: 30 boxes of a two-storey
 //! frame, swayed and tilted as at a collapse moment, with linear and angular velocities
 //! and **no** constraints, fall onto a still ground for 3 s — once in fem2rbd's ruin
 //! stage (`RuinStage` with `connect: false`, the physics preset `WorldSettings::pybullet()`,

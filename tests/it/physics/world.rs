@@ -622,7 +622,8 @@ fn generic6dof_relock_holds_the_present_angle() {
 /// converging mode keeps almost all of that guess (its iteration factor t^N ≈ 1), so the
 /// share the bias must make up, hence the sag, scales with 1 − f: e(f) ≈ (1 − f)·e0. At
 /// f = 1 that mode's impulse is carried over unchanged, an integrator acting with a
-/// one-substep lag: the chain oscillates with growing amplitude (docs/ruin-numerics.md §11).
+/// one-substep lag: the chain oscillates with growing amplitude (docs/ruin-numerics.md, "The
+/// joint warm start").
 #[test]
 fn generic6dof_warm_start_scales_the_unconverged_sag() {
     let h = 1.0 / 200.0;
@@ -669,7 +670,7 @@ fn generic6dof_warm_start_scales_the_unconverged_sag() {
         .is_err());
 }
 
-/// A rigid landing passes its whole impulse in one substep (docs/ruin-numerics.md §13): a
+/// A rigid landing passes its whole impulse in one substep (docs/ruin-numerics.md, "Landings"): a
 /// 1000 kg block carrying a 500 kg block on a fixed joint falls 0.5 m onto the ground
 /// (v = √(2·g·0.5) = 3.13 m/s). Bullet's contact stops the pair within one substep, so the
 /// joint passes the upper block's momentum m_B·v = 1566 N·s in that substep: its peak
@@ -733,7 +734,8 @@ fn a_rigid_landing_passes_its_impulse_through_a_joint_in_one_substep() {
 /// substep: 0.8¹⁰, 0.8²⁰, 0.8⁴⁰ at 200 / 400 / 800 substeps/s (10.7 %, 1.2 %, 0.01 % left).
 /// With the ERP given per time (`[physics] erp_steps_per_second = 200`, the default:
 /// ERP = 0.2·200/rate) it is 0.8¹⁰, 0.9²⁰, 0.95⁴⁰ and converges, at first order in h, to
-/// exp(−0.2·200/s·0.05 s) = exp(−2) = 13.5 % (docs/ruin-numerics.md §19).
+/// exp(−0.2·200/s·0.05 s) = exp(−2) = 13.5 % (docs/ruin-numerics.md, "The error reduction per
+/// second").
 #[test]
 fn a_joint_error_decays_by_one_minus_erp_per_substep() {
     let offset_after = |sps: u32, erp: f64| {

@@ -1,4 +1,4 @@
-//! Hand-off continuity (issue 11, docs/handoff.md): the Bullet building must be the
+//! Hand-off continuity (docs/handoff.md): the Bullet building must be the
 //! building the FE had.
 //!
 //! * Gravity alone (a ground record of zeros) on the undamaged frame3 with FE-derived
@@ -8,8 +8,9 @@
 //! * The 1/50-drift hand-off under LC5 with FE-derived connections: how many connections
 //!   start broken (FE rule: load path lost) and that Bullet does not reach the 0.25 m drop
 //!   before half-way between the hand-off and the FE's own Tc (4.66 s, docs/case1.md).
-//! * Static lateral strength (a slow ground ramp; docs/handoff.md §5, session 14): the
-//!   converged Bullet frame against the rigid-plastic mechanism of the FE's sections, the
+//! * Static lateral strength (a slow ground ramp; docs/handoff.md, "The static lateral
+//!   strength"): the converged Bullet frame against the rigid-plastic mechanism of the
+//!   FE's sections, the
 //!   unconverged one far below it, and the FE's own pushovers against OpenSees.
 //!
 //! Each test is self-contained (its own helpers); figures from `history.csv` as written.
@@ -51,11 +52,11 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
     s + &format!("[fe]\ndt = 0.005\n\n[collapse]\n{collapse}\n\n[physics]\n{physics}\n")
 }
 
-/// The Bullet frame at the FE's own capacities (docs/handoff.md §2.6, §5 session 10):
+/// The Bullet frame at the FE's own capacities (docs/handoff.md §2.6, §5.5):
 /// FE-derived connections, elastic slab panels, hinges to bar rupture, no BCB correction.
-/// BCB's contacts, the hybrid defaults before session 16 (docs/handoff.md §5 session 16):
-/// connected pieces never touch, and connected column bases also rest on the ground. The
-/// tests that measured a setting of sessions 9–14 name them, so they keep measuring it.
+/// BCB's contacts (docs/handoff.md, "At the defaults"): connected pieces never touch, and
+/// connected column bases also rest on the ground. The tests that measure a setting
+/// with these contacts name them, so they keep measuring it.
 const BCB_CONTACTS: &str = "connected_pairs_touch = \"never\"\nground_under_connected_bases = true";
 
 const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic\"\n\
@@ -63,7 +64,7 @@ const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic
 
 /// An LC5 hybrid scenario in the "FE throughout" setting ([`FE_CAPACITIES`], the FE's
 /// mass-proportional damping to the ground) with the joints on the column above
-/// (docs/handoff.md §2.7) and [`BCB_CONTACTS`] (the setting of sessions 11–14), run to
+/// (docs/handoff.md §2.7) and [`BCB_CONTACTS`], run to
 /// `until_s` s without the rest test; `extra`: more `[physics]` lines.
 fn fe_throughout(collapse: &str, until_s: f64, extra: &str) -> String {
     lc5(
@@ -189,16 +190,17 @@ fn rows_lost(rec: &pipeline::RunRecord) -> Vec<String> {
         .collect()
 }
 
-/// Target (c) of issue 11: the undamaged Bullet building (FE-derived connections) under
-/// gravity alone sags at most 10 mm and sways at most 0.02 % roof drift; every
-/// connection stays intact. The sag of Bullet's locked rows is set by the solver, not by
+/// Target (c) of the hand-off benchmark: the undamaged Bullet building (FE-derived
+/// connections) under gravity alone sags at most 10 mm and sways at most 0.02 % roof
+/// drift; every connection stays intact. The sag of Bullet's locked rows is set by the solver, not by
 /// the connection strengths (docs/handoff.md): ≈ g·h²/(ERP·c) with c the fraction of the
 /// needed impulse 100 Gauss–Seidel iterations deliver. Measured 3 s runs: 56 mm peak /
 /// 36 mm steady and 0.38 % drift at 200 substeps/s, 5.0 mm and 0.010 % at 800. The
 /// test runs 1 s at 800 substeps/s (the peak sag comes at 0.08 s), with Bullet's ERP 0.2
 /// per substep (`erp_steps_per_second = 0`; the default scales it to 0.05 at 800,
-/// docs/ruin-numerics.md §19, so the sag then falls only as h, not h²). The FE under the
-/// same zero record is the reference: its gravity sag (a few mm) and zero drift.
+/// docs/ruin-numerics.md, "The error reduction per second", so the sag then falls only as h,
+/// not h²). The FE under the same zero record is the reference: its gravity sag (a few mm) and
+/// zero drift.
 #[test]
 fn gravity_alone_the_bullet_building_stands_like_the_fe() {
     let (sag, drift) = gravity_peaks(
@@ -226,7 +228,7 @@ fn gravity_alone_the_bullet_building_stands_like_the_fe() {
 /// Target (c) met with the hybrid defaults' connections (FE-derived, two-way axial row,
 /// joint warm start 0.5, BCB's corrections) at BCB's 200 substeps/s once the solve
 /// converges: with 400 iterations, 3 s of gravity alone sag at most 5.22 mm (at 0.08 s)
-/// and sway at most 0.0063 % (benchmark, docs/handoff.md §5 session 12); with BCB's 100
+/// and sway at most 0.0063 % (benchmark, docs/handoff.md, "Converged solves"); with BCB's 100
 /// iterations 28.34 mm and 0.0197 %. The targets: ≤ 10 mm, ≤ 0.02 %.
 #[test]
 fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
@@ -245,7 +247,7 @@ fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
 /// sag, 0.27 % drift; member rows 18.2 mm, 0.088 %; member rows with 200 iterations
 /// 8.9 mm, 0.026 % (0.018 % at 3 s). Those figures had 72 slab–column angular rows with
 /// CFM 1.35–1.65, where Bullet's sweeps diverge; stiffened to CFM 0.5
-/// (`ruin::stage::MEMBER_ROW_MAX_CFM`, session 14) they are 8.30 mm, 0.0369 % (7.09 mm,
+/// (`ruin::stage::MEMBER_ROW_MAX_CFM`) they are 8.30 mm, 0.0369 % (7.09 mm,
 /// 0.0306 % at 3 s). The sag target (≤ 10 mm) is met this way; the drift target
 /// (≤ 0.02 %) is not, so the drift is asserted at 0.04 %, a regression bound above the
 /// measured 0.0369 %, not the target. 1 s (the peak sag comes at 0.08 s).
@@ -287,21 +289,20 @@ fn gravity_peaks_and_rows_1s(extra: &str) -> (f64, f64, usize, Vec<String>) {
 /// Target (c) on frame3 at BCB's 200 substeps/s and 100 iterations, 1 s (every peak comes
 /// before 0.7 s), three ways on the same building:
 ///
-/// * the defaults of FE-derived connections up to session 15 (session 7: the two-way
-///   axial row and `joint_warmstart = 0.5`, docs/handoff.md §4.1, with
-///   [`BCB_CONTACTS`]), against BCB's two one-way rows without warm start. Measured 3 s
-///   runs (release): 28.34 mm peak sag (0.12 s), 0.0197 % peak drift (0.64 s); BCB's rows
+/// * the FE-derived connections' rows (the two-way axial row and
+///   `joint_warmstart = 0.5`, docs/handoff.md §4.1) with [`BCB_CONTACTS`], against BCB's
+///   two one-way rows without warm start. Measured 3 s runs (release): 28.34 mm peak sag (0.12 s), 0.0197 % peak drift (0.64 s); BCB's rows
 ///   61.75 mm, 0.275 %. The drift target (≤ 0.02 %) is met; the sag target (≤ 10 mm) is
 ///   **not** (the joint rows' Gauss–Seidel residual, docs/handoff.md §4), so the sag is
 ///   asserted at the measured 30 mm bound and at less than half of BCB's rows;
-/// * the session-16 defaults (the bases on their connections alone, connected pieces
-///   touching once yielded; docs/handoff.md §5 session 16): the same sag, 28.34 mm, and
+/// * the hybrid defaults (the bases on their connections alone, connected pieces
+///   touching once yielded; docs/handoff.md, "At the defaults"): the same sag, 28.34 mm, and
 ///   0.0283 % peak drift, so the drift target is **not** met at 100 iterations (it is with
 ///   400: `gravity_alone_the_default_connections_with_400_iterations_meet_target_c`). The
 ///   drift is asserted in 0.025–0.032 %, a regression band around the measured figure,
 ///   not the target;
 /// * the same with `joint_solve = "direct"` (the joints' bilateral rows solved by a sparse
-///   LDLᵀ factorisation at every substep, ε = 1e-3; docs/ruin-numerics.md §11.1).
+///   LDLᵀ factorisation at every substep, ε = 1e-3; docs/ruin-numerics.md, "A direct solve").
 ///   Measured 3 s runs (release): 3.33 mm peak sag, 0.0110 % peak drift, 28 J injected
 ///   (PGS: 1159 J). Both targets are met; the sag is also asserted at less than a fifth of
 ///   the PGS run's.
@@ -390,8 +391,8 @@ fn elastic_panels_carry_the_slab_under_gravity() {
     assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
 }
 
-/// Target (b) of issue 11 with the 1/50-drift hand-off (GB 50011), at the default 200
-/// substeps/s: Bullet does not reach the 0.25 m drop before half-way between the
+/// Target (b) of the hand-off benchmark with the 1/50-drift hand-off (GB 50011), at the
+/// default 200 substeps/s: Bullet does not reach the 0.25 m drop before half-way between the
 /// hand-off and the FE's Tc, and no connection starts broken merely from cover spalling
 /// or yield (main: 80 broken, 16 plastic, 0.25 m at 1.4 s).
 #[test]
@@ -436,8 +437,8 @@ fn drift_1_50_handoff_does_not_collapse_early() {
 /// frame fails where the FE building does, in its story-1 columns: the first connections
 /// to break are story-1 column joints, and no slab-panel connection ever reaches a
 /// threshold. Measured (ensemble of 8, release, 1/50 hand-off at 1.16 s): 0.25 m drop at
-/// 2.16–2.20 s — 2.5 s before the FE's own collapse (4.66 s), docs/handoff.md §5 session
-/// 10. Run to 2.5 s.
+/// 2.16–2.20 s — 2.5 s before the FE's own collapse (4.66 s), docs/handoff.md,
+/// "The FE's failure modes". Run to 2.5 s.
 #[test]
 fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
     let text = lc5(
@@ -488,9 +489,9 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
     );
 }
 
-/// The FE's own ruin mode (docs/handoff.md §5, session 11): the FE alone, run on past its
-/// Tc (4.66 s) until its bodies would first touch, folds its first story sideways and
-/// carries the two stories above down whole — floor 1's slab reaches the ground at
+/// The FE's own ruin mode (docs/handoff.md, "The FE's own collapse and ruin"): the FE alone,
+/// run on past its Tc (4.66 s) until its bodies would first touch, folds its first story
+/// sideways and carries the two stories above down whole — floor 1's slab reaches the ground at
 /// 5.24 s with all three floors 0.99 m lower, 0.99 / 1.05 / 1.11 m off in plan, slab
 /// overlaps 0.93 / 0.93 (the same at PGA × 0.90 … 1.10: 0.89–0.95). A model without
 /// contact says nothing after that keyframe; this is the mode the ruin stage is measured
@@ -537,9 +538,9 @@ fn the_fe_alone_folds_its_first_story_and_carries_the_rest_down_whole() {
     );
 }
 
-/// Before the ground the Bullet frame comes down as the FE's does (docs/handoff.md §5,
-/// session 11): handed over at 4 % drift (1.53 s) with the FE's capacities and damping
-/// (elastic panels, hinges to rupture, corrections 1 / 1, ground damping "fe") and the
+/// Before the ground the Bullet frame comes down as the FE's does (docs/handoff.md,
+/// "Joints on the column above"): handed over at 4 % drift (1.53 s) with the FE's capacities
+/// and damping (elastic panels, hinges to rupture, corrections 1 / 1, ground damping "fe") and the
 /// joints on the column above, floor 1 is 70 % down at 5.25 s (FE 5.08 s; ensemble of 8:
 /// 4.57–5.45 s) with the stories above whole — every floor's drop within 0.15 m of floor
 /// 1's, the floors within 0.25 m of each other in plan (FE: 0.72 m each, 0.04 m apart; 8
@@ -587,7 +588,7 @@ fn floor2_joints_broken(iterations: u32, from: f64, to: f64) -> Vec<String> {
 }
 
 /// Whether story 2 survives the first floor's landing is a question of the solver's
-/// convergence (docs/ruin-numerics.md §14). After the vertical-drop hand-off floor 1 lands
+/// convergence (docs/ruin-numerics.md, "Landings"). After the vertical-drop hand-off floor 1 lands
 /// at 5.0–5.06 s at 2.5 m/s; a story-2 column then meets the impulse of the 1.6 t it
 /// carries, J·ω = 1.6 MN against its joint's 285 kN compression strength. With BCB's 100
 /// iterations at 200 substeps/s the column passes too little of the landing on
@@ -634,7 +635,7 @@ fn fastest_piece_3pct(monitor_every_substep: bool, erp_steps: f64) -> (f64, Stri
 /// axis and is pushed 0.35 m into itself against a beam's contact before the 25 Hz
 /// monitor sees it past its tolerances (2.835 s). Its locked rows ask for ERP·e/h =
 /// 0.2 · 0.35 m · 800/s = 56 m/s, and the 6.25 kg piece is thrown at 89.7 m/s with 12 kJ
-/// in one substep (docs/ruin-numerics.md §15; Bullet's ERP per substep,
+/// in one substep (docs/ruin-numerics.md, "The monitor's frame"; Bullet's ERP per substep,
 /// `erp_steps_per_second = 0`, as then). Checked after every substep, the
 /// connection breaks when it passes its tolerances and the fastest piece is a column
 /// piece pinched between a landing beam and the ground (12.2 m/s at 2.515 s, measured
@@ -661,9 +662,9 @@ fn a_slider_connection_throws_its_piece_unless_the_monitor_checks_every_substep(
 }
 
 /// The same run with the 25 Hz monitor and the default ERP given per second
-/// (docs/ruin-numerics.md §19): at 800 substeps/s Bullet's ERP is 0.05, so the slider's
-/// bias ERP·e/h is a quarter of the above. Measured: fastest piece 10.4 m/s
-/// (`Column:1:12` at 2.46 s), 77 J injected — against 89.7 m/s and 56.5 kJ with the ERP
+/// (docs/ruin-numerics.md, "The error reduction per second"): at 800 substeps/s Bullet's ERP
+/// is 0.05, so the slider's bias ERP·e/h is a quarter of the above. Measured: fastest piece
+/// 10.4 m/s (`Column:1:12` at 2.46 s), 77 J injected — against 89.7 m/s and 56.5 kJ with the ERP
 /// per substep, and 12.2 m/s and 979 J with the monitor checked every substep.
 #[test]
 fn with_the_erp_per_second_the_slider_is_not_thrown() {
@@ -832,13 +833,13 @@ fn bullet_pushover(until_s: f64, extra: &str) -> pipeline::RunRecord {
     pipeline::run(&Scenario::load(&p).unwrap(), &Silent).unwrap()
 }
 
-/// Static lateral strength (docs/handoff.md §5, session 14, with [`BCB_CONTACTS`]: the
-/// bases also on the ground): under a slow ground ramp
+/// Static lateral strength (docs/handoff.md, "The static lateral strength", with
+/// [`BCB_CONTACTS`]: the bases also on the ground): under a slow ground ramp
 /// (0.03 g/s) the Bullet frame at the FE's capacities, solved with 400 iterations, runs
 /// away at the strength of the rigid-plastic story-1 mechanism of its sections (measured
-/// 0.238 g against 0.254 g; the force-based FE under the same ramp 0.239 g); with BCB's 100 iterations the unconverged rows make it about
-/// 18 times softer than the FE (0.67 % roof-to-base drift at 0.03 g; FE 0.037 %) and P–Δ
-/// brings it down at 0.09 g.
+/// 0.238 g against 0.254 g; the force-based FE under the same ramp 0.239 g); with BCB's 100
+/// iterations the unconverged rows make it about 18 times softer than the FE (0.67 %
+/// roof-to-base drift at 0.03 g; FE 0.037 %) and P–Δ brings it down at 0.09 g.
 #[test]
 fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
     let mech = story1_mechanism_g();
@@ -876,9 +877,9 @@ fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
 }
 
 /// The same ramp on the connections alone, without BCB's ground contact under the
-/// connected column bases (`ground_under_connected_bases = false`, docs/handoff.md §5,
-/// session 15). A yielded hinge re-locked at its present rotation loses the rotation error
-/// through which the solver carries its moment: a saw-tooth that holds 58 % of the
+/// connected column bases (`ground_under_connected_bases = false`, docs/handoff.md,
+/// "On the connections alone"). A yielded hinge re-locked at its present rotation loses the
+/// rotation error through which the solver carries its moment: a saw-tooth that holds 58 % of the
 /// capacity, and the frame runs away at 0.179 g, 30 % below the story mechanism. Re-locked
 /// by the return mapping (`hinge_return_mapping`) the hinges hold their capacity and the
 /// frame runs away at 0.227 g (11 % below the mechanism's 0.254 g; the force-based FE
@@ -966,7 +967,7 @@ fn the_fe_mesh_is_stronger_than_its_sections_and_the_force_formulation_is_not() 
         "FE static pushover peak V/W: disp mesh {disp:.4}, force {force:.4}; mechanism {mech:.4}"
     );
     // openseespy 3.7.1 on `fem2rbd export opensees` of the same model, the same load and
-    // control (docs/handoff.md §5, session 14).
+    // control (docs/handoff.md, "The static lateral strength").
     for (name, ours, reference) in [("disp", disp, 0.2744), ("force", force, 0.2054)] {
         assert!(
             (ours / reference - 1.0).abs() < 0.03,

@@ -204,7 +204,7 @@ fn run(dir: &Path, ground: &str, physics: &str) -> Vec<(f64, f64, f64, [usize; 3
 ///   connections intact, roof drift below 0.1 % (measured 0.006 %), sag (largest drop
 ///   of a body centre) below 0.1 m (measured 66 mm: the compliance of Bullet's locked
 ///   rows at BCB's 200 substeps/s, not the connections' strength; frame3 sags 56 mm at
-///   200 and 5 mm at 800 substeps/s, docs/handoff.md §5);
+///   200 and 5 mm at 800 substeps/s, docs/handoff.md §4);
 /// * El Centro 1940 ELC180 in X scaled to a PGA of 4 g (the paper's library case) for
 ///   the first 6 s: the building falls — a body drops by more than 1 m (the paper's
 ///   Criterion 4; measured 5.86 m) and at least 80 % of the connections are plastic or

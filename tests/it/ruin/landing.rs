@@ -1,6 +1,6 @@
 //! A floor landing under a column that carries the floor above (frame3's masses and
 //! column pieces): how much of the landing the column passes on to the floor above, and
-//! how fast, against the solver's iterations and substep (docs/ruin-numerics.md §14).
+//! how fast, against the solver's iterations and substep (docs/ruin-numerics.md, "Landings").
 
 use fem2rbd::physics::JointSolve;
 use fem2rbd::ruin::axial::{AxialRows, COMPRESSION_SIGN};
@@ -108,7 +108,7 @@ fn landing(sps: f64, iterations: u32, solve: JointSolve) -> Landing {
 /// With 400 iterations it passes 1.02 and the block stops (−0.01 v), as the rigid stack
 /// does; at 400 and 800 substeps/s with 100 iterations 0.74 and 1.17. How much of a
 /// landing the stories above feel depends on the solver's convergence, not on the
-/// building (docs/ruin-numerics.md §14).
+/// building (docs/ruin-numerics.md, "Landings").
 #[test]
 fn a_column_passes_a_landing_on_only_with_enough_iterations() {
     let bcb = landing(200.0, 100, JointSolve::Pgs);

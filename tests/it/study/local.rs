@@ -278,8 +278,8 @@ fn failing_runs_are_recorded_resume_skips_and_jobs_do_not_change_the_bytes() {
 #[test]
 fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
     let t = tempfile::tempdir().unwrap();
-    // BCB's axial rows and no joint warm start (the defaults of FE-derived connections
-    // before session 7): with them connections break within the 1 s of ruin stage this
+    // BCB's axial rows and no joint warm start (BCB's rows with FE-derived connections):
+    // with them connections break within the 1 s of ruin stage this
     // test runs, which the broken-connections column below needs; with the two-way row
     // (docs/handoff.md §4.1) the frame handed over at 4 % drift holds longer.
     fs::write(

@@ -1,4 +1,4 @@
-//! Collapse criteria (paper §2; issue 5 item 1): when the FE stage hands off to the
+//! Collapse criteria (paper §2): when the FE stage hands off to the
 //! rigid-body stage (the collapse moment Tc).
 //!
 //! A pure module: it reads the model's geometry once ([`Structure`]) and then judges

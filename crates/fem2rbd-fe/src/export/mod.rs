@@ -1,4 +1,4 @@
-//! Exports of the model to other programs (openseespy). (Issue 3.)
+//! Exports of the model to other programs (openseespy).
 pub mod opensees;
 
 pub use opensees::{opensees_script, GroundMotionInput, OpenSeesOptions, Variant};

@@ -1,4 +1,4 @@
-//! Section and member capacities from the FE model itself (issue 11): what a fibre
+//! Section and member capacities from the FE model itself: what a fibre
 //! section can still carry, found by pushing a copy of it from its current state.
 //!
 //! Nothing here depends on the rigid-body stage; the ruin stage consumes the plain

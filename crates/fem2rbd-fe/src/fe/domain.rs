@@ -609,8 +609,8 @@ impl Domain {
     /// `f(index, element)` for every element, the results in element order; the caller
     /// sums them (assembly) in element order. Sequential on purpose: the maps are reads of
     /// what [`Domain::update_elements`] (threaded) already formed — resisting forces,
-    /// tangents, damping products — and threading them cost more than it saved (session 4,
-    /// `bench_fe`: frame3 residual 0.047 → 0.99 ms/step and assembly 0.44 → 1.05 ms/step on
+    /// tangents, damping products — and threading them cost more than it saved (measured
+    /// with `bench_fe`: frame3 residual 0.047 → 0.99 ms/step and assembly 0.44 → 1.05 ms/step on
     /// 2 threads; on the 7-story frame residual 23 → 66 and assembly 90 → 108 ms/step,
     /// docs/performance.md).
     pub fn map_elements<T>(&self, f: impl Fn(usize, &dyn Element) -> T) -> Vec<T> {

@@ -1,4 +1,4 @@
-//! The building model: file format (serde, TOML/JSON), validation, generator. (Issue 3.)
+//! The building model: file format (serde, TOML/JSON), validation, generator.
 //!
 //! Units are SI: m, kg, s, N, Pa. The format is documented in `docs/model-format.md`.
 //! Load a file with [`Model::load`]; it parses, then validates (unknown references,

@@ -1,5 +1,5 @@
 //! Ground motions: PEER AT2 / two-column / BCB CSV readers, scaling, time scaling,
-//! interpolation and integration to ground velocity and displacement. (Issue 3, item 3.)
+//! interpolation and integration to ground velocity and displacement.
 //!
 //! Units: time in s, acceleration in m/s² inside the program. Records given in g are
 //! converted with [`G`] = 9.81 m/s², the value the reference OpenSees runs of frame3 use
