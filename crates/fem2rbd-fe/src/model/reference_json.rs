@@ -86,7 +86,150 @@ pub fn import_reference_json(path: impl AsRef<Path>) -> std::result::Result<Mode
     Ok(model)
 }
 
+/// Top-level keys the importer reads into the model.
+const READ_KEYS: &[&str] = &[
+    "uniaxial_materials",
+    "sections",
+    "nodes",
+    "fixed_nodes",
+    "geom_transforms",
+    "elements",
+    "nodal_masses",
+    "damping",
+    "name",
+    "description",
+    "scale",
+    "gravity",
+];
+
+/// Top-level keys the importer checks against the imported model (and refuses when they
+/// disagree): `ndm` = 3, `ndf` = 6, SI `units`, `total_mass_kg` and the nodal
+/// `gravity_loads` equal to those of the imported masses.
+const CHECKED_KEYS: &[&str] = &["ndm", "ndf", "units", "total_mass_kg", "gravity_loads"];
+
+/// Top-level keys that describe how the reference model was made or run, not the model:
+/// the generator's `parameters`, the reference run's `analysis` settings and its
+/// `ground_motion` (a scenario or the command line gives these to fem2rbd,
+/// docs/model-format.md).
+const DESCRIPTIVE_KEYS: &[&str] = &["parameters", "analysis", "ground_motion"];
+
+/// Refuses any top-level key the importer would otherwise leave unread: shells, ties,
+/// loads or any other content it does not import is named, never dropped.
+fn check_keys(v: &Value) -> Result<()> {
+    let Some(obj) = v.as_object() else {
+        bail!("the file is not a JSON object");
+    };
+    let unknown: Vec<String> = obj
+        .iter()
+        .filter(|(k, _)| {
+            let k = k.as_str();
+            !READ_KEYS.contains(&k) && !CHECKED_KEYS.contains(&k) && !DESCRIPTIVE_KEYS.contains(&k)
+        })
+        .map(|(k, val)| match val.as_array() {
+            Some(a) => format!("`{k}` ({} items)", a.len()),
+            None => format!("`{k}`"),
+        })
+        .collect();
+    if !unknown.is_empty() {
+        bail!(
+            "{} not imported: the reference-JSON importer reads frames of fibre and elastic \
+             beam-columns ({}); write shells, ties and loads in a TOML model \
+             (docs/model-format.md)",
+            unknown.join(", "),
+            READ_KEYS.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// Checks the [`CHECKED_KEYS`] present in `v` against the imported `model`.
+fn check_against(v: &Value, model: &Model) -> Result<()> {
+    for (key, want) in [("ndm", 3), ("ndf", 6)] {
+        if let Some(x) = v.get(key) {
+            if x.as_u64() != Some(want) {
+                bail!(
+                    "`{key}` = {x}: fem2rbd models are 3-D with 6 DOFs per node ({key} = {want})"
+                );
+            }
+        }
+    }
+    if let Some(units) = v.get("units") {
+        let si = [
+            ("length", "m"),
+            ("mass", "kg"),
+            ("time", "s"),
+            ("force", "N"),
+            ("stress", "Pa"),
+        ];
+        let obj = units
+            .as_object()
+            .say(|| "`units` is not an object".into())?;
+        for (k, val) in obj {
+            let want = si.iter().find(|(q, _)| q == k).map(|(_, u)| *u);
+            match (want, val.as_str()) {
+                (Some(u), Some(got)) if got == u => {}
+                (Some(u), _) => bail!("`units.{k}` = {val}: the model is read in SI ({k} in {u})"),
+                (None, _) => {
+                    bail!("`units.{k}`: unknown quantity (length, mass, time, force, stress)")
+                }
+            }
+        }
+    }
+    let masses = model.lumped_masses();
+    if let Some(total) = v.get("total_mass_kg") {
+        let total = total
+            .as_f64()
+            .say(|| "`total_mass_kg` is not a number".into())?;
+        let fixity = model.fixity();
+        let ours: f64 = masses
+            .iter()
+            .filter(|(t, _)| fixity.get(t) != Some(&[1; 6]))
+            .map(|(_, m)| m[2])
+            .sum();
+        if (ours - total).abs() > 1e-9 * total.abs().max(1.0) {
+            bail!(
+                "`total_mass_kg` = {total} kg, but the imported nodal masses and element \
+                 self-weight of the nodes that are not fully fixed add up to {ours} kg"
+            );
+        }
+    }
+    if let Some(g) = v.get("gravity_loads") {
+        let loads = g
+            .get("loads")
+            .and_then(Value::as_array)
+            .say(|| "`gravity_loads` has no array `loads`".into())?;
+        let ours: std::collections::BTreeMap<u32, f64> =
+            model.gravity_loads().into_iter().collect();
+        if loads.len() != ours.len() {
+            bail!(
+                "`gravity_loads` has {} loads, the imported masses give {} (Fz = -m g at every \
+                 massed node that is not fully fixed)",
+                loads.len(),
+                ours.len()
+            );
+        }
+        for l in loads {
+            let t = tag(l, "tag", "gravity load")?;
+            let fz = num(l, "Fz", &format!("gravity load at node {t}"))?;
+            let mine = ours
+                .get(&t)
+                .say(|| format!("`gravity_loads`: node {t} has no mass in the imported model"))?;
+            if (mine - fz).abs() > 1e-9 * fz.abs().max(1.0) {
+                bail!("`gravity_loads`: node {t} Fz = {fz} N, the imported masses give {mine} N");
+            }
+        }
+    }
+    Ok(())
+}
+
 fn from_value(v: &Value) -> Result<Model> {
+    check_keys(v)?;
+    let model = build_model(v)?;
+    check_against(v, &model)?;
+    Ok(model)
+}
+
+fn build_model(v: &Value) -> Result<Model> {
     let mut materials = Vec::new();
     for m in arr(v, "uniaxial_materials")? {
         let t = tag(m, "tag", "material")?;
@@ -145,6 +288,14 @@ fn from_value(v: &Value) -> Result<Model> {
     for s in arr(v, "sections")? {
         let t = tag(s, "tag", "section")?;
         let what = format!("section {t}");
+        if let Some(ty) = s.get("type").and_then(Value::as_str) {
+            if ty != "Fiber" {
+                bail!(
+                    "{what}: type {ty:?} is not imported (the reference-JSON importer reads \
+                     fibre sections; write layered shells in a TOML model, docs/model-format.md)"
+                );
+            }
+        }
         let mut fibers = Vec::new();
         for f in arr(s, "fibers").say(|| what.clone())? {
             let f = f.as_array().filter(|f| f.len() == 4);

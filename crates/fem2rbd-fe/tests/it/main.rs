@@ -92,6 +92,7 @@ mod model {
     mod errors;
     mod frame3;
     mod generate;
+    mod reference_import;
 }
 mod motion {
     mod integrate;
