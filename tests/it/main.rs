@@ -57,6 +57,7 @@ mod report {
 }
 mod rescue {
     mod cli;
+    pub(crate) mod ensemble;
     mod occupancy;
     mod scene;
     mod voids;
