@@ -59,6 +59,7 @@ mod rescue {
     mod cli;
     pub(crate) mod ensemble;
     mod occupancy;
+    mod plots;
     mod scene;
     mod voids;
 }
