@@ -1,4 +1,4 @@
-//! The rescue figures (docs/rescue.md §6):
+//! The rescue figures (docs/rescue.md §7):
 //!
 //! * `voids_plan`, `voids_section_xz`, `voids_section_yz` — a run's voids from its
 //!   `voids.csv` over the ruin (every active body's final projection in light grey): each
