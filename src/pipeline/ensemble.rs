@@ -248,11 +248,18 @@ pub const MAX_MEMBERS: usize = 1000;
 /// ([`crate::output::location::check_replaceable`]).
 pub const ENSEMBLE_FOLDER: FolderKind = FolderKind {
     name: "ensemble",
-    owns: &["member-*", "ensemble.json", "plots"],
+    owns: &[
+        "member-*",
+        "ensemble.json",
+        "rescue_map.csv",
+        "rescue.json",
+        "plots",
+    ],
 };
 
 /// Writes every member into `dir/member-NNN/` (without wall times, so the bytes depend
-/// only on the input) and `dir/ensemble.json`, and removes the member folders of an
+/// only on the input), `dir/ensemble.json` and, when every member has a ruin, the rescue
+/// maps `dir/rescue_map.csv` and `dir/rescue.json` (`crate::rescue::ensemble`), and removes the member folders of an
 /// earlier, larger ensemble in `dir`; returns the paths written.
 pub fn write_ensemble(
     sc: &Scenario,
@@ -291,6 +298,12 @@ pub fn write_ensemble(
     let text = serde_json::to_string_pretty(&ensemble_summary(sc, recs, seed))? + "\n";
     crate::output::write_atomic(&p, text.as_bytes())?;
     out.push(p);
+    // The rescue maps over the members' own rescue files (crate::rescue::ensemble).
+    if recs.iter().all(|r| r.ruin.is_some()) {
+        let maps = crate::rescue::ensemble::write_maps(dir)
+            .map_err(|e| PipelineError::Rescue(Box::new(e)))?;
+        out.extend(maps);
+    }
     Ok(out)
 }
 

@@ -13,7 +13,11 @@
 //!   ruin stage, Tc marked;
 //! * `energy` — the ruin stage's energy ledger ([`energy`]), when `history.csv` has it;
 //! * `debris_density` — for an ensemble folder (`ensemble.json`): the share of members
-//!   with debris in each plan cell ([`density`]).
+//!   with debris in each plan cell ([`density`]);
+//! * `voids_plan`, `voids_section_xz`, `voids_section_yz` — the run's voids (`voids.csv`)
+//!   by pattern and survivability with the rescuer's entry sides, when the run has them;
+//!   `rescue_map` — an ensemble's chance of a survivable void per plan cell
+//!   (`rescue_map.csv`), when it has one ([`voids`]).
 //!
 //! Definitions of the drawn quantities: [`geometry`] and [`crate::output::history`].
 //! Text uses the bundled DejaVu Sans ([`font`]), never a system font. Same run folder,
@@ -28,6 +32,7 @@ pub mod geometry;
 pub mod history;
 pub mod ruin;
 pub mod style;
+pub mod voids;
 
 pub use crate::output::run_folder::{BodyInfo, HistoryRow, RunFolder};
 
@@ -176,14 +181,19 @@ fn write_figure<F: Figure>(fig: &F, out: &Path, format: ImageFormat) -> Result<V
     Ok(files)
 }
 
-/// Writes the debris-density map of the ensemble folder `dir` into `out` (created).
+/// Writes the debris-density map of the ensemble folder `dir` and, when it has one, its
+/// rescue map into `out` (created).
 pub fn write_ensemble(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let fig = density::DensityFigure::load(dir)?;
     std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
         path: out.to_path_buf(),
         error: OutputError::io("cannot create the plot folder", out)(e),
     })?;
-    write_figure(&fig, out, format)
+    let mut files = write_figure(&fig, out, format)?;
+    if let Some(map) = voids::RescueMapFigure::load(dir)? {
+        files.extend(write_figure(&map, out, format)?);
+    }
+    Ok(files)
 }
 
 /// Writes every figure of `run` into `out` (created) and returns the files written.
@@ -216,6 +226,16 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
     )?);
     if energy::EnergyFigure::has_data(run) {
         files.extend(write_figure(&energy::EnergyFigure::new(run), out, format)?);
+    }
+    if let Some(vs) = voids::read_voids(&run.dir)? {
+        for view in [
+            geometry::View::Plan,
+            geometry::View::ElevationXz,
+            geometry::View::ElevationYz,
+        ] {
+            let fig = voids::VoidsFigure::new(Some(run), view, vs.clone());
+            files.extend(write_figure(&fig, out, format)?);
+        }
     }
     Ok(files)
 }

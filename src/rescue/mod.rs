@@ -19,12 +19,15 @@
 //!   to breach;
 //! * [`rubble`]: height map, pile height, debris extent against the building height,
 //!   porosity;
-//! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`.
+//! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`;
+//! * [`ensemble`]: over an ensemble's members, the plan map of the chance of a survivable
+//!   void, the spread of the measures and the voids that recur in one place.
 //!
 //! Everything runs on one thread in a fixed order: the same run folder gives the same
 //! bytes.
 pub mod access;
 pub mod distance;
+pub mod ensemble;
 pub mod grid;
 pub mod input;
 pub mod occupancy;

@@ -13,6 +13,9 @@
 //!   `peak_roof_drift` and `collapse`.
 //! * `study.json` — counts, each IDA sequence's result (collapse bracket or censoring) and
 //!   the collapse fragility per (model, mode) ([`super::fragility`]).
+//! * `rescue/<model>__<mode>__<pga>g.csv` and `.json` — the rescue maps of each intensity
+//!   over its runs ([`super::rescue`]); each run's `rescue.*` numbers join its ruin
+//!   measures (and so `ensemble.csv`).
 //!
 //! Only inputs of the runs enter these files (no wall times, no paths), with fixed
 //! decimals, so a study collected after a local run and after a Slurm run gives the same
@@ -178,6 +181,7 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
             .map(|o| o.overlap_ratio)
             .reduce(f64::min);
         r.measures = ruin_measures(&super::plan::read_json(&dir.join("summary.json"))?);
+        r.measures.extend(super::rescue::run_measures(&dir)?);
     }
     Ok(r)
 }
@@ -457,13 +461,26 @@ pub fn collect(study: &Study, store: &Store, partial: bool) -> Result<Vec<PathBu
         ));
         files.push((format!("density/{stem}.csv"), c));
     }
-    // Density files of an earlier collect that no longer has runs are removed.
-    let ddir = dir.join("density");
-    if ddir.is_dir() {
-        for e in std::fs::read_dir(&ddir)?.flatten() {
-            let name = format!("density/{}", e.file_name().to_string_lossy());
-            if !files.iter().any(|(n, _)| *n == name) {
-                std::fs::remove_file(e.path())?;
+    for (stem, maps) in super::rescue::rescue_maps(study, store, &done, &rows)? {
+        let [(_, c), (_, j)] = <[_; 2]>::try_from(maps.files()).expect("two files");
+        files.push((
+            format!("rescue/{stem}.csv"),
+            String::from_utf8(c).expect("UTF-8"),
+        ));
+        files.push((
+            format!("rescue/{stem}.json"),
+            String::from_utf8(j).expect("UTF-8"),
+        ));
+    }
+    // Density and rescue files of an earlier collect that no longer has runs are removed.
+    for sub in ["density", "rescue"] {
+        let ddir = dir.join(sub);
+        if ddir.is_dir() {
+            for e in std::fs::read_dir(&ddir)?.flatten() {
+                let name = format!("{sub}/{}", e.file_name().to_string_lossy());
+                if !files.iter().any(|(n, _)| *n == name) {
+                    std::fs::remove_file(e.path())?;
+                }
             }
         }
     }

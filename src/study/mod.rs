@@ -11,6 +11,7 @@
 //! * [`slurm`] — sbatch job-array scripts and the submit loop;
 //! * [`collect`] — completeness check and aggregation (`results/`);
 //! * [`fragility`] — lognormal collapse fragility by maximum likelihood;
+//! * [`rescue`] — the rescue maps and measures of the collected runs;
 //! * [`plot`] — IDA and fragility figures of a collected study.
 pub mod collect;
 pub mod error;
@@ -19,6 +20,7 @@ pub mod format;
 pub mod fragility;
 pub mod plan;
 pub mod plot;
+pub mod rescue;
 pub mod slurm;
 
 pub use error::StudyError;

@@ -58,7 +58,9 @@ mod report {
 }
 mod rescue {
     mod cli;
+    pub(crate) mod ensemble;
     mod occupancy;
+    mod plots;
     mod scene;
     mod voids;
 }

@@ -70,8 +70,9 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
     write_ensemble(&sc, &two, 42, &tmp.path().join("t2")).unwrap();
     let (a, b) = (files(&tmp.path().join("t1")), files(&tmp.path().join("t2")));
     // Per member seven tables, the three files of the rescue analysis and the marker;
-    // ensemble.json and the ensemble's marker.
-    assert_eq!(a.len(), 3 * 11 + 2);
+    // ensemble.json, the rescue maps (rescue_map.csv, rescue.json) and the ensemble's
+    // marker.
+    assert_eq!(a.len(), 3 * 11 + 4);
     for ((na, ba), (nb, bb)) in a.iter().zip(&b) {
         assert_eq!(na, nb);
         assert!(ba == bb, "{na} differs between 1 and 2 threads");
@@ -129,5 +130,6 @@ fn ensemble_members_are_independent_of_threads_and_member_0_is_the_plain_run() {
         fem2rbd::plot::ImageFormat::Both,
     )
     .unwrap();
-    assert_eq!(written.len(), 2);
+    // The debris-density map and the rescue map, PNG and SVG each.
+    assert_eq!(written.len(), 4);
 }

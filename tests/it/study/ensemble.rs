@@ -2,7 +2,8 @@
 //! debris-density grids of `study collect`: member ids, a perturbed member rerun gives the
 //! same bytes, the ensemble statistics are those of the members' `summary.json`, and the
 //! density grid is the count of the members' final body centres per cell (recomputed here
-//! from their `ruins.csv`), integrating to bodies × runs.
+//! from their `ruins.csv`), integrating to bodies × runs; the rescue map of the intensity
+//! agrees with the runs' `voids.csv` and `ensemble.csv` gives their void counts' spread.
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::Path;
@@ -215,6 +216,41 @@ fn ensemble_members_statistics_and_density_grid() {
     }
     assert_eq!(got, want);
     assert!((integral - bodies as f64).abs() < 1e-3, "{integral}");
+
+    // The rescue map of the intensity agrees with the three runs' voids.csv, and
+    // ensemble.csv holds the statistics of their void counts (voids.json).
+    let runs_dirs: Vec<_> = ids.iter().map(|id| out.join("runs").join(id)).collect();
+    crate::rescue::ensemble::assert_map_agrees(
+        &out.join("results/rescue/base__hybrid__1.500g.csv"),
+        &runs_dirs,
+    );
+    let rj: serde_json::Value = serde_json::from_str(
+        &fs::read_to_string(out.join("results/rescue/base__hybrid__1.500g.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(rj["members_analysed"], 3);
+    let counts: Vec<f64> = runs_dirs
+        .iter()
+        .map(|d| {
+            let v: serde_json::Value =
+                serde_json::from_str(&fs::read_to_string(d.join("voids.json")).unwrap()).unwrap();
+            v["voids_count"].as_f64().unwrap()
+        })
+        .collect();
+    let row = ens
+        .lines()
+        .find(|l| l.starts_with("base,elcentro,hybrid,1.500,rescue.voids_count,3,"))
+        .unwrap_or_else(|| panic!("{ens}"));
+    let f: Vec<f64> = row.split(',').skip(6).map(|x| x.parse().unwrap()).collect();
+    assert!(
+        (f[0] - counts.iter().sum::<f64>() / 3.0).abs() < 1e-6,
+        "{row}"
+    );
+    assert_eq!(f[2], counts.iter().copied().fold(f64::INFINITY, f64::min));
+    assert_eq!(
+        f[3],
+        counts.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+    );
 
     // `fem2rbd plot` draws the density map of the intensity.
     let (ok, stdout, err) = fem2rbd(&["plot", o, "--format", "png"]);

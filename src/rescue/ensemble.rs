@@ -1,0 +1,688 @@
+//! The rescue analysis over an ensemble: how likely a survivable void is beneath each plan
+//! cell, how the members' void and pile measures spread, and which voids recur in the same
+//! place (docs/rescue.md §6). It reads only the members' own rescue files — `voids.csv`
+//! (columns by their header names), `voids.json` (counts, rubble, grid, scale) — so it
+//! follows whatever the per-ruin analysis finds.
+//!
+//! * **Plan map.** A 2-D grid of square cells of edge [`MAP_CELL_M`] × the model's scale
+//!   over the union of the members' analysis grids in plan (origin at the union's lower
+//!   corner). A void lies **beneath** a map cell when the cell's centre is inside the
+//!   void's plan bounding box (`min_x…max_x` × `min_y…max_y` of `voids.csv`, bounds
+//!   included). Per cell and member: whether a void, a survivable void, a survivable void
+//!   the rescuer reaches, one the camera reaches lies beneath; the probability is the count
+//!   of members with it over the analysed members.
+//! * **Distributions** over the analysed members of the void count, the survivable void
+//!   count, the survivable voids' total volume, the count of survivable voids the rescuer
+//!   reaches, and the pile's max and mean height (`voids.json` `rubble`; 0 without
+//!   debris): min, quartiles (linear interpolation between order statistics, Hyndman & Fan
+//!   1996 type 7), mean, max.
+//! * **Voids by place.** The survivable voids of all members, members in order and each
+//!   member's voids in `voids.csv` order (largest first), are matched to places: a void
+//!   joins the place, holding no void of its own member yet, whose first void's bounding
+//!   box overlaps its own the most by intersection over union (3-D), when that is at least
+//!   [`MATCH_IOU`]; otherwise it opens a place. A place recurs when it holds voids of two
+//!   or more members.
+//!
+//! A member whose `voids.json` holds an `error` (its grid was over the bound) is not
+//! analysed: it is named in `rescue.json` and left out of every denominator.
+use super::{RescueError, Result};
+use crate::output::run_folder::RunFolderError;
+use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Map cell edge at full scale, m: about a lying adult's width (0.5 m), the smallest plan
+/// size a trainer places a casualty at; five analysis cells at the default 0.1 m.
+pub const MAP_CELL_M: f64 = 0.5;
+
+/// Least intersection over union of two voids' bounding boxes for them to be one place:
+/// one half, so a void matches at most one of two disjoint places and a box shifted by a
+/// third of its length along one axis still matches (IoU = (2/3)/(4/3) = 0.5).
+pub const MATCH_IOU: f64 = 0.5;
+
+/// The files written into an ensemble folder.
+pub const FILES: [&str; 2] = ["rescue_map.csv", "rescue.json"];
+
+/// One void of a member, as its `voids.csv` row gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MemberVoid {
+    /// Volume, m³.
+    pub volume_m3: f64,
+    /// A lying or sitting adult fits.
+    pub survivable: bool,
+    /// The rescuer reaches it.
+    pub rescuer: bool,
+    /// The camera reaches it.
+    pub camera: bool,
+    /// The collapse pattern's name.
+    pub pattern: String,
+    /// Centroid, m.
+    pub centroid_m: [f64; 3],
+    /// Bounding box (min, max), m.
+    pub bounds_m: [[f64; 3]; 2],
+}
+
+/// One member's rescue analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MemberRescue {
+    /// The voids, in `voids.csv` order.
+    pub voids: Vec<MemberVoid>,
+    /// The plan extent of its grid ([min x, min y], [max x, max y]), m (`None`: no grid,
+    /// no debris).
+    pub extent_m: Option<[[f64; 2]; 2]>,
+    /// Pile height, max and mean, m (0 without debris).
+    pub max_height_m: f64,
+    /// See `max_height_m`.
+    pub mean_height_m: f64,
+    /// The model's scale.
+    pub scale: f64,
+}
+
+/// A member folder: its name and its analysis, or why there is none.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Member {
+    /// Folder name (`member-003`).
+    pub name: String,
+    /// The analysis, or the error its `voids.json` records.
+    pub rescue: std::result::Result<MemberRescue, String>,
+}
+
+fn inconsistent(file: &Path, line: usize, message: String) -> RescueError {
+    RescueError::Inconsistent {
+        file: file.display().to_string(),
+        line,
+        message,
+    }
+}
+
+fn read(path: &Path) -> Result<String> {
+    crate::model::limits::read_regular_file(path).map_err(|error| {
+        RunFolderError::Read {
+            path: path.to_path_buf(),
+            error,
+        }
+        .into()
+    })
+}
+
+/// The voids of a `voids.csv` text (`file` for errors), by column name.
+pub fn parse_voids_csv(text: &str, file: &Path) -> Result<Vec<MemberVoid>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(text.as_bytes());
+    let header = reader
+        .headers()
+        .map_err(|e| inconsistent(file, 1, format!("not a CSV header: {e}")))?
+        .clone();
+    const NEEDED: [&str; 13] = [
+        "volume_m3",
+        "survivable",
+        "rescuer_access",
+        "camera_access",
+        "pattern",
+        "centroid_x",
+        "centroid_y",
+        "centroid_z",
+        "min_x",
+        "min_y",
+        "min_z",
+        "max_x",
+        "max_y",
+    ];
+    let col = |name: &str| -> Result<usize> {
+        header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| inconsistent(file, 1, format!("no column `{name}`")))
+    };
+    for name in NEEDED {
+        col(name)?;
+    }
+    let max_z = col("max_z")?;
+    let mut out = Vec::new();
+    for rec in reader.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line() as usize);
+            inconsistent(file, line, format!("not a CSV row: {e}"))
+        })?;
+        let line = rec.position().map_or(0, |p| p.line() as usize);
+        let text = |name: &str| -> Result<&str> { Ok(rec.get(col(name)?).unwrap_or("")) };
+        let num = |name: &str| -> Result<f64> {
+            let t = text(name)?;
+            t.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| inconsistent(file, line, format!("`{name}` = {t:?}: not a number")))
+        };
+        let flag = |name: &str| -> Result<bool> {
+            match text(name)? {
+                "1" => Ok(true),
+                "0" => Ok(false),
+                t => Err(inconsistent(
+                    file,
+                    line,
+                    format!("`{name}` = {t:?}: not 1 or 0"),
+                )),
+            }
+        };
+        let mz = rec.get(max_z).unwrap_or("");
+        let max_z = mz
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| inconsistent(file, line, format!("`max_z` = {mz:?}: not a number")))?;
+        let bounds_m = [
+            [num("min_x")?, num("min_y")?, num("min_z")?],
+            [num("max_x")?, num("max_y")?, max_z],
+        ];
+        if (0..3).any(|k| bounds_m[0][k] > bounds_m[1][k]) {
+            return Err(inconsistent(
+                file,
+                line,
+                "a bounding box minimum above its maximum".into(),
+            ));
+        }
+        out.push(MemberVoid {
+            volume_m3: num("volume_m3")?,
+            survivable: flag("survivable")?,
+            rescuer: flag("rescuer_access")?,
+            camera: flag("camera_access")?,
+            pattern: text("pattern")?.to_string(),
+            centroid_m: [num("centroid_x")?, num("centroid_y")?, num("centroid_z")?],
+            bounds_m,
+        });
+    }
+    Ok(out)
+}
+
+/// Reads one member's rescue files from its folder `dir`.
+pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, String>> {
+    let jf = dir.join("voids.json");
+    let jt = read(&jf)?;
+    let js: Value = serde_json::from_str(&jt)
+        .map_err(|e| inconsistent(&jf, e.line(), format!("not JSON: {e}")))?;
+    if let Some(e) = js.get("error") {
+        return Ok(Err(e.as_str().unwrap_or("").to_string()));
+    }
+    let number = |v: Option<&Value>, what: &str| -> Result<f64> {
+        v.and_then(Value::as_f64)
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| inconsistent(&jf, 1, format!("`{what}`: not a number")))
+    };
+    let scale = number(js.get("scale"), "scale")?;
+    if scale <= 0.0 {
+        return Err(inconsistent(
+            &jf,
+            1,
+            format!("`scale` = {scale}: not positive"),
+        ));
+    }
+    let extent_m = match js.get("grid") {
+        None | Some(Value::Null) => None,
+        Some(g) => {
+            let o = |k: usize| number(g.get("origin_m").and_then(|o| o.get(k)), "grid.origin_m");
+            let n = |k: usize| number(g.get("cells").and_then(|o| o.get(k)), "grid.cells");
+            let h = number(g.get("cell_m"), "grid.cell_m")?;
+            let (ox, oy) = (o(0)?, o(1)?);
+            Some([[ox, oy], [ox + n(0)? * h, oy + n(1)? * h]])
+        }
+    };
+    let (max_height_m, mean_height_m) = match js.get("rubble") {
+        None | Some(Value::Null) => (0.0, 0.0),
+        Some(r) => (
+            number(r.get("max_height_m"), "rubble.max_height_m")?,
+            number(r.get("mean_height_m"), "rubble.mean_height_m")?,
+        ),
+    };
+    let cf = dir.join("voids.csv");
+    let voids = parse_voids_csv(&read(&cf)?, &cf)?;
+    Ok(Ok(MemberRescue {
+        voids,
+        extent_m,
+        max_height_m,
+        mean_height_m,
+        scale,
+    }))
+}
+
+/// The member folders `member-NNN` of the ensemble folder `dir`, in member order, read.
+pub fn read_members(dir: &Path) -> Result<Vec<Member>> {
+    let entries = std::fs::read_dir(dir).map_err(|error| RunFolderError::Read {
+        path: dir.to_path_buf(),
+        error,
+    })?;
+    let mut found: Vec<(usize, String)> = Vec::new();
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if let Some(k) = name
+            .strip_prefix("member-")
+            .and_then(|k| k.parse::<usize>().ok())
+        {
+            if e.path().is_dir() {
+                found.push((k, name));
+            }
+        }
+    }
+    found.sort();
+    found
+        .into_iter()
+        .map(|(_, name)| {
+            Ok(Member {
+                rescue: read_member(&dir.join(&name))?,
+                name,
+            })
+        })
+        .collect()
+}
+
+/// Min, quartiles (type 7), mean and max of `v` (empty: all 0).
+pub fn distribution(v: &[f64]) -> [f64; 6] {
+    if v.is_empty() {
+        return [0.0; 6];
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let q = |p: f64| {
+        let h = p * (s.len() - 1) as f64;
+        let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+        s[lo] + (h - lo as f64) * (s[hi] - s[lo])
+    };
+    let mean = s.iter().sum::<f64>() / s.len() as f64;
+    [s[0], q(0.25), q(0.5), q(0.75), mean, s[s.len() - 1]]
+}
+
+/// Intersection over union of two boxes (0 when either has no volume and they differ).
+pub fn iou(a: &[[f64; 3]; 2], b: &[[f64; 3]; 2]) -> f64 {
+    let vol =
+        |lo: [f64; 3], hi: [f64; 3]| (0..3).map(|k| (hi[k] - lo[k]).max(0.0)).product::<f64>();
+    let lo = [0, 1, 2].map(|k| a[0][k].max(b[0][k]));
+    let hi = [0, 1, 2].map(|k| a[1][k].min(b[1][k]));
+    let inter = vol(lo, hi);
+    let union = vol(a[0], a[1]) + vol(b[0], b[1]) - inter;
+    if union > 0.0 {
+        inter / union
+    } else if a == b {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// A place where survivable voids of several members lie.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Place {
+    /// The bounding box of its first void, m.
+    pub seed_bounds_m: [[f64; 3]; 2],
+    /// (member index, the member's void) per member holding it, in member order.
+    pub voids: Vec<(usize, MemberVoid)>,
+}
+
+/// The survivable voids of `members` matched to places (module docs), in order of first
+/// appearance.
+pub fn places(members: &[Member]) -> Vec<Place> {
+    let mut out: Vec<Place> = Vec::new();
+    for (m, member) in members.iter().enumerate() {
+        let Ok(r) = &member.rescue else { continue };
+        for v in r.voids.iter().filter(|v| v.survivable) {
+            let best = out
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.voids.last().is_none_or(|(k, _)| *k != m))
+                .map(|(i, p)| (i, iou(&p.seed_bounds_m, &v.bounds_m)))
+                .filter(|(_, o)| *o >= MATCH_IOU)
+                .fold(None::<(usize, f64)>, |b, (i, o)| match b {
+                    Some((_, bo)) if bo >= o => b,
+                    _ => Some((i, o)),
+                });
+            match best {
+                Some((i, _)) => out[i].voids.push((m, v.clone())),
+                None => out.push(Place {
+                    seed_bounds_m: v.bounds_m,
+                    voids: vec![(m, v.clone())],
+                }),
+            }
+        }
+    }
+    out
+}
+
+/// The plan map's grid: lower corner, cell edge, counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanGrid {
+    /// Lower corner, m.
+    pub origin_m: [f64; 2],
+    /// Cell edge, m.
+    pub cell_m: f64,
+    /// Cells along x and y.
+    pub n: [usize; 2],
+}
+
+impl PlanGrid {
+    /// The centre of cell (i, j), m.
+    pub fn centre(&self, i: usize, j: usize) -> [f64; 2] {
+        [
+            self.origin_m[0] + (i as f64 + 0.5) * self.cell_m,
+            self.origin_m[1] + (j as f64 + 0.5) * self.cell_m,
+        ]
+    }
+}
+
+/// Member counts per map cell, row-major (j, then i).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellCounts {
+    /// Members with a void beneath.
+    pub void: Vec<usize>,
+    /// Members with a survivable void beneath.
+    pub survivable: Vec<usize>,
+    /// Members with a survivable void the rescuer reaches beneath.
+    pub rescuer: Vec<usize>,
+    /// Members with a survivable void the camera reaches beneath.
+    pub camera: Vec<usize>,
+}
+
+/// The ensemble's rescue maps and statistics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Maps {
+    /// The members, in order.
+    pub members: Vec<Member>,
+    /// The model's scale (1 when no member is analysed).
+    pub scale: f64,
+    /// The plan grid (`None`: no analysed member has a grid).
+    pub grid: Option<PlanGrid>,
+    /// Counts per cell.
+    pub counts: CellCounts,
+    /// The places of survivable voids.
+    pub places: Vec<Place>,
+}
+
+/// The maps of `members` (all analysed members must share one scale; `file` names the
+/// ensemble folder in that error).
+pub fn maps(members: Vec<Member>, folder: &Path) -> Result<Maps> {
+    let analysed: Vec<&MemberRescue> = members
+        .iter()
+        .filter_map(|m| m.rescue.as_ref().ok())
+        .collect();
+    let scale = analysed.first().map_or(1.0, |r| r.scale);
+    if let Some((m, r)) = members
+        .iter()
+        .filter_map(|m| m.rescue.as_ref().ok().map(|r| (m, r)))
+        .find(|(_, r)| r.scale != scale)
+    {
+        return Err(inconsistent(
+            &folder.join(&m.name).join("voids.json"),
+            1,
+            format!("scale {} differs from the first member's {scale}", r.scale),
+        ));
+    }
+    let extents: Vec<[[f64; 2]; 2]> = analysed.iter().filter_map(|r| r.extent_m).collect();
+    let grid = (!extents.is_empty()).then(|| {
+        let lo = [0, 1].map(|k| {
+            extents
+                .iter()
+                .map(|e| e[0][k])
+                .fold(f64::INFINITY, f64::min)
+        });
+        let hi = [0, 1].map(|k| {
+            extents
+                .iter()
+                .map(|e| e[1][k])
+                .fold(f64::NEG_INFINITY, f64::max)
+        });
+        let h = MAP_CELL_M * scale;
+        // A span that is a whole number of cells to rounding needs no extra cell.
+        let n = [0, 1].map(|k| (((hi[k] - lo[k]) / h - 1e-9).ceil() as usize).max(1));
+        PlanGrid {
+            origin_m: lo,
+            cell_m: h,
+            n,
+        }
+    });
+    let cells = grid.map_or(0, |g| g.n[0] * g.n[1]);
+    let mut counts = CellCounts {
+        void: vec![0; cells],
+        survivable: vec![0; cells],
+        rescuer: vec![0; cells],
+        camera: vec![0; cells],
+    };
+    if let Some(g) = grid {
+        for r in &analysed {
+            let mut under = [
+                vec![false; cells],
+                vec![false; cells],
+                vec![false; cells],
+                vec![false; cells],
+            ];
+            for v in &r.voids {
+                let kinds = [
+                    true,
+                    v.survivable,
+                    v.survivable && v.rescuer,
+                    v.survivable && v.camera,
+                ];
+                // The cells whose centres lie in the box: x_c = x0 + (i + ½) h ∈ [min, max].
+                let range = |k: usize| {
+                    let a = ((v.bounds_m[0][k] - g.origin_m[k]) / g.cell_m - 0.5)
+                        .ceil()
+                        .max(0.0) as usize;
+                    let b = ((v.bounds_m[1][k] - g.origin_m[k]) / g.cell_m - 0.5).floor();
+                    (
+                        a,
+                        if b < 0.0 {
+                            None
+                        } else {
+                            Some((b as usize).min(g.n[k] - 1))
+                        },
+                    )
+                };
+                let ((i0, i1), (j0, j1)) = (range(0), range(1));
+                let (Some(i1), Some(j1)) = (i1, j1) else {
+                    continue;
+                };
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        for (u, on) in under.iter_mut().zip(kinds) {
+                            u[j * g.n[0] + i] |= on;
+                        }
+                    }
+                }
+            }
+            for (c, u) in [
+                &mut counts.void,
+                &mut counts.survivable,
+                &mut counts.rescuer,
+                &mut counts.camera,
+            ]
+            .into_iter()
+            .zip(&under)
+            {
+                for (c, u) in c.iter_mut().zip(u) {
+                    *c += usize::from(*u);
+                }
+            }
+        }
+    }
+    let places = places(&members);
+    Ok(Maps {
+        members,
+        scale,
+        grid,
+        counts,
+        places,
+    })
+}
+
+/// Rounded to 6 decimals (−0 as 0).
+fn r6(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6 + 0.0
+}
+
+/// `rescue_map.csv` header.
+pub const MAP_HEADER: &str = "i,j,x,y,p_void,p_survivable,p_survivable_rescuer,p_survivable_camera";
+
+impl Maps {
+    /// The analysed members' analyses.
+    fn analysed(&self) -> Vec<&MemberRescue> {
+        self.members
+            .iter()
+            .filter_map(|m| m.rescue.as_ref().ok())
+            .collect()
+    }
+
+    /// The probability of `count` members among the analysed ones (0 without any).
+    fn p(&self, count: usize) -> f64 {
+        let n = self.analysed().len();
+        if n == 0 {
+            0.0
+        } else {
+            count as f64 / n as f64
+        }
+    }
+
+    /// The `rescue_map.csv` text: one row per plan cell, j then i (columns in
+    /// docs/rescue.md §6).
+    pub fn map_csv(&self) -> String {
+        let mut s = String::from(MAP_HEADER);
+        s.push('\n');
+        let n = self.analysed().len().max(1) as f64;
+        if let Some(g) = self.grid {
+            for j in 0..g.n[1] {
+                for i in 0..g.n[0] {
+                    let k = j * g.n[0] + i;
+                    let c = g.centre(i, j);
+                    let p = |x: usize| r6(x as f64 / n);
+                    let _ = writeln!(
+                        s,
+                        "{i},{j},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
+                        r6(c[0]),
+                        r6(c[1]),
+                        p(self.counts.void[k]),
+                        p(self.counts.survivable[k]),
+                        p(self.counts.rescuer[k]),
+                        p(self.counts.camera[k]),
+                    );
+                }
+            }
+        }
+        s
+    }
+
+    /// The `rescue.json` value.
+    pub fn json(&self) -> Value {
+        let analysed = self.analysed();
+        let dist = |f: &dyn Fn(&MemberRescue) -> f64| {
+            let v: Vec<f64> = analysed.iter().map(|r| f(r)).collect();
+            let d = distribution(&v);
+            json!({"min": r6(d[0]), "p25": r6(d[1]), "median": r6(d[2]), "p75": r6(d[3]),
+                   "mean": r6(d[4]), "max": r6(d[5])})
+        };
+        fn surv(r: &MemberRescue) -> impl Iterator<Item = &MemberVoid> {
+            r.voids.iter().filter(|v| v.survivable)
+        }
+        let places: Vec<Value> = {
+            let mut order: Vec<usize> = (0..self.places.len()).collect();
+            order.sort_by_key(|&i| std::cmp::Reverse(self.places[i].voids.len()));
+            order
+                .into_iter()
+                .map(|i| {
+                    let p = &self.places[i];
+                    let k = p.voids.len() as f64;
+                    let mut patterns = Map::new();
+                    let mut counted: BTreeMap<&str, usize> = BTreeMap::new();
+                    for (_, v) in &p.voids {
+                        *counted.entry(v.pattern.as_str()).or_default() += 1;
+                    }
+                    for (name, c) in counted {
+                        patterns.insert(name.to_string(), json!(c));
+                    }
+                    let vols: Vec<f64> = p.voids.iter().map(|(_, v)| v.volume_m3).collect();
+                    let mean_c = [0, 1, 2].map(|a| r6(p.voids.iter().map(|(_, v)| v.centroid_m[a]).sum::<f64>() / k));
+                    json!({
+                        "members": p.voids.len(),
+                        "probability": r6(self.p(p.voids.len())),
+                        "recurs": p.voids.len() >= 2,
+                        "member_folders": p.voids.iter().map(|(m, _)| self.members[*m].name.clone()).collect::<Vec<_>>(),
+                        "volume_m3": {"mean": r6(vols.iter().sum::<f64>() / k),
+                                      "min": r6(vols.iter().copied().fold(f64::INFINITY, f64::min)),
+                                      "max": r6(vols.iter().copied().fold(f64::NEG_INFINITY, f64::max))},
+                        "mean_centroid_m": mean_c,
+                        "first_bounds_m": [p.seed_bounds_m[0].map(r6), p.seed_bounds_m[1].map(r6)],
+                        "patterns": Value::Object(patterns),
+                        "rescuer_reaches": p.voids.iter().filter(|(_, v)| v.rescuer).count(),
+                        "camera_reaches": p.voids.iter().filter(|(_, v)| v.camera).count(),
+                    })
+                })
+                .collect()
+        };
+        json!({
+            "members": self.members.len(),
+            "members_analysed": analysed.len(),
+            "not_analysed": self.members.iter().filter_map(|m| m.rescue.as_ref().err().map(|e| json!({"member": m.name, "error": e}))).collect::<Vec<_>>(),
+            "scale": self.scale,
+            "map": {
+                "file": FILES[0],
+                "cell_full_scale_m": MAP_CELL_M,
+                "cell_m": self.grid.map(|g| r6(g.cell_m)),
+                "origin_m": self.grid.map(|g| g.origin_m.map(r6)),
+                "cells": self.grid.map(|g| g.n),
+                "beneath": "the cell's centre lies in the void's plan bounding box",
+            },
+            "distributions": {
+                "voids_count": dist(&|r| r.voids.len() as f64),
+                "survivable_count": dist(&|r| surv(r).count() as f64),
+                "survivable_volume_m3": dist(&|r| surv(r).map(|v| v.volume_m3).sum()),
+                "rescuer_reachable_survivable": dist(&|r| surv(r).filter(|v| v.rescuer).count() as f64),
+                "max_height_m": dist(&|r| r.max_height_m),
+                "mean_height_m": dist(&|r| r.mean_height_m),
+            },
+            "match": {"by": "3-D bounding boxes of survivable voids, intersection over union against a place's first void", "iou_at_least": MATCH_IOU},
+            "places": places,
+        })
+    }
+
+    /// The two files (name, bytes), in [`FILES`] order.
+    pub fn files(&self) -> Vec<(&'static str, Vec<u8>)> {
+        let js = serde_json::to_string_pretty(&self.json()).expect("a JSON value") + "\n";
+        vec![
+            (FILES[0], self.map_csv().into_bytes()),
+            (FILES[1], js.into_bytes()),
+        ]
+    }
+}
+
+/// Reads the members of the ensemble folder `dir` and writes `rescue_map.csv` and
+/// `rescue.json` into it, each atomically, after both are built; returns their paths.
+pub fn write_maps(dir: &Path) -> Result<Vec<PathBuf>> {
+    let maps = maps(read_members(dir)?, dir)?;
+    let mut out = Vec::new();
+    for (name, bytes) in maps.files() {
+        let p = dir.join(name);
+        crate::output::write_atomic(&p, &bytes)?;
+        out.push(p);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quartiles_interpolate_between_order_statistics() {
+        // Type 7 of 1, 2, 4, 10: h = 0.75 → 1.75; h = 1.5 → 3; h = 2.25 → 5.5.
+        assert_eq!(
+            distribution(&[10.0, 1.0, 4.0, 2.0]),
+            [1.0, 1.75, 3.0, 5.5, 4.25, 10.0]
+        );
+        assert_eq!(distribution(&[3.0]), [3.0; 6]);
+    }
+
+    #[test]
+    fn overlap_of_boxes_shifted_by_a_third_is_one_half() {
+        let a = [[0.0, 0.0, 0.0], [3.0, 1.0, 1.0]];
+        let b = [[1.0, 0.0, 0.0], [4.0, 1.0, 1.0]];
+        assert!((iou(&a, &b) - 0.5).abs() < 1e-12);
+        assert_eq!(iou(&a, &a), 1.0);
+        assert_eq!(iou(&a, &[[5.0, 0.0, 0.0], [6.0, 1.0, 1.0]]), 0.0);
+    }
+}

@@ -1,0 +1,150 @@
+//! The rescue figures (`fem2rbd::plot::voids`), read back from their SVG: the voids of a
+//! hand-built ruin as boxes of their pattern's colour at their places and sizes, with the
+//! rescuer's entry and the breach marked; an ensemble's rescue map with one shaded cell per
+//! cell of `rescue_map.csv` with a survivable void beneath, and its recurring place.
+use super::ensemble::{hand_built_ensemble, read_map, table_at};
+use super::scene::*;
+use fem2rbd::plot::geometry::View;
+use fem2rbd::plot::voids::{
+    pattern_colour, read_voids, share_colour, RescueMapFigure, VoidsFigure,
+};
+use fem2rbd::plot::{svg_string, Figure};
+use std::process::Command;
+
+fn hex(c: plotters::style::RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+}
+
+/// An attribute of an SVG element line.
+fn attr(line: &str, name: &str) -> Option<String> {
+    let key = format!(" {name}=\"");
+    let s = line.split(key.as_str()).nth(1)?;
+    Some(s[..s.find('"')?].to_string())
+}
+
+/// (x, y, width, height) of every `<rect>` whose `fill` is `fill` (and, when given, whose
+/// `opacity` is `opacity`).
+fn rects(svg: &str, fill: &str, opacity: Option<&str>) -> Vec<[f64; 4]> {
+    svg.lines()
+        .filter(|l| l.starts_with("<rect") && attr(l, "fill").as_deref() == Some(fill))
+        .filter(|l| opacity.is_none() || attr(l, "opacity").as_deref() == opacity)
+        .map(|l| ["x", "y", "width", "height"].map(|k| attr(l, k).unwrap().parse().unwrap()))
+        .collect()
+}
+
+/// How many text elements read `s`.
+fn texts(svg: &str, s: &str) -> usize {
+    svg.lines().filter(|l| l.trim() == s).count()
+}
+
+/// A table (void 1: 3.0 × 2.0 m in plan, 2.0 m clear, the rescuer reaches it) and the
+/// closed box 6 m along x (an enclosed 1.6 × 1.6 × 1.2 m room no one reaches: breach 0.2 m).
+#[test]
+fn the_voids_plan_draws_each_void_at_its_place_and_size() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let (mut boxes, c) = table_at([0.0; 3], 0);
+    boxes.extend(shifted(&closed_box(), [6.0, 0.0, 0.0]));
+    write_run(dir, &boxes, &c, 1.0);
+    let out = Command::new(env!("CARGO_BIN_EXE_fem2rbd"))
+        .args(["--quiet", "voids"])
+        .arg(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let voids = read_voids(dir).unwrap().unwrap();
+    let surv: Vec<_> = voids.iter().filter(|v| v.survivable).collect();
+    assert_eq!(surv.len(), 2, "{voids:?}");
+    let table = surv.iter().find(|v| v.rescuer_entry.is_some()).unwrap();
+    let room = surv.iter().find(|v| v.breach.is_some()).unwrap();
+
+    let fig = VoidsFigure::new(None, View::Plan, voids.clone());
+    assert_eq!(fig.name(), "voids_plan");
+    let svg = svg_string(&fig).unwrap();
+    // One filled box per survivable void, in its pattern's colour, half transparent.
+    let filled = |v: &fem2rbd::plot::voids::PlotVoid| {
+        rects(&svg, &hex(pattern_colour(&v.pattern)), Some("0.45"))
+    };
+    let total: usize = voids
+        .iter()
+        .map(|v| v.pattern.as_str())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .map(|p| rects(&svg, &hex(pattern_colour(p)), Some("0.45")).len())
+        .sum();
+    assert_eq!(total, 2);
+    let (rt, rr) = (filled(table), filled(room));
+    let t = rt.iter().max_by(|a, b| a[2].total_cmp(&b[2])).unwrap();
+    let r = rr.iter().min_by(|a, b| a[2].total_cmp(&b[2])).unwrap();
+    // Equal aspect: the table 3.0 × 2.0 m, the room 1.6 × 1.6 m (to a pixel).
+    let ppm = t[2] / (table.bounds[1][0] - table.bounds[0][0]);
+    assert!((t[2] / t[3] - 1.5).abs() < 0.02, "{t:?}");
+    assert!(
+        (r[2] - 1.6 * ppm).abs() <= 1.5 && (r[3] - 1.6 * ppm).abs() <= 1.5,
+        "{r:?}"
+    );
+    // Their left edges apart by what voids.csv gives (the room's 5.2 m against the
+    // table's −1.5 m), to a pixel and a half.
+    let dx = (room.bounds[0][0] - table.bounds[0][0]) * ppm;
+    assert!((r[0] - t[0] - dx).abs() <= 1.5, "{} vs {dx}", r[0] - t[0]);
+    // Their top edges: the table reaches y = 1.0, the room y = 0.8, 0.2 m lower.
+    let dy = (table.bounds[1][1] - room.bounds[1][1]) * ppm;
+    assert!((r[1] - t[1] - dy).abs() <= 1.5, "{} vs {dy}", r[1] - t[1]);
+    // One entry marker (a black triangle) and one breach cross.
+    let black_polygons = svg
+        .lines()
+        .filter(|l| l.starts_with("<polygon") && attr(l, "fill").as_deref() == Some("#000000"))
+        .count();
+    assert_eq!(black_polygons, 1, "{svg}");
+    let cross_strokes = svg
+        .lines()
+        .filter(|l| {
+            l.starts_with("<line")
+                && attr(l, "stroke").as_deref() == Some("#000000")
+                && attr(l, "stroke-width").as_deref() == Some("2")
+        })
+        .count();
+    assert_eq!(cross_strokes, 2, "the × at the room's breach: two strokes");
+    // The numbers of the survivable voids are written beside them.
+    assert_eq!(texts(&svg, &format!("void {}", table.number)), 1);
+    assert_eq!(texts(&svg, &format!("void {}", room.number)), 1);
+}
+
+/// The rescue map of the hand-built ensemble: one shaded square per cell of
+/// `rescue_map.csv` with a survivable void beneath, in the colour of its share; the place
+/// that recurs (the table, 3 of 4) outlined and labelled 75 %.
+#[test]
+fn the_rescue_map_shades_each_cell_by_its_share() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    hand_built_ensemble(dir);
+    fem2rbd::rescue::ensemble::write_maps(dir).unwrap();
+    let fig = RescueMapFigure::load(dir).unwrap().unwrap();
+    let svg = svg_string(&fig).unwrap();
+    let rows = read_map(&dir.join("rescue_map.csv"));
+    let mut sizes = Vec::new();
+    for share in [0.25, 0.5, 0.75] {
+        let want = rows.iter().filter(|r| r.4[1] == share).count();
+        assert!(want > 0);
+        // The legend shows 25, 50, 75 and 100 % swatches, one rect each.
+        let got = rects(&svg, &hex(share_colour(share)), None);
+        assert_eq!(got.len(), want + 1, "share {share}");
+        sizes.extend(got.into_iter().map(|r| (r[2], r[3])));
+    }
+    // The map's cells are squares of one size (the legend swatches are 18 × 14 px).
+    let cells: Vec<_> = sizes.iter().filter(|s| s.0 != 18.0).collect();
+    assert!(cells
+        .iter()
+        .all(|s| (s.0 - cells[0].0).abs() <= 1.0 && (s.0 - s.1).abs() <= 1.0));
+    // The recurring place's label and the legend's 75 % swatch.
+    assert_eq!(texts(&svg, "75 %"), 2);
+    assert_eq!(
+        texts(&svg, "25 %"),
+        1,
+        "only the legend: the far table does not recur"
+    );
+}
