@@ -34,6 +34,7 @@ mod physics {
     mod jointsolve;
     mod pybullet_debris;
     mod pybullet_scenes;
+    mod stock_bullet;
     mod world;
 }
 mod pipeline {
