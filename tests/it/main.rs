@@ -40,6 +40,7 @@ mod physics {
 mod pipeline {
     mod concrete_integration;
     mod ensemble;
+    mod ensemble_distribution;
     mod groups_measures;
     mod handoff_continuity;
     mod library_slab;

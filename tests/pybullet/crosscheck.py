@@ -111,6 +111,46 @@ def welded_pair():
     return sc
 
 
+def welded(bodies, pairs, duration=2.0):
+    """A scene whose consecutive bodies in `pairs` are welded by fixed constraints at the
+    midpoint of their centres (collisions between the welded bodies on, as pybullet adds
+    them)."""
+    sc = scene(bodies, duration)
+    pos = {b["name"]: b["position"] for b in bodies}
+    sc["constraints"] = []
+    for a, b in pairs:
+        pivot = [(x + y) / 2.0 for x, y in zip(pos[a], pos[b])]
+        sc["constraints"].append({
+            "kind": "fixed", "body_a": a, "body_b": b,
+            "frame_a": {"position": [c - x for c, x in zip(pivot, pos[a])]},
+            "frame_b": {"position": [c - x for c, x in zip(pivot, pos[b])]},
+            "disable_collisions_between": False})
+    return sc
+
+
+def hanging_tower():
+    """Four boxes welded one below the other under a static anchor (a hanging column of
+    fixed joints), the lowest one pushed sideways: the column, held only by the joints'
+    rows (corrected by ERP each substep), is struck and rings."""
+    bodies = [box("anchor", (0.3, 0.3, 0.1), 0.0, (0.0, 0.0, 4.0))]
+    for k in range(4):
+        v = (1.5, 0.5, 0.0) if k == 3 else None
+        bodies.append(box("t%d" % k, (0.1, 0.1, 0.2), 1.0 + 0.5 * k,
+                          (0.0, 0.0, 3.7 - 0.4 * k), v=v))
+    names = ["anchor"] + ["t%d" % k for k in range(4)]
+    return welded(bodies, list(zip(names, names[1:])))
+
+
+def welded_chain():
+    """Six boxes welded end to end, cantilevered sideways from a static anchor and
+    released under gravity: the chain of fixed joints droops, springs back and rings."""
+    bodies = [box("anchor", (0.1, 0.3, 0.3), 0.0, (0.0, 0.0, 3.0))]
+    for k in range(6):
+        bodies.append(box("c%d" % k, (0.15, 0.05, 0.05), 0.5, (0.25 + 0.3 * k, 0.0, 3.0)))
+    names = ["anchor"] + ["c%d" % k for k in range(6)]
+    return welded(bodies, list(zip(names, names[1:])))
+
+
 SCENARIOS = [
     # name, scene, bound on position difference [m], bound on orientation difference [rad]
     ("freefall", scene([box("box", (0.5, 0.5, 0.5), 1.0, (0.0, 0.0, 10.0))]), 1e-9, 1e-9),
@@ -130,6 +170,8 @@ SCENARIOS = [
     # the same bits: 0 m and 0 rad at every substep; the bound is set a little above that.
     ("pile", scene(pile_bodies()), 1e-9, 1e-9),
     ("welded", welded_pair(), 1e-9, 1e-9),
+    ("hanging", hanging_tower(), 1e-9, 1e-9),
+    ("chain", welded_chain(), 1e-9, 1e-9),
     ("bounce", bouncing_box(), 1e-9, 1e-9),
 ]
 
