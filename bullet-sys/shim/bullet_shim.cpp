@@ -2103,6 +2103,15 @@ int bs_constraint_add(bs_world *w, const bs_constraint_desc *d, int *out_index) 
             case BS_FIXED:
                 c->constraint.reset(new btFixedConstraint(ra, rb, fa, fb));
                 break;
+            case BS_POINT2POINT: {
+                for (int i = 0; i < 6; ++i)
+                    if (d->has_limit[i] || d->spring_enabled[i])
+                        return fail(BS_ERR_BAD_ARG, "a point-to-point constraint takes no limit and no spring");
+                if (qa != btQuaternion::getIdentity() || qb != btQuaternion::getIdentity())
+                    return fail(BS_ERR_BAD_ARG, "a point-to-point constraint takes pivots only: frame orientations must be the identity");
+                c->constraint.reset(new btPoint2PointConstraint(ra, rb, fa.getOrigin(), fb.getOrigin()));
+                break;
+            }
             default:
                 return fail(BS_ERR_BAD_ARG, "unknown constraint kind " + std::to_string(d->kind));
         }

@@ -32,7 +32,9 @@ enum bs_status {
 
 enum bs_body_kind { BS_STATIC = 0, BS_KINEMATIC = 1, BS_DYNAMIC = 2 };
 
-enum bs_constraint_kind { BS_GENERIC6DOF = 0, BS_SPRING2 = 1, BS_FIXED = 2 };
+/* BS_POINT2POINT: btPoint2PointConstraint(A, B, pivotInA, pivotInB), the pivots the frames'
+ * positions; the frames' orientations must be the identity and no limit may be given. */
+enum bs_constraint_kind { BS_GENERIC6DOF = 0, BS_SPRING2 = 1, BS_FIXED = 2, BS_POINT2POINT = 3 };
 
 /* Solver and world settings: btContactSolverInfo fields (names follow Bullet's m_*). */
 typedef struct bs_solver_params {

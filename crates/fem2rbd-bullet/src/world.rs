@@ -384,6 +384,7 @@ impl World {
                 sys::BS_SPRING2
             }
             ConstraintKind::Fixed => sys::BS_FIXED,
+            ConstraintKind::PointToPoint => sys::BS_POINT2POINT,
         } as i32;
         let mut index = -1;
         // SAFETY: live world, valid struct, writable index.
