@@ -202,4 +202,5 @@ def distributions(mode, names, ratio, vals, spread, f0, ens):
         'resolution (|t| > 2.1): ' + ', '.join('%s %d/%d' % (v, shifted[v], len(names)) for v, _ in ens) + '\n')
 
 
-main()
+if __name__ == '__main__':
+    main()

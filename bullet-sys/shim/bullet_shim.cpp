@@ -1540,7 +1540,8 @@ struct bs_world {
     std::unique_ptr<btDefaultCollisionConfiguration> config;
     std::unique_ptr<btCollisionDispatcher> dispatcher;
     std::unique_ptr<btDbvtBroadphase> broadphase;
-    std::unique_ptr<ParallelIslandSolver> solver;
+    std::unique_ptr<ParallelIslandSolver> solver;          // null in a stock world
+    std::unique_ptr<btSequentialImpulseConstraintSolver> stock_solver;  // only in a stock world
     std::unique_ptr<btDiscreteDynamicsWorld> world;
     JointWarmStart warm;
     JointDirectSolve direct;
@@ -1558,6 +1559,7 @@ struct bs_world {
         bodies.clear();
         world.reset();
         solver.reset();
+        stock_solver.reset();
         broadphase.reset();
         dispatcher.reset();
         config.reset();
@@ -1589,6 +1591,13 @@ int check_body(const bs_world *w, int i) {
         return fail(BS_ERR_BAD_INDEX, "body index " + std::to_string(i) + " out of range");
     return BS_OK;
 }
+// The shim's solver (ParallelIslandSolver) of w, or BS_ERR_STOCK naming `what` for a stock world.
+int check_shim_solver(const bs_world *w, const char *what) {
+    if (!w) return fail(BS_ERR_NULL, "null world");
+    if (!w->solver) return fail(BS_ERR_STOCK, std::string(what) + " is a feature of the shim's solver; a stock world has none");
+    return BS_OK;
+}
+
 int check_constraint(const bs_world *w, int i) {
     if (!w) return fail(BS_ERR_NULL, "null world");
     if (i < 0 || static_cast<size_t>(i) >= w->constraints.size())
@@ -1661,7 +1670,10 @@ int bs_set_global_contact_breaking_threshold(double value) {
 }
 double bs_get_global_contact_breaking_threshold(void) { return gContactBreakingThreshold; }
 
-int bs_world_new(const double gravity[3], bs_world **out) {
+namespace {
+// Creates the world with the shim's solver (stock = false) or with Bullet's stock
+// btSequentialImpulseConstraintSolver (stock = true).
+int world_new(const double gravity[3], bs_world **out, bool stock) {
     return guard([&]() -> int {
         if (!gravity || !out) return fail(BS_ERR_NULL, "null argument to bs_world_new");
         *out = nullptr;
@@ -1672,15 +1684,32 @@ int bs_world_new(const double gravity[3], bs_world **out) {
         w->config.reset(new btDefaultCollisionConfiguration());
         w->dispatcher.reset(new btCollisionDispatcher(w->config.get()));
         w->broadphase.reset(new btDbvtBroadphase());
-        w->solver.reset(new ParallelIslandSolver());
-        w->solver->warm = &w->warm;
-        w->solver->direct = &w->direct;
-        w->world.reset(new btDiscreteDynamicsWorld(w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get()));
+        btConstraintSolver *solver = nullptr;
+        if (stock) {
+            w->stock_solver.reset(new btSequentialImpulseConstraintSolver());
+            solver = w->stock_solver.get();
+        } else {
+            w->solver.reset(new ParallelIslandSolver());
+            w->solver->warm = &w->warm;
+            w->solver->direct = &w->direct;
+            solver = w->solver.get();
+        }
+        w->world.reset(new btDiscreteDynamicsWorld(w->dispatcher.get(), w->broadphase.get(), solver, w->config.get()));
         w->world->setGravity(vec(gravity));
         w->world->setInternalTickCallback(pre_tick, w.get(), true);
         *out = w.release();
         return BS_OK;
     });
+}
+}  // namespace
+
+int bs_world_new(const double gravity[3], bs_world **out) { return world_new(gravity, out, false); }
+
+int bs_world_new_stock(const double gravity[3], bs_world **out) { return world_new(gravity, out, true); }
+
+int bs_world_is_stock(const bs_world *w) {
+    if (!w) return BS_ERR_NULL;
+    return w->solver ? 0 : 1;
 }
 
 void bs_world_free(bs_world *w) {
@@ -1903,7 +1932,7 @@ int bs_body_add_box(bs_world *w, const bs_body_desc *d, int *out_index) {
             w->bodies.pop_back();
             throw;
         }
-        if (d->kind == BS_KINEMATIC) w->solver->kinematic.push_back(w->bodies.back().body.get());
+        if (d->kind == BS_KINEMATIC && w->solver) w->solver->kinematic.push_back(w->bodies.back().body.get());
         *out_index = index;
         return BS_OK;
     });
@@ -2074,6 +2103,15 @@ int bs_constraint_add(bs_world *w, const bs_constraint_desc *d, int *out_index) 
             case BS_FIXED:
                 c->constraint.reset(new btFixedConstraint(ra, rb, fa, fb));
                 break;
+            case BS_POINT2POINT: {
+                for (int i = 0; i < 6; ++i)
+                    if (d->has_limit[i] || d->spring_enabled[i])
+                        return fail(BS_ERR_BAD_ARG, "a point-to-point constraint takes no limit and no spring");
+                if (qa != btQuaternion::getIdentity() || qb != btQuaternion::getIdentity())
+                    return fail(BS_ERR_BAD_ARG, "a point-to-point constraint takes pivots only: frame orientations must be the identity");
+                c->constraint.reset(new btPoint2PointConstraint(ra, rb, fa.getOrigin(), fb.getOrigin()));
+                break;
+            }
             default:
                 return fail(BS_ERR_BAD_ARG, "unknown constraint kind " + std::to_string(d->kind));
         }
@@ -2259,6 +2297,8 @@ int bs_world_set_joint_warmstart(bs_world *w, double factor) {
         if (int e = check_world(w)) return e;
         if (!(std::isfinite(factor) && factor >= 0 && factor <= 1))
             return fail(BS_ERR_BAD_ARG, "joint warm-start factor must be in [0, 1], got " + std::to_string(factor));
+        if (factor != 0)
+            if (int e = check_shim_solver(w, "the joint warm start")) return e;
         w->warm.factor = factor;
         return BS_OK;
     });
@@ -2281,6 +2321,8 @@ int bs_world_set_joint_solve(bs_world *w, int mode, double regularisation) {
             return fail(BS_ERR_BAD_ARG, "joint solve mode must be 0 (pgs) or 1 (direct), got " + std::to_string(mode));
         if (!(std::isfinite(regularisation) && regularisation >= 0 && regularisation <= 1))
             return fail(BS_ERR_BAD_ARG, "joint solve regularisation must be in [0, 1], got " + std::to_string(regularisation));
+        if (mode != BS_JOINT_SOLVE_PGS)
+            if (int e = check_shim_solver(w, "the direct joint solve")) return e;
         w->direct.mode = mode;
         w->direct.regularisation = regularisation;
         return BS_OK;
@@ -2305,6 +2347,8 @@ int bs_world_set_solver_threads(bs_world *w, int n) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
         if (n < 1 || n > 256) return fail(BS_ERR_BAD_ARG, "solver threads must be 1..256, got " + std::to_string(n));
+        if (!w->solver && n == 1) return BS_OK;
+        if (int e = check_shim_solver(w, "more than one solver thread")) return e;
         w->solver->threads = n;
         return BS_OK;
     });
@@ -2314,6 +2358,8 @@ int bs_world_set_sweep(bs_world *w, int on) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
         if (on < 0 || on > 3) return fail(BS_ERR_BAD_ARG, "sweep must be 0..3, got " + std::to_string(on));
+        if (!w->solver && on == BS_SWEEP_BULLET) return BS_OK;
+        if (int e = check_shim_solver(w, "a sweep other than Bullet's")) return e;
         w->solver->sweep = on;
         return BS_OK;
     });
@@ -2323,6 +2369,7 @@ int bs_world_parallel_counts(const bs_world *w, long long *setups, long long *sw
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
         if (!setups || !sweeps) return fail(BS_ERR_NULL, "null output");
+        if (int e = check_shim_solver(w, "the parallel counts")) return e;
         *setups = w->solver->parallel_setups;
         *sweeps = w->solver->parallel_sweeps;
         return BS_OK;
@@ -2333,7 +2380,7 @@ int bs_world_get_solver_threads(const bs_world *w, int *n) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
         if (!n) return fail(BS_ERR_NULL, "null output");
-        *n = w->solver->threads;
+        *n = w->solver ? w->solver->threads : 1;
         return BS_OK;
     });
 }
@@ -2342,6 +2389,7 @@ int bs_world_island_stats(const bs_world *w, bs_island_stats *out) {
     return guard([&]() -> int {
         if (int e = check_world(w)) return e;
         if (!out) return fail(BS_ERR_NULL, "null output");
+        if (int e = check_shim_solver(w, "the island statistics")) return e;
         *out = w->solver->stats;
         return BS_OK;
     });
@@ -2349,7 +2397,7 @@ int bs_world_island_stats(const bs_world *w, bs_island_stats *out) {
 
 int bs_world_reset_island_stats(bs_world *w) {
     return guard([&]() -> int {
-        if (int e = check_world(w)) return e;
+        if (int e = check_shim_solver(w, "the island statistics")) return e;
         w->solver->stats = bs_island_stats{};
         return BS_OK;
     });

@@ -26,12 +26,15 @@ enum bs_status {
     BS_ERR_BAD_INDEX = -3,  /* body or constraint index out of range */
     BS_ERR_BAD_ARG = -4,    /* an argument out of its domain (NaN, negative mass, ...) */
     BS_ERR_ABI = -5,        /* the linked libBullet disagrees with our btScalar */
-    BS_ERR_WRONG_KIND = -6  /* operation not valid for this body / constraint kind */
+    BS_ERR_WRONG_KIND = -6, /* operation not valid for this body / constraint kind */
+    BS_ERR_STOCK = -7       /* a solver feature of the shim asked of a stock world (bs_world_new_stock) */
 };
 
 enum bs_body_kind { BS_STATIC = 0, BS_KINEMATIC = 1, BS_DYNAMIC = 2 };
 
-enum bs_constraint_kind { BS_GENERIC6DOF = 0, BS_SPRING2 = 1, BS_FIXED = 2 };
+/* BS_POINT2POINT: btPoint2PointConstraint(A, B, pivotInA, pivotInB), the pivots the frames'
+ * positions; the frames' orientations must be the identity and no limit may be given. */
+enum bs_constraint_kind { BS_GENERIC6DOF = 0, BS_SPRING2 = 1, BS_FIXED = 2, BS_POINT2POINT = 3 };
 
 /* Solver and world settings: btContactSolverInfo fields (names follow Bullet's m_*). */
 typedef struct bs_solver_params {
@@ -115,6 +118,17 @@ double bs_get_global_contact_breaking_threshold(void);
 
 /* ---- world --------------------------------------------------------------------------- */
 int bs_world_new(const double gravity[3], bs_world **out);
+/* A world of Bullet's stock classes only: btDefaultCollisionConfiguration,
+ * btCollisionDispatcher, btDbvtBroadphase, btSequentialImpulseConstraintSolver and
+ * btDiscreteDynamicsWorld, none of the shim's solver subclasses (the reference the shim's
+ * solver is checked against). Everything else behind this API is the same: the bodies,
+ * constraints, their feedback and the kinematic velocities set before each substep. The
+ * shim's solver features are refused with BS_ERR_STOCK unless they ask for what stock
+ * Bullet does: one solver thread, the sweep BS_SWEEP_BULLET, joint warm start 0, the
+ * joint solve BS_JOINT_SOLVE_PGS; island statistics and parallel counts are not kept. */
+int bs_world_new_stock(const double gravity[3], bs_world **out);
+/* 1 if w was made by bs_world_new_stock, else 0 (-2 for a null world). */
+int bs_world_is_stock(const bs_world *w);
 void bs_world_free(bs_world *w);
 int bs_world_set_gravity(bs_world *w, const double gravity[3]);
 int bs_world_get_gravity(const bs_world *w, double gravity[3]);

@@ -147,7 +147,9 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
     for p in &r.final_poses {
         bits.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
     }
-    let st = r.islands;
+    let st = r
+        .islands
+        .context("the ruin stage ran on a stock Bullet world, which keeps no island statistics")?;
     let cpu_per_sim = match (clock.first.get(), clock.last.get()) {
         (Some((t0, c0)), Some((t1, c1))) if t1 > t0 => (c1 - c0) / (t1 - t0),
         _ => f64::NAN,

@@ -868,27 +868,7 @@ pub fn ruin_stage(
     };
     let t0 = Instant::now();
     progress.stage("physics", input.start_time_s, limit);
-    let base_z = inputs
-        .bodies
-        .iter()
-        .filter(|b| b.passive)
-        .map(|b| b.pose0.position[2] + b.half_extents[2])
-        .reduce(f64::max);
-    let mut stage = RuinStage::build(
-        input,
-        GroundSpec {
-            top_z: base_z,
-            ..GroundSpec::moving(inputs.ground.clone())
-        },
-        &StageSettings {
-            ground_damping_per_s: inputs.ground_damping_per_s,
-            ..stage_settings(sc)
-        },
-    )
-    .map_err(|error| PipelineError::Ruin {
-        stage: "building the ruin stage",
-        error: Box::new(error),
-    })?;
+    let mut stage = build_stage(sc, inputs, input, &|_| ())?;
     let result = stage
         .run_with(&stop, &mut |f| {
             let c = f.counts;
@@ -907,6 +887,62 @@ pub fn ruin_stage(
     }
     check_finite(&result, &inputs.bodies, sc)?;
     Ok((result, t0.elapsed()))
+}
+
+/// The ruin stage of `input` on the scenario's moving ground (its top at the foundation
+/// blocks' tops) with the scenario's settings ([`stage_settings`], the ground damping of
+/// `inputs`), `adjust` applied last.
+fn build_stage(
+    sc: &Scenario,
+    inputs: &Inputs,
+    input: &StageInput,
+    adjust: &dyn Fn(&mut StageSettings),
+) -> Result<RuinStage> {
+    let base_z = inputs
+        .bodies
+        .iter()
+        .filter(|b| b.passive)
+        .map(|b| b.pose0.position[2] + b.half_extents[2])
+        .reduce(f64::max);
+    let mut settings = StageSettings {
+        ground_damping_per_s: inputs.ground_damping_per_s,
+        ..stage_settings(sc)
+    };
+    adjust(&mut settings);
+    RuinStage::build(
+        input,
+        GroundSpec {
+            top_z: base_z,
+            ..GroundSpec::moving(inputs.ground.clone())
+        },
+        &settings,
+    )
+    .map_err(|error| PipelineError::Ruin {
+        stage: "building the ruin stage",
+        error: Box::new(error),
+    })
+}
+
+/// The physics-only ruin stage of `sc` exactly as [`run`] builds it (BCB's Formula-Assistant
+/// connections, every body at its start pose at t = 0, the scenario's moving ground), with
+/// `adjust` applied to its settings, not yet run: for checks that drive the same stage in
+/// two ways (e.g. the shim's solver against Bullet's stock one,
+/// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be physics-only with
+/// `connections = "formula"` (the default of that mode).
+pub fn physics_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
+    if sc.mode != Mode::Physics || sc.physics.connection_model(sc.mode) != ConnectionModel::Formula
+    {
+        return Err(PipelineError::Scenario(ScenarioError::Invalid {
+            file: sc.path.display().to_string(),
+            message: "a physics-only stage needs mode = \"physics\" with connections = \"formula\""
+                .into(),
+        }));
+    }
+    let inputs = load_inputs(sc, None)?;
+    let geoms = geoms(&inputs.bodies);
+    let masses: Vec<f64> = inputs.bodies.iter().map(|b| b.mass_kg).collect();
+    let start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
+    build_stage(sc, &inputs, &start, adjust)
 }
 
 /// As [`run`], with the start of the ruin stage perturbed as an ensemble member

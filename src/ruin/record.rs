@@ -126,8 +126,10 @@ pub struct RuinResult {
     /// Energy and speed figures of the whole run.
     pub ledger: LedgerSummary,
     /// The solver's island batches over the run (how much of the work the largest island
-    /// holds, which bounds the island-parallel speed-up) and the bodies asleep at the end.
-    pub islands: crate::physics::IslandStats,
+    /// holds, which bounds the island-parallel speed-up); `None` for a world of Bullet's
+    /// stock classes, whose solver keeps no such statistics
+    /// ([`crate::physics::WorldSettings::stock_solver`]).
+    pub islands: Option<crate::physics::IslandStats>,
     /// Dynamic bodies asleep at the end (0 unless sleeping is on).
     pub sleeping_at_end: usize,
     /// The direct joint solve's mode and counts over the run

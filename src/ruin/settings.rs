@@ -269,6 +269,7 @@ impl Default for StageSettings {
                 },
                 dbvt_margin: Some(0.05),
                 contact_breaking_threshold: Some(0.02),
+                stock_solver: false,
             },
             body: BodySettings::default(),
             angle_rule: AngleRule::default(),

@@ -289,7 +289,9 @@ impl RuinStage {
     ) -> Result<RuinResult, StageError> {
         let start = Instant::now();
         let bullet_before = self.passes.bullet_step.in_bullet();
-        self.world.bullet.reset_island_stats()?;
+        if !self.world.bullet.is_stock() {
+            self.world.bullet.reset_island_stats()?;
+        }
         if !stop.max_time_s.is_finite() {
             return Err(bad(
                 "max_time_s",
@@ -399,7 +401,11 @@ impl RuinStage {
                 injected_j: energy.injected_j(),
                 max_injection: energy.max_injection(),
             },
-            islands: bullet.island_stats()?,
+            islands: if bullet.is_stock() {
+                None
+            } else {
+                Some(bullet.island_stats()?)
+            },
             sleeping_at_end: bullet.num_sleeping()?,
             joint_solve: bullet.joint_solve()?,
         })

@@ -543,6 +543,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
                 }
             }
             ConstraintType::Fixed => ConstraintKind::Fixed,
+            ConstraintType::PointToPoint => ConstraintKind::PointToPoint,
         };
         if c.springs.is_some() && c.kind != ConstraintType::Spring2 {
             bail!("{}: springs are only allowed on kind \"spring2\"", item());
@@ -550,6 +551,12 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         if c.limits.is_some() && c.kind == ConstraintType::Fixed {
             bail!(
                 "{}: limits are not allowed on kind \"fixed\" (all axes are locked)",
+                item()
+            );
+        }
+        if c.limits.is_some() && c.kind == ConstraintType::PointToPoint {
+            bail!(
+                "{}: limits are not allowed on kind \"point2point\" (the pivots are held together, rotation is free)",
                 item()
             );
         }

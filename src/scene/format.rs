@@ -192,6 +192,8 @@ pub(crate) enum ConstraintType {
     Spring2,
     /// `"fixed"`: btFixedConstraint.
     Fixed,
+    /// `"point2point"`: btPoint2PointConstraint (the frames' positions are the pivots).
+    PointToPoint,
 }
 
 impl<'de> Deserialize<'de> for ConstraintType {
@@ -202,8 +204,9 @@ impl<'de> Deserialize<'de> for ConstraintType {
             "generic6dof" => Ok(ConstraintType::Generic6dof),
             "spring2" => Ok(ConstraintType::Spring2),
             "fixed" => Ok(ConstraintType::Fixed),
+            "point2point" => Ok(ConstraintType::PointToPoint),
             other => Err(serde::de::Error::custom(format!(
-                "unknown kind \"{other}\" (expected \"generic6dof\", \"spring2\" or \"fixed\")"
+                "unknown kind \"{other}\" (expected \"generic6dof\", \"spring2\", \"fixed\" or \"point2point\")"
             ))),
         }
     }

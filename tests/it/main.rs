@@ -35,11 +35,13 @@ mod physics {
     mod jointsolve;
     mod pybullet_debris;
     mod pybullet_scenes;
+    mod stock_bullet;
     mod world;
 }
 mod pipeline {
     mod concrete_integration;
     mod ensemble;
+    mod ensemble_distribution;
     mod groups_measures;
     mod handoff_continuity;
     mod library_slab;

@@ -109,6 +109,13 @@ pub struct WorldSettings {
     /// `gContactBreakingThreshold` \[m\] (default 0.02 in both). **Process-global**, like
     /// `dbvt_margin`; it is read when a contact manifold is created.
     pub contact_breaking_threshold: Option<f64>,
+    /// Build the world from Bullet's stock classes only (`bs_world_new_stock`: Bullet 3.24's
+    /// `btSequentialImpulseConstraintSolver`, none of the shim's solver subclasses), the
+    /// reference the shim's solver is checked against. Such a world runs one solver thread,
+    /// Bullet's sweep ([`crate::Sweep::Bullet`]), no joint warm start and the projected
+    /// Gauss–Seidel joint solve; asking it for anything else is an error. `false` (default):
+    /// the shim's solver.
+    pub stock_solver: bool,
 }
 
 impl Default for WorldSettings {
@@ -119,6 +126,7 @@ impl Default for WorldSettings {
             solver: SolverSettings::default(),
             dbvt_margin: None,
             contact_breaking_threshold: None,
+            stock_solver: false,
         }
     }
 }
@@ -131,6 +139,7 @@ impl WorldSettings {
             solver: SolverSettings::pybullet(),
             dbvt_margin: Some(0.0),
             contact_breaking_threshold: Some(0.02),
+            stock_solver: false,
         }
     }
 }

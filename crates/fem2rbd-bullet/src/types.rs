@@ -192,6 +192,10 @@ pub enum ConstraintKind {
     },
     /// `btFixedConstraint(A, B, frameA, frameB)` (a Spring2 with all six axes locked).
     Fixed,
+    /// `btPoint2PointConstraint(A, B, pivotInA, pivotInB)`: the frames' positions are the
+    /// pivots, which stay together (three linear rows; rotation free). The frames'
+    /// orientations must be the identity; no limits.
+    PointToPoint,
 }
 
 /// A per-axis constraint parameter (`btConstraintParams`) for

@@ -195,7 +195,11 @@ impl World {
         let mut raw: *mut sys::bs_world = std::ptr::null_mut();
         // SAFETY: gravity points to 3 doubles; raw is a valid out-pointer.
         check("world_new", unsafe {
-            sys::bs_world_new(settings.gravity.as_ptr(), &mut raw)
+            if settings.stock_solver {
+                sys::bs_world_new_stock(settings.gravity.as_ptr(), &mut raw)
+            } else {
+                sys::bs_world_new(settings.gravity.as_ptr(), &mut raw)
+            }
         })?;
         let raw = NonNull::new(raw).ok_or_else(|| PhysicsError::Bullet {
             call: "world_new",
@@ -215,6 +219,13 @@ impl World {
             sys::bs_world_set_solver_params(world.raw.as_ptr(), &params)
         })?;
         Ok(world)
+    }
+
+    /// Whether the world is built from Bullet's stock classes only
+    /// ([`WorldSettings::stock_solver`]).
+    pub fn is_stock(&self) -> bool {
+        // SAFETY: raw is a live world.
+        unsafe { sys::bs_world_is_stock(self.raw.as_ptr()) == 1 }
     }
 
     fn w(&self) -> *mut sys::bs_world {
@@ -373,6 +384,7 @@ impl World {
                 sys::BS_SPRING2
             }
             ConstraintKind::Fixed => sys::BS_FIXED,
+            ConstraintKind::PointToPoint => sys::BS_POINT2POINT,
         } as i32;
         let mut index = -1;
         // SAFETY: live world, valid struct, writable index.

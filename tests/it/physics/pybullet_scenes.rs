@@ -1,6 +1,8 @@
 //! Runs `tests/pybullet/crosscheck.py`: the same scenes in `fem2rbd scene` and in pybullet
 //! 3.2.7 (free fall, drop, slide with friction, tumbling throw, a pile of 24 boxes, two
-//! boxes welded by a fixed constraint, a bouncing box with restitution, damping and rolling
+//! boxes welded by a fixed constraint, a column of four boxes hanging from a static anchor
+//! by fixed joints and struck sideways, a chain of six boxes welded end to end and
+//! cantilevered from an anchor, a box swinging on a point-to-point joint, a bouncing box with restitution, damping and rolling
 //! friction) must agree to 1e-9 m / 1e-9 rad at every substep,
 //! and a negative control (solver mode 260 instead of pybullet's 276) must differ. Needs `python3` with pybullet and numpy
 //! (scripts/setup.sh installs them); fails, never skips, when they are missing.
@@ -35,6 +37,9 @@ fn fem2rbd_scene_agrees_with_pybullet() {
         "tumble",
         "pile",
         "welded",
+        "hanging",
+        "chain",
+        "pendulum",
         "bounce",
         "control_tumble_mode260",
     ] {
