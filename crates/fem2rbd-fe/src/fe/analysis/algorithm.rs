@@ -113,7 +113,7 @@ impl Workspace {
         })
     }
 
-    fn factor(
+    pub(crate) fn factor(
         &mut self,
         problem: &mut dyn StepProblem,
         domain: &Domain,

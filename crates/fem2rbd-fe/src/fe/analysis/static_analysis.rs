@@ -175,8 +175,9 @@ pub struct DisplacementControl {
     pub steps: usize,
     /// Convergence test.
     pub test: ConvergenceTest,
-    /// Try modified Newton with the initial stiffness when Newton fails.
-    pub initial_stiffness_fallback: bool,
+    /// When Newton fails: modified Newton with the initial stiffness, then Krylov–Newton,
+    /// then Newton with line search ([`CONTROL_FALLBACKS`]).
+    pub fallbacks: bool,
 }
 
 /// Newton iteration with the arc constraint "control DOF moves by `target`"
@@ -243,8 +244,83 @@ fn displacement_step(
     })
 }
 
+/// The displacement-control step as a [`StepProblem`], so that the general algorithms
+/// (Krylov–Newton, Newton with line search) can iterate it as OpenSees' algorithms
+/// iterate its `DisplacementControl` integrator: each correction δu_R the algorithm makes
+/// is projected onto the constraint "the control DOF has moved by the increment" with
+/// δλ = (remaining − δu_R[c]) / δu_P[c], δu = δu_R + δλ δu_P (Batoz & Dhatt 1979), where
+/// δu_P = K⁻¹ P_ref is solved once with the tangent at the start of the step.
+struct ControlledProblem {
+    base: StaticProblem,
+    c: usize,
+    du_p: Vec<f64>,
+    remaining: f64,
+}
+
+impl StepProblem for ControlledProblem {
+    fn residual(&mut self, domain: &Domain, out: &mut [f64]) {
+        self.base.residual(domain, out)
+    }
+    fn tangent(
+        &mut self,
+        domain: &Domain,
+        pattern: &SparsePattern,
+        kind: StiffnessKind,
+        values: &mut [f64],
+    ) {
+        self.base.tangent(domain, pattern, kind, values)
+    }
+    fn apply(&mut self, domain: &mut Domain, du: &[f64]) -> Result<(), ElementError> {
+        let dlambda = (self.remaining - du[self.c]) / self.du_p[self.c];
+        self.remaining = 0.0;
+        let full: Vec<f64> = du
+            .iter()
+            .zip(&self.du_p)
+            .map(|(d, p)| d + dlambda * p)
+            .collect();
+        domain.set_load_factor(domain.load_factor() + dlambda);
+        self.base.apply(domain, &full)
+    }
+}
+
+/// One displacement-control step iterated by `algorithm` ([`ControlledProblem`]).
+fn controlled_step(
+    domain: &mut Domain,
+    ws: &mut Workspace,
+    c: usize,
+    increment: f64,
+    algorithm: Algorithm,
+    test: ConvergenceTest,
+) -> Result<usize, IterationFailure> {
+    let n = ws.pattern.dim();
+    let mut problem = ControlledProblem {
+        base: StaticProblem::new(domain),
+        c,
+        du_p: vec![0.0; n],
+        remaining: increment,
+    };
+    ws.factor(&mut problem, domain, StiffnessKind::Tangent)?;
+    domain.reference_load(&mut problem.du_p);
+    ws.lu.solve(&ws.pattern, &mut problem.du_p)?;
+    if problem.du_p[c].abs() < f64::MIN_POSITIVE {
+        return Err(IterationFailure::Element(
+            "displacement control: the reference load does not move the control DOF".into(),
+        ));
+    }
+    solve_step(&mut problem, domain, ws, algorithm, test)
+}
+
+/// The algorithms a displacement-control step falls back to when Newton and modified
+/// Newton on the initial stiffness fail, in the order of OpenSees' pushover scripts:
+/// Krylov–Newton (subspace 3), then Newton with line search (ratio 0.8).
+const CONTROL_FALLBACKS: [Algorithm; 2] = [
+    Algorithm::KrylovNewton { max_dim: 3 },
+    Algorithm::NewtonLineSearch { ratio: 0.8 },
+];
+
 /// One pushover increment: moves the control DOF (`node`, `dof`) by `increment` with
-/// Newton (tolerance `test`, initial-stiffness fallback); if that fails, retries what is
+/// Newton (tolerance `test`, the fallbacks of [`DisplacementControl::fallbacks`]); if that
+/// fails, retries what is
 /// left in 2, then 4, then 8 equal sub-steps. Returns whether the increment was reached;
 /// on `false` the domain keeps its last converged state (past a pushover's peak the
 /// curve ends there). OpenSees's pushover scripts fall back to other algorithms instead.
@@ -264,7 +340,7 @@ pub fn displacement_increment(
             increment: left / n as f64,
             steps: n,
             test,
-            initial_stiffness_fallback: true,
+            fallbacks: true,
         };
         displacement_control(domain, &ctl).is_ok()
     })
@@ -295,7 +371,7 @@ pub fn displacement_control(
     }
     let mut ws = Workspace::new(domain)?;
     let mut kinds = vec![StiffnessKind::Tangent];
-    if settings.initial_stiffness_fallback {
+    if settings.fallbacks {
         kinds.push(StiffnessKind::Initial);
     }
     let mut out = Vec::with_capacity(settings.steps);
@@ -313,6 +389,23 @@ pub fn displacement_control(
             }
             domain.revert_to_last_commit();
             domain.set_load_factor(lambda0);
+        }
+        if result.is_err() && settings.fallbacks {
+            for algorithm in CONTROL_FALLBACKS {
+                result = controlled_step(
+                    domain,
+                    &mut ws,
+                    c,
+                    settings.increment,
+                    algorithm,
+                    settings.test,
+                );
+                if result.is_ok() {
+                    break;
+                }
+                domain.revert_to_last_commit();
+                domain.set_load_factor(lambda0);
+            }
         }
         match result {
             Ok(iterations) => {

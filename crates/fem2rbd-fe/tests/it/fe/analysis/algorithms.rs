@@ -138,7 +138,7 @@ fn displacement_control_passes_limit_point() {
             tol: 1e-12,
             max_iter: 50,
         },
-        initial_stiffness_fallback: true,
+        fallbacks: true,
     };
     let steps = displacement_control(&mut d, &s).unwrap();
     let mut peak: f64 = 0.0;

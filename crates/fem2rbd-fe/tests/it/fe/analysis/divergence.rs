@@ -129,7 +129,7 @@ fn nan_force_is_a_clean_stop() {
 /// converges on every step; the result equals the reference run (linear problem, so
 /// modified Newton with the exact initial stiffness converges like Newton).
 #[test]
-fn nan_tangent_is_rescued_by_initial_stiffness_fallback() {
+fn nan_tangent_is_rescued_by_fallbacks() {
     let (reference, _) = run(None, &mut Vec::new());
     let mut observed = Vec::new();
     let (res, _) = run(Some(FailMode::NanTangent), &mut observed);

@@ -289,7 +289,7 @@ fn corotational_strip_under_end_shear_matches_opensees() {
                     tol: 1e-12,
                     max_iter: 50,
                 },
-                initial_stiffness_fallback: false,
+                fallbacks: false,
             },
         )
         .unwrap_or_else(|e| panic!("fem2rbd failed after {} steps: {e}", fr.len()));

@@ -49,7 +49,7 @@ fn push(integration: ConcreteIntegration, targets_mm: &[f64], step: f64) -> Vec<
                         tol: 1e-8,
                         max_iter: 50,
                     },
-                    initial_stiffness_fallback: false,
+                    fallbacks: false,
                 },
             )
             .unwrap_or_else(|e| panic!("{integration:?}, step {step}: {e}"));

@@ -151,7 +151,7 @@ fn fem2rbd(model: &Model, top: &[u32], segs: &[(f64, usize)]) -> Vec<f64> {
                     tol: 1e-8,
                     max_iter: 50,
                 },
-                initial_stiffness_fallback: false,
+                fallbacks: false,
             },
         )
         .unwrap_or_else(|e| panic!("fem2rbd failed after {} steps: {e}", lam.len()));

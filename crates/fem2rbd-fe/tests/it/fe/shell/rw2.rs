@@ -181,7 +181,7 @@ fn fem2rbd_with(
                     increment,
                     steps: 1,
                     test,
-                    initial_stiffness_fallback: false,
+                    fallbacks: false,
                 },
             ) {
                 Ok(s) => lam.push(s[0].load_factor),

@@ -5,8 +5,11 @@
 //! the step split into 2, 4, 8 when it fails). W = g × total mass above the base
 //! (9386.75 kg, 92.08 kN). OpenSees: peak V/W = 0.174 at 0.63 % roof drift
 //! (`tests/fixtures/opensees-frame3/pushover_X_force.csv`). CI runs to 1.0 % roof drift
-//! (30 steps) or until a step fails even in 8 sub-steps (it does at 0.80 %, past the
-//! peak; OpenSees's fallback algorithms carry it to 5 %), and compares the whole curve.
+//! (30 steps). At 0.80 % Newton and modified Newton fail in both programs; fem2rbd's
+//! fallbacks carry the curve on, as OpenSees's carry its. Up to 0.77 % the curve agrees
+//! with OpenSees to 0.05 % of the peak (measured: to the reference's last digit); from
+//! 0.80 % on the two settle on different equilibria of the softening frame (4.9 % of the
+//! peak at 0.80 %, at most 1.7 % after, equal again at 0.97 %), asserted within 6 %.
 //! The base shear compared is −ΣR_x of the support reactions, not λ: a wrong reaction
 //! fails it.
 use super::support as fe_verify_support;
@@ -69,16 +72,27 @@ fn pushover_force_peak_base_shear_within_5_percent() {
     );
     let last_drift = curve.last().unwrap().0;
     assert!(
-        last_drift > 0.0075,
-        "pushover must pass the peak (0.63 %), ended at {last_drift}"
+        last_drift > 0.0095,
+        "pushover must pass the peak (0.63 %) and the Newton failure at 0.80 %, ended at \
+         {last_drift}"
     );
     let (_, rows) = read_csv(&fixture("pushover_X_force.csv"));
     let dr: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let vw: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    // Up to 0.77 % Newton converges in both programs and they find the same equilibria:
+    // the curves agree to 0.05 % of the peak. At 0.80 % Newton and modified Newton fail in
+    // both; the fallbacks (fem2rbd: Krylov–Newton, line search, sub-steps; OpenSees: its
+    // own ladder) settle there on equilibria of the softening frame that differ by 4.9 %
+    // of the peak, and the paths stay apart by up to 1.7 % until they meet at 0.97 %.
     let mut max_diff = 0.0f64;
+    let mut off = Vec::new();
     for &(x, v) in &curve[1..] {
         let v_ref = at(&dr, &vw, x);
-        max_diff = max_diff.max((v - v_ref).abs());
+        let d = (v - v_ref).abs();
+        max_diff = max_diff.max(d);
+        if x < 0.0079 && d > 0.0005 * 0.1737 {
+            off.push((x, d / 0.1737 * 100.0));
+        }
     }
     let peak = curve
         .iter()
@@ -98,8 +112,10 @@ fn pushover_force_peak_base_shear_within_5_percent() {
         max_diff,
         max_diff / peak_ref.1 * 100.0
     );
+    eprintln!("points below 0.79 % off by more than 0.05 % of the peak: {off:?}");
     assert!((peak.1 - 0.174).abs() < 0.05 * 0.174, "peak V/W {}", peak.1);
-    assert!(max_diff < 0.05 * peak_ref.1, "curve differs by {max_diff}");
+    assert!(off.is_empty(), "points off: {off:?}");
+    assert!(max_diff < 0.06 * peak_ref.1, "curve differs by {max_diff}");
 }
 
 /// Static equilibrium of every converged step: the support reactions balance the applied
