@@ -56,9 +56,11 @@ mod report {
     mod frame3;
 }
 mod rescue {
+    mod chambers;
     mod cli;
     mod occupancy;
     mod scene;
+    mod stories;
     mod voids;
 }
 mod repo {
