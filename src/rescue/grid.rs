@@ -17,9 +17,10 @@ use super::{RescueError, Result};
 /// the best overlap f32 while it is built), the solid flag, the clearance (f32) and the
 /// squared distance (f32) it is made from, the chamber label and roof (u32 each), the
 /// rescuer's and the camera's routes and the breach field (cost u32, side u8, and
-/// during each search its first-cell u32 and done flag), measured as the peak resident
-/// memory over the cells on the library building (docs/rescue.md §5).
-pub const BYTES_PER_CELL: u64 = 48;
+/// during each search its first-cell u32 and done flag) beside them on a second thread,
+/// and the standing building's occupancy for the story losses. Measured: 60 bytes per
+/// cell of peak resident memory on the standing library building (docs/rescue.md §5b).
+pub const BYTES_PER_CELL: u64 = 64;
 /// The most memory a grid may take whatever the machine has: 16 GiB.
 pub const MAX_BYTES: u64 = 16 << 30;
 

@@ -23,8 +23,9 @@
 //!   and in the ruin);
 //! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`.
 //!
-//! Everything runs on one thread in a fixed order: the same run folder gives the same
-//! bytes.
+//! The access searches run on a second thread beside the chambers and the story losses;
+//! each reads the classified grid only and writes its own result, and everything else
+//! runs in a fixed order: the same run folder gives the same bytes.
 pub mod access;
 pub mod distance;
 pub mod grid;

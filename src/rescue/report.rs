@@ -86,11 +86,25 @@ pub fn analyse(ruin: &Ruin, sizes: Sizes) -> Result<Analysis> {
         });
     };
     let field = Field::new(grid, occupancy(&grid, &ruin.boxes));
-    let (voids, _, throats) = find_voids(&field, &scaled);
+    // Two threads: the access searches on one, the chambers and the story losses on the
+    // other. Each reads the field only and writes its own result, so the outcome is the
+    // same whatever the scheduling.
+    let (chambers, stories, (rescuer, camera, breach)) = std::thread::scope(|s| {
+        let searches = s.spawn(|| {
+            let rescuer = access::routes(&field, scaled.rescuer);
+            let camera = access::routes(&field, scaled.camera);
+            (rescuer, camera, access::breach_field(&field))
+        });
+        let chambers = find_voids(&field, &scaled);
+        let stories = story_losses(ruin, &field, sizes.cell_m);
+        let searches = searches
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (chambers, stories, searches)
+    });
+    let (voids, _, throats) = chambers;
+    let stories = stories?;
     let slab_of = slabs(ruin);
-    let rescuer = access::routes(&field, scaled.rescuer);
-    let camera = access::routes(&field, scaled.camera);
-    let breach = access::breach_field(&field);
     let reports = voids
         .into_iter()
         .map(|v| VoidReport {
@@ -102,7 +116,6 @@ pub fn analyse(ruin: &Ruin, sizes: Sizes) -> Result<Analysis> {
         })
         .collect();
     let rubble = rubble(ruin, &field, grid.origin[2]);
-    let stories = story_losses(ruin, &field, sizes.cell_m)?;
     Ok(Analysis {
         sizes,
         scale: ruin.scale,
