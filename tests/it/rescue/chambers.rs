@@ -92,3 +92,28 @@ fn a_lean_to_beside_a_pancake_is_two_chambers_with_their_patterns() {
     close(t.area_m2, 2.4 * 1.8, 1e-9, "opening");
     assert_eq!(rp.void.region, rl.void.region);
 }
+
+/// A fragment joins its neighbour: a 0.2 m cube stuck under the table's slab caps a part
+/// of 2 × 2 × 18 = 72 cells, fewer than a sitting adult's 5 × 5 × 9 = 225, so it joins
+/// the chamber under the slab: one chamber of 11.28 − 0.008 m³ (exact) whose roof is the
+/// slab and the cube, and no throat.
+#[test]
+fn a_fragment_under_a_small_roof_joins_its_neighbour() {
+    let (mut boxes, _) = table();
+    boxes.push(beam(9, [0.0, 0.0, 1.9], [0.1, 0.1, 0.1]));
+    let a = analysed(&boxes, 0.1);
+    assert_eq!(a.voids.len(), 1, "{}", a.voids_csv());
+    let v = &a.voids[0].void;
+    close(v.volume_m3, 11.28 - 0.008, 1e-9, "chamber volume");
+    let roof: Vec<(&str, usize)> = v
+        .roof
+        .iter()
+        .map(|(b, n)| (a.names[*b].as_str(), *n))
+        .collect();
+    assert_eq!(roof, [("Slab:1:1", 564 - 4), ("Beam:1:9", 4)]);
+    assert!(a.throats.is_empty());
+    assert_eq!(
+        fem2rbd::rescue::voids::fragment_cells(&a.scaled, 0.1),
+        5 * 5 * 9
+    );
+}
