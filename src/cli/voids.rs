@@ -1,10 +1,12 @@
 //! `fem2rbd voids RUN_DIR [--cell M] [--rescuer M] [--camera M] [--timing]`: the rescue
 //! analysis of a run folder's ruin (`src/rescue/`, docs/rescue.md): writes `voids.csv`,
-//! `voids.json` and `rubble_height.csv` into the folder, each atomically, after the whole
-//! analysis succeeded; prints the files written (nothing with `--quiet`).
-use anyhow::Result;
+//! `voids.json` and `rubble_height.csv` into the folder and sets `summary.json`'s
+//! `rescue` section to the same analysis, each file atomically, after the whole analysis
+//! succeeded; prints the files written (nothing with `--quiet`).
+use anyhow::{Context, Result};
 use clap::Args;
 use fem2rbd::rescue::person::{DEFAULT_CAMERA_M, DEFAULT_CELL_M, DEFAULT_RESCUER_M};
+use fem2rbd::rescue::report::with_summary_section;
 use fem2rbd::rescue::{analyse, Ruin, Sizes};
 use std::path::PathBuf;
 
@@ -41,8 +43,16 @@ pub fn run(args: &VoidsArgs, quiet: bool) -> Result<()> {
     let ruin = Ruin::load(&args.run_dir)?;
     let t0 = std::time::Instant::now();
     let analysis = analyse(&ruin, sizes)?;
-    let files = analysis.files();
+    let mut files: Vec<(&str, Vec<u8>)> = analysis.files();
     let elapsed = t0.elapsed().as_secs_f64();
+    // summary.json's `rescue` section follows the new analysis, so that it never
+    // disagrees with voids.json.
+    let summary_path = args.run_dir.join("summary.json");
+    let summary = std::fs::read_to_string(&summary_path)
+        .with_context(|| format!("{}: cannot read", summary_path.display()))?;
+    let summary = with_summary_section(&summary, analysis.summary())
+        .with_context(|| format!("{}: not a JSON object", summary_path.display()))?;
+    files.push(("summary.json", summary.into_bytes()));
     for (name, bytes) in &files {
         fem2rbd::output::write_atomic(args.run_dir.join(name), bytes)?;
     }

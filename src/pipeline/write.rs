@@ -87,19 +87,29 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     out.push(("summary.json", js.into_bytes()));
     out.push(("collapse.glb", glb));
     if rec.ruin.is_some() {
-        let rescue =
+        let (rescue, section) =
             rescue_files(&out, rec.scale).map_err(|e| PipelineError::Rescue(Box::new(e)))?;
+        let summary = out
+            .iter_mut()
+            .find(|f| f.0 == "summary.json")
+            .expect("summary.json is written above");
+        let text = std::str::from_utf8(&summary.1).expect("summary.json is UTF-8");
+        summary.1 = crate::rescue::report::with_summary_section(text, section)?.into_bytes();
         out.extend(rescue);
     }
     Ok(out)
 }
 
+/// Files by name, in writing order.
+type NamedFiles = Vec<(&'static str, Vec<u8>)>;
+
 /// The rescue analysis files (`crate::rescue`, default sizes) of a run's own tables,
-/// read back from their text as `fem2rbd voids` reads them, so both give the same bytes.
+/// read back from their text as `fem2rbd voids` reads them, so both give the same bytes,
+/// and the `rescue` section of `summary.json` ([`crate::rescue::Analysis::summary`]).
 fn rescue_files(
     files: &[(&'static str, Vec<u8>)],
     scale: f64,
-) -> crate::rescue::Result<Vec<(&'static str, Vec<u8>)>> {
+) -> crate::rescue::Result<(NamedFiles, serde_json::Value)> {
     let text = |name: &str| {
         files
             .iter()
@@ -116,13 +126,17 @@ fn rescue_files(
         scale,
     )?;
     match crate::rescue::analyse(&ruin, crate::rescue::Sizes::default()) {
-        Ok(a) => Ok(a.files()),
+        Ok(a) => Ok((a.files(), a.summary())),
         // Debris thrown far makes the default grid too large: the run keeps its ruin and
-        // says so in voids.json (`fem2rbd voids --cell` analyses it with larger cells).
+        // says so in voids.json and summary.json (`fem2rbd voids --cell` analyses it with
+        // larger cells).
         Err(e @ crate::rescue::RescueError::GridTooLarge { .. }) => {
             let js = serde_json::json!({ "error": e.to_string() });
             let text = serde_json::to_string_pretty(&js).expect("a JSON value") + "\n";
-            Ok(vec![(crate::rescue::report::FILES[1], text.into_bytes())])
+            Ok((
+                vec![(crate::rescue::report::FILES[1], text.into_bytes())],
+                js,
+            ))
         }
         Err(e) => Err(e),
     }

@@ -13,12 +13,31 @@
 use super::input::Ruin;
 use super::{RescueError, Result};
 
-/// The largest grid accepted: 2²⁴ ≈ 16.8 million cells (about [`BYTES_PER_CELL`] bytes
-/// each, some 0.5 GB).
-pub const MAX_CELLS: u64 = 1 << 24;
-/// Memory of the analysis per cell, bytes (fraction, owner, squared distance, label,
-/// routes).
-pub const BYTES_PER_CELL: u64 = 32;
+/// Peak memory of the analysis per cell, bytes: the occupancy (fraction f32, owner u32,
+/// the best overlap f32 while it is built), the solid flag, the clearance (f32) and the
+/// squared distance (f32) it is made from, the chamber label and roof (u32 each), the
+/// rescuer's and the camera's routes and the breach field (cost u32, side u8, and
+/// during each search its first-cell u32 and done flag) beside them on a second thread,
+/// and the standing building's occupancy for the story losses. Measured: 60 bytes per
+/// cell of peak resident memory on the standing library building (docs/rescue.md §5b).
+pub const BYTES_PER_CELL: u64 = 64;
+/// The most memory a grid may take whatever the machine has: 16 GiB.
+pub const MAX_BYTES: u64 = 16 << 30;
+
+/// The memory the machine can give now (`MemAvailable` of `/proc/meminfo`), bytes;
+/// `None` where that file is missing or unreadable.
+pub fn memory_available() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// The largest grid accepted, cells: [`MAX_BYTES`], or the memory available now if less,
+/// over [`BYTES_PER_CELL`].
+pub fn max_cells() -> u64 {
+    MAX_BYTES.min(memory_available().unwrap_or(MAX_BYTES)) / BYTES_PER_CELL
+}
 
 /// A regular grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,7 +177,8 @@ pub fn grid_over(ruin: &Ruin, h: f64, margin: f64, cell_full_m: f64) -> Result<O
     ];
     let n64 = span.map(|s| (s / h).ceil().max(1.0) as u64);
     let cells = n64[0].saturating_mul(n64[1]).saturating_mul(n64[2]);
-    if cells > MAX_CELLS {
+    let max = max_cells();
+    if cells > max {
         return Err(RescueError::GridTooLarge {
             cell_m: cell_full_m,
             model_cell_m: h,
@@ -167,7 +187,7 @@ pub fn grid_over(ruin: &Ruin, h: f64, margin: f64, cell_full_m: f64) -> Result<O
             nz: n64[2],
             cells,
             extent: format!("{:.3} x {:.3} x {:.3} m", span[0], span[1], span[2]),
-            max: MAX_CELLS,
+            max,
             bytes_per_cell: BYTES_PER_CELL,
         });
     }

@@ -10,8 +10,8 @@
 //! * [`occupancy`]: each cell's exact volume fraction covered by boxes (a convex clip);
 //! * [`distance`]: the exact Euclidean distance transform (Felzenszwalb & Huttenlocher
 //!   2012) of the solid cells, giving every free cell's clearance;
-//! * [`voids`]: free space under debris (covered) vs open air, its connected regions and
-//!   their measures;
+//! * [`voids`]: free space under debris (covered) vs open air, split into chambers under
+//!   one roof each, their measures and the throats between them;
 //! * [`person`]: the body sizes that make a void survivable, and the rescuer's and the
 //!   camera's sizes;
 //! * [`pattern`]: the collapse pattern of each void from its roof bodies;
@@ -19,12 +19,15 @@
 //!   to breach;
 //! * [`rubble`]: height map, pile height, debris extent against the building height,
 //!   porosity;
+//! * [`stories`]: each story's volume loss (the free space under its ceiling, standing
+//!   and in the ruin);
 //! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`;
 //! * [`ensemble`]: over an ensemble's members, the plan map of the chance of a survivable
 //!   void, the spread of the measures and the voids that recur in one place.
 //!
-//! Everything runs on one thread in a fixed order: the same run folder gives the same
-//! bytes.
+//! The access searches run on a second thread beside the chambers and the story losses;
+//! each reads the classified grid only and writes its own result, and everything else
+//! runs in a fixed order: the same run folder gives the same bytes.
 pub mod access;
 pub mod distance;
 pub mod ensemble;
@@ -35,6 +38,7 @@ pub mod pattern;
 pub mod person;
 pub mod report;
 pub mod rubble;
+pub mod stories;
 pub mod voids;
 
 pub use input::{Connection, Ruin, RuinBox};
@@ -69,11 +73,13 @@ pub enum RescueError {
         /// The rule it breaks.
         message: String,
     },
-    /// The grid would need more cells than [`grid::MAX_CELLS`].
+    /// The grid would need more cells than [`grid::max_cells`] (more memory than the
+    /// machine has, or than [`grid::MAX_BYTES`]).
     #[error(
         "--cell {cell_m} m (full scale; {model_cell_m} m at the model's scale) needs a grid of \
          {nx} x {ny} x {nz} = {cells} cells over the ruin ({extent}), more than the bound of \
-         {max} cells (about {bytes_per_cell} bytes each): give a larger --cell"
+         {max} cells (about {bytes_per_cell} bytes each, within the memory available now and at \
+         most 16 GiB): give a larger --cell"
     )]
     GridTooLarge {
         /// The cell size asked for, full scale, m.

@@ -14,7 +14,8 @@ use super::occupancy::occupancy;
 use super::pattern::{classify, slabs, Classified};
 use super::person::{Scaled, Sizes, LYING_M, SITTING_M, SOLID_FRACTION};
 use super::rubble::{height_map, rubble, Rubble, PLANNING_REACH_OVER_HEIGHT};
-use super::voids::{find_voids, Field, Void};
+use super::stories::{story_losses, StoryLoss};
+use super::voids::{find_voids, Field, Throat, Void};
 use super::Result;
 use crate::output::csv_text::field as csv_field;
 use serde_json::{json, Value};
@@ -52,10 +53,14 @@ pub struct Analysis {
     pub ground_z: Option<f64>,
     /// The grid and its classified cells (`None`: no debris above the ground).
     pub field: Option<Field>,
-    /// The voids, largest first.
+    /// The voids (chambers), largest first.
     pub voids: Vec<VoidReport>,
+    /// Where adjoining voids meet (indices into `voids`).
+    pub throats: Vec<Throat>,
     /// The rubble measures (`None` without debris).
     pub rubble: Option<Rubble>,
+    /// Each story's volume loss (empty without debris or slabs).
+    pub stories: Vec<StoryLoss>,
     /// The box names, in body order.
     pub names: Vec<String>,
 }
@@ -74,16 +79,32 @@ pub fn analyse(ruin: &Ruin, sizes: Sizes) -> Result<Analysis> {
             ground_z,
             field: None,
             voids: Vec::new(),
+            throats: Vec::new(),
             rubble: None,
+            stories: Vec::new(),
             names,
         });
     };
     let field = Field::new(grid, occupancy(&grid, &ruin.boxes));
-    let (voids, _) = find_voids(&field, &scaled);
+    // Two threads: the access searches on one, the chambers and the story losses on the
+    // other. Each reads the field only and writes its own result, so the outcome is the
+    // same whatever the scheduling.
+    let (chambers, stories, (rescuer, camera, breach)) = std::thread::scope(|s| {
+        let searches = s.spawn(|| {
+            let rescuer = access::routes(&field, scaled.rescuer);
+            let camera = access::routes(&field, scaled.camera);
+            (rescuer, camera, access::breach_field(&field))
+        });
+        let chambers = find_voids(&field, &scaled);
+        let stories = story_losses(ruin, &field, sizes.cell_m);
+        let searches = searches
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (chambers, stories, searches)
+    });
+    let (voids, _, throats) = chambers;
+    let stories = stories?;
     let slab_of = slabs(ruin);
-    let rescuer = access::routes(&field, scaled.rescuer);
-    let camera = access::routes(&field, scaled.camera);
-    let breach = access::breach_field(&field);
     let reports = voids
         .into_iter()
         .map(|v| VoidReport {
@@ -102,7 +123,9 @@ pub fn analyse(ruin: &Ruin, sizes: Sizes) -> Result<Analysis> {
         ground_z,
         field: Some(field),
         voids: reports,
+        throats,
         rubble: Some(rubble),
+        stories,
         names,
     })
 }
@@ -124,7 +147,7 @@ floor_area_lying_m2,floor_area_sitting_m2,lying_fits,sitting_fits,survivable,enc
 centroid_x,centroid_y,centroid_z,min_x,min_y,min_z,max_x,max_y,max_z,cover_depth_m,\
 pattern,roof_tilt_deg,held_by,roof_bodies,floor_bodies,rescuer_access,rescuer_route_m,\
 rescuer_entry,camera_access,camera_route_m,camera_entry,breach_m,breach_x,breach_y,breach_z,\
-breach_side";
+breach_side,region,neighbours";
 
 impl Analysis {
     fn grid(&self) -> Option<&Grid> {
@@ -142,6 +165,26 @@ impl Analysis {
             })
             .collect::<Vec<_>>()
             .join(";")
+    }
+
+    /// The throats of void `n` (index): (the other void's index, the throat), by the
+    /// other's index.
+    pub fn neighbours(&self, n: usize) -> Vec<(usize, &Throat)> {
+        let mut v: Vec<(usize, &Throat)> = self
+            .throats
+            .iter()
+            .filter_map(|t| {
+                if t.a == n {
+                    Some((t.b, t))
+                } else if t.b == n {
+                    Some((t.a, t))
+                } else {
+                    None
+                }
+            })
+            .collect();
+        v.sort_by_key(|(o, _)| *o);
+        v
     }
 
     fn widest(&self, v: &Void) -> [f64; 3] {
@@ -167,7 +210,7 @@ impl Analysis {
             });
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 n + 1,
                 f(v.volume_m3),
                 f(v.clear_height_m),
@@ -201,6 +244,12 @@ impl Analysis {
                 f(r.breach.thickness_m),
                 at,
                 r.breach.side,
+                v.region + 1,
+                self.neighbours(n)
+                    .iter()
+                    .map(|(o, t)| format!("{}:{}", o + 1, f(t.clearance_m)))
+                    .collect::<Vec<_>>()
+                    .join(";"),
             );
         }
         s
@@ -262,6 +311,12 @@ impl Analysis {
                 "at_m": r.breach.at_m.map(|p| p.map(r6)),
                 "side": r.breach.side,
             },
+            "region": v.region + 1,
+            "neighbours": self.neighbours(n).iter().map(|(o, t)| json!({
+                "void": o + 1,
+                "throat_clearance_m": r6(t.clearance_m),
+                "throat_area_m2": r6(t.area_m2),
+            })).collect::<Vec<_>>(),
         })
     }
 
@@ -304,12 +359,56 @@ impl Analysis {
                 "cells": g.n,
             })),
             "voids_count": self.voids.len(),
+            "regions_count": self.voids.iter().map(|r| r.void.region + 1).max().unwrap_or(0),
             "survivable_count": survivable.len(),
             "survivable_volume_m3": r6(survivable.iter().map(|r| r.void.volume_m3).sum()),
             "rescuer_reachable_survivable": survivable.iter().filter(|r| r.rescuer.is_some()).count(),
             "camera_reachable_survivable": survivable.iter().filter(|r| r.camera.is_some()).count(),
             "rubble": rubble,
+            "stories": self.stories.iter().map(|s| json!({
+                "story": s.story,
+                "ceiling_z_m": r6(s.ceiling_z_m),
+                "free_volume_before_m3": r6(s.before_m3),
+                "free_volume_after_m3": r6(s.after_m3),
+                "volume_loss": r6(s.loss),
+            })).collect::<Vec<_>>(),
             "voids": self.voids.iter().enumerate().map(|(n, r)| self.void_json(n, r)).collect::<Vec<_>>(),
+        })
+    }
+
+    /// The `rescue` section of `summary.json`: the void and survivable counts, the
+    /// survivable volume, the largest survivable void (volume, pattern, access), the
+    /// pile's height and its extent per side, all as in `voids.json` (the same numbers,
+    /// so the two never disagree).
+    pub fn summary(&self) -> Value {
+        let js = self.json();
+        // The voids are largest first.
+        let largest = self
+            .voids
+            .iter()
+            .enumerate()
+            .find(|(_, r)| r.void.survivable())
+            .map(|(n, r)| {
+                json!({
+                    "void": n + 1,
+                    "volume_m3": r6(r.void.volume_m3),
+                    "pattern": r.pattern.pattern.name(),
+                    "rescuer_access": r.rescuer.is_some(),
+                    "camera_access": r.camera.is_some(),
+                    "breach_m": r6(r.breach.thickness_m),
+                })
+            });
+        let rubble = &js["rubble"];
+        json!({
+            "sizes_full_scale_m": js["sizes_full_scale_m"],
+            "voids_count": js["voids_count"],
+            "survivable_count": js["survivable_count"],
+            "survivable_volume_m3": js["survivable_volume_m3"],
+            "largest_survivable": largest,
+            "pile_max_height_m": rubble.get("max_height_m"),
+            "pile_mean_height_m": rubble.get("mean_height_m"),
+            "extent_m": rubble.get("extent_m"),
+            "extent_over_height": rubble.get("extent_over_height"),
         })
     }
 
@@ -335,4 +434,15 @@ impl Analysis {
         }
         Ok(out)
     }
+}
+
+/// `summary_text` (a `summary.json`) with its `rescue` section set to `section`; the other
+/// keys keep their order and values (the file is a JSON object written by
+/// `serde_json::to_string_pretty`, so reading and writing it back gives the same bytes).
+pub fn with_summary_section(summary_text: &str, section: Value) -> serde_json::Result<String> {
+    let mut v: Value = serde_json::from_str(summary_text)?;
+    if let Some(o) = v.as_object_mut() {
+        o.insert("rescue".into(), section);
+    }
+    Ok(serde_json::to_string_pretty(&v)? + "\n")
 }

@@ -13,8 +13,7 @@
 //!   volume), the envelope being the height map's columns: the share of the pile that is
 //!   air. The boxes' volume is the exact occupancy (fractions, not solid cells).
 //!
-//! Story volume loss is not reported: the ruin does not say which remaining space belongs
-//! to which story once floors have moved sideways.
+//! Each story's volume loss: [`super::stories`].
 use super::input::Ruin;
 use super::voids::Field;
 

@@ -4,10 +4,26 @@
 //!   **free**.
 //! * A free cell is **covered** when a solid cell lies somewhere above it in its column
 //!   (debris over it), else it is **open** to the sky.
-//! * A **void** is a connected region (6-connectivity: cells sharing a face) of covered
-//!   cells. It is **enclosed** when none of its cells touches an open cell or the grid's
-//!   side; a void that opens to the air at its side is still a void (it is covered), only
-//!   not enclosed.
+//! * A **void** is a **chamber**: free space under one roof. The **roof** of a covered
+//!   cell is the body owning the first solid cell above it in its column. Covered cells
+//!   with the same roof body that share a face form a part; a part smaller than a sitting
+//!   adult's block in cells ([`fragment_cells`]) joins the adjoining part it shares the
+//!   most faces with (smallest first; ties: the lower part number), and what remains are
+//!   the chambers. A chamber is **enclosed** when none of its cells touches an open cell
+//!   or the grid's side; a chamber that opens to the air at its side is still a void (it
+//!   is covered), only not enclosed.
+//! * Chambers that share faces adjoin through a **throat**: its area (shared faces × h²)
+//!   and its clearance, the largest over the shared face pairs of the lesser clearance of
+//!   the two cells (a body of diameter `w` passes when it is at least `w/2`, as in
+//!   [`super::access`]). Chambers joined through throats form a **region**: the connected
+//!   covered space (6-connectivity) that held them all.
+//!
+//! Why roofs: a rescuer names a void by what lies over it (the slab of a pancake, the
+//! leaning slab of a lean-to), and the collapse patterns ([`super::pattern`]) are read
+//! from the roof. Under a pile whose floors came down on each other the covered space is
+//! one connected region running under every slab; cut by roof, each slab panel or beam
+//! that caps free space gets its own chamber, and the passages between them are the
+//! throats (docs/rescue.md §2).
 //!
 //! Measures of a void (m, m², m³, at the model's scale):
 //!
@@ -142,6 +158,9 @@ pub struct Void {
     pub roof: Vec<(usize, usize)>,
     /// Floor bodies (box index, cells), most first; the ground's cells as `usize::MAX`.
     pub floor: Vec<(usize, usize)>,
+    /// The covered region it belongs to (chambers joined through throats), numbered from
+    /// 0 in the order of their largest chamber.
+    pub region: usize,
 }
 
 impl Void {
@@ -151,58 +170,225 @@ impl Void {
     }
 }
 
-/// The voids of `field`, largest first (ties: by first cell), and the label of every cell
-/// (`u32::MAX` outside voids; else the void's index in the returned list).
-pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>) {
+/// Where two chambers meet: the cells faces they share and the widest point of the
+/// passage (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Throat {
+    /// The two chambers (indices in the void list, `a < b`).
+    pub a: usize,
+    /// The second chamber.
+    pub b: usize,
+    /// Cell faces shared.
+    pub faces: usize,
+    /// Area of the shared faces, m².
+    pub area_m2: f64,
+    /// Largest clearance along the shared faces, m: the largest of `min(clearance of the
+    /// two cells)` over the face pairs. A body of diameter `w` passes when it is at least
+    /// `w/2`.
+    pub clearance_m: f64,
+}
+
+/// The roof of every covered cell: the body owning the first solid cell above it in its
+/// column (`u32::MAX` for cells that are not covered, or whose roof cell has no owner).
+pub fn roofs(field: &Field) -> Vec<u32> {
     let grid = &field.grid;
+    let nz = grid.n[2];
+    let mut roof = vec![u32::MAX; grid.len()];
+    for col in 0..grid.columns() {
+        let mut above = u32::MAX;
+        for k in (0..field.top[col]).rev() {
+            let idx = col * nz + k;
+            if field.solid[idx] {
+                above = field.occupancy.owner[idx];
+            } else {
+                roof[idx] = above;
+            }
+        }
+    }
+    roof
+}
+
+/// The smallest chamber that stands on its own, in cells: the cells of a sitting adult's
+/// block (a smaller chamber cannot hold a person by its volume alone and joins its
+/// neighbour).
+pub fn fragment_cells(sizes: &Scaled, h: f64) -> usize {
+    sizes.sitting.iter().map(|l| cells_for(*l, h)).product()
+}
+
+/// The chambers of `field` (module docs), largest first (ties: by first cell), the label
+/// of every cell (`u32::MAX` outside chambers; else the chamber's index in the returned
+/// list) and the throats between adjoining chambers (by `a`, then `b`).
+pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Throat>) {
+    let grid = &field.grid;
+    let roof = roofs(field);
+    // 1. Connected parts of covered cells under the same roof body.
     let mut label = vec![u32::MAX; grid.len()];
-    let mut regions: Vec<(Vec<usize>, bool)> = Vec::new();
+    let mut size: Vec<usize> = Vec::new();
+    let mut first: Vec<usize> = Vec::new();
     let mut queue = VecDeque::new();
     for start in 0..grid.len() {
         if label[start] != u32::MAX || !field.covered(start) {
             continue;
         }
-        let id = regions.len() as u32;
+        let id = size.len() as u32;
         label[start] = id;
         queue.push_back(start);
-        let mut cells = Vec::new();
-        let mut enclosed = true;
+        let mut n = 0usize;
         while let Some(c) = queue.pop_front() {
-            cells.push(c);
-            let [i, j, _] = grid.ijk(c);
-            if i == 0 || j == 0 || i + 1 == grid.n[0] || j + 1 == grid.n[1] {
-                enclosed = false;
-            }
+            n += 1;
             for (q, _, _) in grid.neighbours(c) {
-                if field.covered(q) {
-                    if label[q] == u32::MAX {
-                        label[q] = id;
-                        queue.push_back(q);
-                    }
-                } else if !field.solid[q] {
-                    enclosed = false;
+                if label[q] == u32::MAX && field.covered(q) && roof[q] == roof[start] {
+                    label[q] = id;
+                    queue.push_back(q);
                 }
             }
         }
-        cells.sort_unstable();
-        regions.push((cells, enclosed));
+        size.push(n);
+        first.push(start);
     }
-    let mut voids: Vec<Void> = regions
-        .into_iter()
-        .map(|(cells, enclosed)| measure(field, sizes, cells, enclosed))
-        .collect();
-    voids.sort_by(|a, b| {
-        b.cells
-            .len()
-            .cmp(&a.cells.len())
-            .then(a.cells[0].cmp(&b.cells[0]))
-    });
-    for (n, v) in voids.iter().enumerate() {
-        for &c in &v.cells {
-            label[c] = n as u32;
+    // 2. Shared faces between parts (each face once: steps towards +x, +y, +z).
+    let parts = size.len();
+    let mut faces: Vec<BTreeMap<u32, usize>> = vec![BTreeMap::new(); parts];
+    for c in 0..grid.len() {
+        let a = label[c];
+        if a == u32::MAX {
+            continue;
+        }
+        for (q, _, sign) in grid.neighbours(c) {
+            let b = label[q];
+            if sign > 0 && b != u32::MAX && b != a {
+                *faces[a as usize].entry(b).or_default() += 1;
+                *faces[b as usize].entry(a).or_default() += 1;
+            }
         }
     }
-    (voids, label)
+    // 3. Fragments join the neighbour they share the most faces with, smallest first.
+    let min_cells = fragment_cells(sizes, grid.h);
+    let mut parent: Vec<u32> = (0..parts as u32).collect();
+    let mut order: std::collections::BTreeSet<(usize, usize, u32)> =
+        (0..parts).map(|p| (size[p], first[p], p as u32)).collect();
+    while let Some((n, f, p)) = order.pop_first() {
+        if n >= min_cells {
+            break;
+        }
+        let Some((&into, _)) = faces[p as usize]
+            .iter()
+            .max_by(|x, y| x.1.cmp(y.1).then(y.0.cmp(x.0)))
+        else {
+            continue;
+        };
+        let mine = std::mem::take(&mut faces[p as usize]);
+        for (other, count) in mine {
+            faces[other as usize].remove(&p);
+            if other != into {
+                *faces[other as usize].entry(into).or_default() += count;
+                *faces[into as usize].entry(other).or_default() += count;
+            }
+        }
+        let i = into as usize;
+        order.remove(&(size[i], first[i], into));
+        size[i] += n;
+        first[i] = first[i].min(f);
+        parent[p as usize] = into;
+        order.insert((size[i], first[i], into));
+    }
+    let root = |mut p: u32| {
+        while parent[p as usize] != p {
+            p = parent[p as usize];
+        }
+        p
+    };
+    // 4. The chambers' cells and whether each touches open air or the grid's side.
+    let mut cells_of: BTreeMap<u32, (Vec<usize>, bool)> = BTreeMap::new();
+    for (c, l) in label.iter_mut().enumerate() {
+        if *l == u32::MAX {
+            continue;
+        }
+        let r = root(*l);
+        *l = r;
+        let entry = cells_of.entry(r).or_insert_with(|| (Vec::new(), true));
+        entry.0.push(c);
+        let [i, j, _] = grid.ijk(c);
+        if i == 0 || j == 0 || i + 1 == grid.n[0] || j + 1 == grid.n[1] {
+            entry.1 = false;
+        }
+        if grid.neighbours(c).any(|(q, _, _)| field.open(q)) {
+            entry.1 = false;
+        }
+    }
+    let mut voids: Vec<(u32, Void)> = cells_of
+        .into_iter()
+        .map(|(r, (cells, enclosed))| (r, measure(field, sizes, cells, enclosed)))
+        .collect();
+    voids.sort_by(|a, b| {
+        b.1.cells
+            .len()
+            .cmp(&a.1.cells.len())
+            .then(a.1.cells[0].cmp(&b.1.cells[0]))
+    });
+    let mut index = BTreeMap::new();
+    for (n, (r, _)) in voids.iter().enumerate() {
+        index.insert(*r, n as u32);
+    }
+    for l in label.iter_mut() {
+        if *l != u32::MAX {
+            *l = index[&*l];
+        }
+    }
+    // 5. Throats between the final chambers.
+    let mut throat: BTreeMap<(u32, u32), (usize, f32)> = BTreeMap::new();
+    for c in 0..grid.len() {
+        let a = label[c];
+        if a == u32::MAX {
+            continue;
+        }
+        for (q, _, sign) in grid.neighbours(c) {
+            let b = label[q];
+            if sign > 0 && b != u32::MAX && b != a {
+                let e = throat.entry((a.min(b), a.max(b))).or_insert((0, 0.0));
+                e.0 += 1;
+                e.1 = e.1.max(field.clearance[c].min(field.clearance[q]));
+            }
+        }
+    }
+    let h = grid.h;
+    let throats: Vec<Throat> = throat
+        .into_iter()
+        .map(|((a, b), (n, cl))| Throat {
+            a: a as usize,
+            b: b as usize,
+            faces: n,
+            area_m2: n as f64 * h * h,
+            clearance_m: cl as f64,
+        })
+        .collect();
+    let mut voids: Vec<Void> = voids.into_iter().map(|(_, v)| v).collect();
+    // Regions: chambers joined through throats, numbered by their largest chamber.
+    let mut region: Vec<usize> = (0..voids.len()).collect();
+    loop {
+        let mut changed = false;
+        for t in throat_pairs(&throats) {
+            let m = region[t.0].min(region[t.1]);
+            if region[t.0] != m || region[t.1] != m {
+                region[t.0] = m;
+                region[t.1] = m;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut numbers = BTreeMap::new();
+    for (v, r) in voids.iter_mut().zip(region) {
+        let next = numbers.len();
+        v.region = *numbers.entry(r).or_insert(next);
+    }
+    (voids, label, throats)
+}
+
+fn throat_pairs(throats: &[Throat]) -> impl Iterator<Item = (usize, usize)> + '_ {
+    throats.iter().map(|t| (t.a, t.b))
 }
 
 /// Whether the 0/1 plan `mask` (`w` × `d`, row-major by y) holds an `a` × `b` rectangle of
@@ -344,6 +530,7 @@ fn measure(field: &Field, sizes: &Scaled, cells: Vec<usize>, enclosed: bool) -> 
         cover_depth_m: cover,
         roof: by_count(roof),
         floor: by_count(floor),
+        region: 0,
         cells,
     }
 }

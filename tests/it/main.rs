@@ -59,11 +59,13 @@ mod report {
     mod frame3;
 }
 mod rescue {
+    mod chambers;
     mod cli;
     pub(crate) mod ensemble;
     mod occupancy;
     mod plots;
     mod scene;
+    mod stories;
     mod voids;
 }
 mod repo {

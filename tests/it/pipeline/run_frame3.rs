@@ -8,7 +8,8 @@
 //! instead of record end + 5 s. The hybrid test uses the FEMA 356 drift criterion (4 %):
 //! frame3 reaches it in story 1 at Tc = 1.53 s, whereas the paper's default (vertical
 //! drop 0.25 m) is reached at 4.66 s (as in OpenSees; docs/case1.md), too long for CI.
-//! The snapshots hold the summary (without wall times) and the ruins table with positions
+//! The snapshots hold the summary as written (without wall times; with its `rescue`
+//! section) and the ruins table with positions
 //! rounded to 3 decimals (mm).
 //!
 //! Besides the snapshots, both tests assert physical bounds that an exploding ruin stage
@@ -116,9 +117,21 @@ fn assert_debris_physical(summary: &RunSummary, rec: &pipeline::RunRecord) {
 
 fn run_snapshot(sc: &Scenario) -> (serde_json::Value, String, pipeline::RunRecord) {
     let rec = pipeline::run(sc, &Silent).unwrap();
-    let mut summary = serde_json::to_value(write::run_summary(&rec, false)).unwrap();
-    round_json(&mut summary);
     let files = write::contents(&rec, false).unwrap();
+    // The summary as written, with its `rescue` section.
+    let written = files.iter().find(|f| f.0 == "summary.json").unwrap();
+    let mut summary: serde_json::Value = serde_json::from_slice(&written.1).unwrap();
+    assert_eq!(
+        summary.as_object().unwrap().len(),
+        serde_json::to_value(write::run_summary(&rec, false))
+            .unwrap()
+            .as_object()
+            .unwrap()
+            .len()
+            + 1,
+        "summary.json is the run summary and its rescue section"
+    );
+    round_json(&mut summary);
     let ruins = String::from_utf8(files[0].1.clone()).unwrap();
     (summary, round_csv(&ruins, 5), rec)
 }

@@ -67,6 +67,32 @@ fn writes_the_three_files_into_the_run_folder() {
     for (f, b) in fem2rbd::rescue::report::FILES.iter().zip(before) {
         assert_eq!(std::fs::read(dir.path().join(f)).unwrap(), b, "{f}");
     }
+    // summary.json keeps its keys and gets the `rescue` section of the same analysis.
+    let read = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join(f)).unwrap()).unwrap()
+    };
+    let summary = read("summary.json");
+    assert_eq!(summary["mode"], "physics");
+    assert_eq!(summary["scale"], 1.0);
+    let rescue = &summary["rescue"];
+    assert_eq!(rescue["voids_count"], 1);
+    assert_eq!(rescue["survivable_count"], 1);
+    assert_eq!(rescue["survivable_volume_m3"], 11.28);
+    assert_eq!(rescue["largest_survivable"]["void"], 1);
+    assert_eq!(rescue["largest_survivable"]["volume_m3"], 11.28);
+    assert_eq!(rescue["largest_survivable"]["pattern"], "pancake");
+    assert_eq!(rescue["largest_survivable"]["rescuer_access"], true);
+    assert_eq!(rescue["pile_max_height_m"], 2.2);
+    assert_eq!(rescue["extent_m"]["x_minus"], 0.0);
+    // Re-analysed with another cell, the section follows voids.json.
+    assert!(voids(dir.path(), &["--cell", "0.2"]).status.success());
+    let (summary, js) = (read("summary.json"), read("voids.json"));
+    assert_eq!(summary["rescue"]["sizes_full_scale_m"]["cell"], 0.2);
+    assert_eq!(
+        summary["rescue"]["survivable_volume_m3"],
+        js["survivable_volume_m3"]
+    );
+    assert_eq!(summary["rescue"]["voids_count"], js["voids_count"]);
 }
 
 /// Runs `voids` on a table folder changed by `spoil`; returns stderr after checking that

@@ -232,3 +232,67 @@ pub fn v_shape() -> Vec<SceneBox> {
         b,
     ]
 }
+
+/// Two tables side by side: slabs x ∈ [−3, 0] and [0, 3] (y ∈ [−1, 1], 2.0–2.2 m), each on
+/// two 0.3 m columns at its outer corners, meeting over a 0.2 m wall x ∈ [−0.1, 0.1],
+/// 1.6 m tall. Under each slab: 3.0 × 2.0 × 2.0 − 2 × 0.09 × 2.0 − 0.1 × 2.0 × 1.6
+/// = 11.32 m³; the two spaces meet through the 0.4 m gap over the wall.
+pub fn two_tables() -> Vec<SceneBox> {
+    let mut b = vec![
+        slab(1, [-1.5, 0.0, 2.1], [1.5, 1.0, 0.1]),
+        slab(2, [1.5, 0.0, 2.1], [1.5, 1.0, 0.1]),
+        wall(3, [0.0, 0.0, 0.8], [0.1, 1.0, 0.8]),
+    ];
+    let mut n = 4;
+    for x in [-2.85, 2.85] {
+        for y in [-0.85, 0.85] {
+            b.push(column(n, [x, y, 1.0], [0.15, 0.15, 1.0]));
+            n += 1;
+        }
+    }
+    b
+}
+
+/// A lean-to beside a pancake: a flat slab x ∈ [−3, 0.2], y ∈ [−1.5, 1.5] at 1.8–2.0 m on
+/// two 0.3 m walls along x (y ∈ ±[1.2, 1.5]), and the lean-to's slab at `deg` resting on
+/// its edge ([`lean_to`] without its wall: the lower face from (0.2, 2.0) down to the
+/// ground). Under the flat slab between the walls: 3.2 × 2.4 × 1.8 = 13.824 m³, open at
+/// x = 0.2 into the wedge under the leaning slab (6.0 / tan(deg) m³).
+pub fn lean_to_beside_pancake(deg: f64) -> Vec<SceneBox> {
+    let mut b = lean_to(deg);
+    b.remove(1);
+    b.push(slab(5, [-1.4, 0.0, 1.9], [1.6, 1.5, 0.1]));
+    b.push(wall(6, [-1.4, -1.35, 0.9], [1.6, 0.15, 0.9]));
+    b.push(wall(7, [-1.4, 1.35, 0.9], [1.6, 0.15, 0.9]));
+    b
+}
+
+/// Two stories of the table (3.0 × 2.0 × 0.2 m slabs on four 0.3 m columns 2.0 m tall),
+/// undeformed slabs at 2.0–2.2 and 4.2–4.4 m, whose first story pancaked: its columns lie
+/// on the ground beside the building (x 3.0–5.0), its ceiling on the ground, the second
+/// story standing on it unchanged. Free volume under each ceiling standing:
+/// 2.0 × (6.0 − 4 · 0.09) = 11.28 m³; in the ruin 0 and 11.28 m³.
+pub fn two_stories_first_pancaked() -> Vec<SceneBox> {
+    let mut b = Vec::new();
+    let mut first = slab(1, [0.0, 0.0, 0.1], [1.5, 1.0, 0.1]);
+    first.pose0 = turned_y([0.0, 0.0, 2.1], 0.0);
+    b.push(first);
+    let mut second = slab(2, [0.0, 0.0, 2.3], [1.5, 1.0, 0.1]);
+    second.pose0 = turned_y([0.0, 0.0, 4.3], 0.0);
+    b.push(second);
+    let mut n = 3;
+    for (k, x) in [-1.35, 1.35].into_iter().enumerate() {
+        for (l, y) in [-0.85, 0.85].into_iter().enumerate() {
+            let mut lower = column(n, [0.0; 3], [0.15, 0.15, 1.0]);
+            lower.pose0 = turned_y([x, y, 1.0], 0.0);
+            // Lying along x on the ground, side by side at y = −0.6, −0.2, 0.2, 0.6.
+            lower.pose = turned_y([4.0, -0.6 + 0.4 * (2 * k + l) as f64, 0.15], 90.0);
+            b.push(lower);
+            let mut upper = column(n + 4, [x, y, 1.2], [0.15, 0.15, 1.0]);
+            upper.pose0 = turned_y([x, y, 3.2], 0.0);
+            b.push(upper);
+            n += 1;
+        }
+    }
+    b
+}
