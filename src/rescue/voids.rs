@@ -249,19 +249,10 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     // 2. Shared faces between parts (each face once: steps towards +x, +y, +z).
     let parts = size.len();
     let mut faces: Vec<BTreeMap<u32, usize>> = vec![BTreeMap::new(); parts];
-    for c in 0..grid.len() {
-        let a = label[c];
-        if a == u32::MAX {
-            continue;
-        }
-        for (q, _, sign) in grid.neighbours(c) {
-            let b = label[q];
-            if sign > 0 && b != u32::MAX && b != a {
-                *faces[a as usize].entry(b).or_default() += 1;
-                *faces[b as usize].entry(a).or_default() += 1;
-            }
-        }
-    }
+    for_each_shared_face(grid, &label, |_, _, a, b| {
+        *faces[a as usize].entry(b).or_default() += 1;
+        *faces[b as usize].entry(a).or_default() += 1;
+    });
     // 3. Fragments join the neighbour they share the most faces with, smallest first.
     let min_cells = fragment_cells(sizes, grid.h);
     let mut parent: Vec<u32> = (0..parts as u32).collect();
@@ -337,20 +328,11 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     }
     // 5. Throats between the final chambers.
     let mut throat: BTreeMap<(u32, u32), (usize, f32)> = BTreeMap::new();
-    for c in 0..grid.len() {
-        let a = label[c];
-        if a == u32::MAX {
-            continue;
-        }
-        for (q, _, sign) in grid.neighbours(c) {
-            let b = label[q];
-            if sign > 0 && b != u32::MAX && b != a {
-                let e = throat.entry((a.min(b), a.max(b))).or_insert((0, 0.0));
-                e.0 += 1;
-                e.1 = e.1.max(field.clearance[c].min(field.clearance[q]));
-            }
-        }
-    }
+    for_each_shared_face(grid, &label, |c, q, a, b| {
+        let e = throat.entry((a.min(b), a.max(b))).or_insert((0, 0.0));
+        e.0 += 1;
+        e.1 = e.1.max(field.clearance[c].min(field.clearance[q]));
+    });
     let h = grid.h;
     let throats: Vec<Throat> = throat
         .into_iter()
@@ -552,5 +534,23 @@ mod tests {
         assert!(!holds_rectangle(&m, 5, 3, 2, 4));
         assert!(!holds_rectangle(&m, 5, 3, 5, 1));
         assert!(holds_rectangle(&m, 5, 3, 1, 1));
+    }
+}
+
+/// Calls `f(c, q, a, b)` once for every face between two labelled cells `c` and `q` (the
+/// step from `c` to `q` towards +x, +y or +z) whose labels `a` = `label[c]` and
+/// `b` = `label[q]` differ; `u32::MAX` marks an unlabelled cell. Cells in index order.
+fn for_each_shared_face(grid: &Grid, label: &[u32], mut f: impl FnMut(usize, usize, u32, u32)) {
+    for c in 0..grid.len() {
+        let a = label[c];
+        if a == u32::MAX {
+            continue;
+        }
+        for (q, _, sign) in grid.neighbours(c) {
+            let b = label[q];
+            if sign > 0 && b != u32::MAX && b != a {
+                f(c, q, a, b);
+            }
+        }
     }
 }

@@ -1135,7 +1135,10 @@ fn fe_exits_nonzero_on_divergence_and_replaces_its_folder() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, [".fem2rbd", "fe_summary.json", "nodes.csv"]);
+    assert_eq!(
+        names,
+        [".fem2rbd", "fe_summary.json", "nodes.csv", "reactions.csv"]
+    );
     assert_ne!(
         std::fs::read_to_string(out_dir.join("nodes.csv")).unwrap(),
         "old run"

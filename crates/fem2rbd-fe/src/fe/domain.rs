@@ -437,15 +437,23 @@ impl Domain {
     /// [`Element::resisting_force_into`]).
     pub fn resisting_force(&self, out: &mut [f64]) {
         out.iter_mut().for_each(|x| *x = 0.0);
+        self.for_each_element_force(|node, k, f| {
+            if let Some(e) = self.equation(node, k) {
+                out[e] += f;
+            }
+        });
+    }
+
+    /// Calls `add(node, dof, force)` for every component of every element's resisting
+    /// force of the trial state, in element order (the order every sum over them keeps).
+    fn for_each_element_force(&self, mut add: impl FnMut(usize, usize, f64)) {
         let mut f = [0.0; NDF * MAX_ELEMENT_NODES];
         for el in &self.elements {
             let n = el.nodes().len();
             el.resisting_force_into(&mut f[..NDF * n]);
             for (a, &node) in el.nodes().iter().enumerate() {
                 for k in 0..NDF {
-                    if let Some(e) = self.equation(node, k) {
-                        out[e] += f[NDF * a + k];
-                    }
+                    add(node, k, f[NDF * a + k]);
                 }
             }
         }
@@ -458,16 +466,7 @@ impl Domain {
     /// damping force. Returned in node order: `(node index, [Rx, Ry, Rz, Mx, My, Mz])`.
     pub fn reactions(&self) -> Vec<(usize, [f64; NDF])> {
         let mut f_int = vec![[0.0; NDF]; self.nodes.len()];
-        let mut f = [0.0; NDF * MAX_ELEMENT_NODES];
-        for el in &self.elements {
-            let n = el.nodes().len();
-            el.resisting_force_into(&mut f[..NDF * n]);
-            for (a, &node) in el.nodes().iter().enumerate() {
-                for k in 0..NDF {
-                    f_int[node][k] += f[NDF * a + k];
-                }
-            }
-        }
+        self.for_each_element_force(|node, k, f| f_int[node][k] += f);
         (0..self.nodes.len())
             .filter(|&node| self.fixed[node].iter().any(|&x| x))
             .map(|node| {
