@@ -17,6 +17,7 @@ pub mod error;
 pub mod exec;
 pub mod format;
 pub mod fragility;
+pub mod lock;
 pub mod plan;
 pub mod plot;
 pub mod slurm;
