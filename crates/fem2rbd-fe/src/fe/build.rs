@@ -263,7 +263,9 @@ fn shell_section(
 /// Refuses nodes with a free DOF that no structural element uses: no stiffness holds
 /// those DOFs, so the stiffness matrix is singular (and the modal analysis would
 /// condense thousands of them in a dense matrix). Names the first ten and the count.
-fn check_unused_nodes(model: &Model) -> Result<()> {
+/// The command line checks every model with it before any work; [`build_domain`] does
+/// not, so that a program can build a domain and add stiffness of its own.
+pub fn check_unused_nodes(model: &Model) -> Result<()> {
     let mut used = std::collections::BTreeSet::new();
     for e in &model.elements {
         if !matches!(e.kind, ElementKind::Panel { .. }) {
@@ -309,7 +311,6 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             model.elements.len()
         )));
     }
-    check_unused_nodes(model)?;
     let mut domain = Domain::new();
     let mut node_index = BTreeMap::new();
     for n in &model.nodes {
