@@ -193,6 +193,9 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     check_output_dir(&args.out, "--out")?;
     check_replaceable(&args.out, &FE_FOLDER, "--out")?;
     let model = Model::load(&args.model)?;
+    // No analysis of a model with nodes nothing holds can run: named before any work.
+    fem2rbd::fe::build::check_unused_nodes(&model)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     super::plausible(&model, &args.model, allow_unusual)?;
     let gm = ground_motion(&specs, args.time_scale)?;
     check_range("--dt", args.dt, FE_DT.0, false, FE_DT.1, "s")?;

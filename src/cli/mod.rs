@@ -34,8 +34,9 @@ pub struct Cli {
     /// Print nothing but errors (no progress bars).
     #[arg(long, global = true)]
     pub quiet: bool,
-    /// Accept a model whose values lie outside their plausible ranges (a 3 000 m column,
-    /// E = 30 Pa, 500 % damping: docs/reliability.md); a run's summary.json lists them.
+    /// Accept a model or scene whose values lie outside their plausible ranges (a 3 000 m
+    /// column, E = 30 Pa, 500 % damping, restitution 2, bodies that start inside each
+    /// other: docs/reliability.md); a run's summary.json lists them.
     #[arg(long, global = true)]
     pub allow_unusual: bool,
     #[command(subcommand)]
@@ -114,7 +115,7 @@ pub fn main() -> anyhow::Result<()> {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Scene(args) => scene::run(args, cli.quiet),
+        Command::Scene(args) => scene::run(args, cli.quiet, cli.allow_unusual),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd, cli.allow_unusual),
         Command::Map(args) => map::run(&args, cli.quiet, cli.allow_unusual),

@@ -79,6 +79,9 @@ pub fn report(model: &Model, modes: usize, variant: Variant, json: bool) -> Resu
 /// Runs `modal`.
 pub fn run(args: &ModalArgs, allow_unusual: bool) -> Result<()> {
     let model = Model::load(&args.model)?;
+    // No analysis of a model with nodes nothing holds can run: named before any work.
+    fem2rbd::fe::build::check_unused_nodes(&model)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     super::plausible(&model, &args.model, allow_unusual)?;
     print!("{}", report(&model, args.modes, args.variant, args.json)?);
     Ok(())

@@ -196,6 +196,9 @@ pub fn run(args: &PushoverArgs, quiet: bool, allow_unusual: bool) -> Result<()> 
     check_output_dir(&args.out, "--out")?;
     check_replaceable(&args.out, &PUSHOVER_FOLDER, "--out")?;
     let model = Model::load(&args.model)?;
+    // No analysis of a model with nodes nothing holds can run: named before any work.
+    fem2rbd::fe::build::check_unused_nodes(&model)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     super::plausible(&model, &args.model, allow_unusual)?;
     match &args.cyclic {
         Some(amps) => {

@@ -20,7 +20,7 @@ pub struct SceneArgs {
 
 /// Runs the subcommand; a progress bar over the substeps on a terminal (not with
 /// `--quiet`).
-pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
+pub fn run(args: SceneArgs, quiet: bool, allow_unusual: bool) -> anyhow::Result<()> {
     use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
     use std::io::IsTerminal;
     let bar = if quiet || !std::io::stderr().is_terminal() {
@@ -50,6 +50,7 @@ pub fn run(args: SceneArgs, quiet: bool) -> anyhow::Result<()> {
         &args.scene,
         &args.out,
         args.frames,
+        allow_unusual,
         &mut |d, n| {
             bar.set_length(n);
             bar.set_position(d);

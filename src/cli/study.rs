@@ -192,6 +192,8 @@ pub fn run(cmd: &StudyCommand, quiet: bool, allow_unusual: bool) -> Result<()> {
         StudyCommand::Run(a) => {
             let (study, store) = load(&a.common.study, &a.common.out)?;
             plausible_models(&study, allow_unusual)?;
+            // Held until the runs end; a second `study run` of the folder is refused.
+            let _lock = fem2rbd::study::lock::StudyLock::acquire(&store.dir)?;
             if a.retry_failed {
                 let plan = store.plan(&study);
                 for (e, o) in plan.entries.iter().zip(&plan.outcomes) {

@@ -35,8 +35,7 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
             .ok_or_else(|| MappingError::element(e, format!("unknown node {tag}")))
     };
     let mut input = MappingInput::default();
-    for e in &model.elements {
-        let mass_kg = model.element_mass(e);
+    for (e, mass_kg) in model.elements.iter().zip(model.element_masses()) {
         if !e.rigid_body {
             let share = mass_kg / e.nodes().len() as f64;
             if share > 0.0 {

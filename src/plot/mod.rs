@@ -36,7 +36,7 @@ pub mod voids;
 
 pub use crate::output::run_folder::{BodyInfo, HistoryRow, RunFolder};
 
-use crate::output::write_atomic;
+use crate::output::AtomicFile;
 use crate::output::OutputError;
 
 /// A figure that cannot be made: the run folder cannot be read, drawing or encoding
@@ -160,25 +160,50 @@ pub fn svg_string<F: Figure>(fig: &F) -> Result<String> {
     Ok(s)
 }
 
-fn write_figure<F: Figure>(fig: &F, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+/// Renders `fig` in `format` and adds its files (path, bytes) to `set`.
+fn render<F: Figure>(
+    fig: &F,
+    out: &Path,
+    format: ImageFormat,
+    set: &mut Vec<(PathBuf, Vec<u8>)>,
+) -> Result<()> {
     if format.png() {
-        let p = out.join(format!("{}.png", fig.name()));
-        write_atomic(&p, &png_bytes(fig)?).map_err(|error| PlotError::Write {
-            path: p.clone(),
-            error,
-        })?;
-        files.push(p);
+        set.push((out.join(format!("{}.png", fig.name())), png_bytes(fig)?));
     }
     if format.svg() {
-        let p = out.join(format!("{}.svg", fig.name()));
-        write_atomic(&p, svg_string(fig)?.as_bytes()).map_err(|error| PlotError::Write {
+        set.push((
+            out.join(format!("{}.svg", fig.name())),
+            svg_string(fig)?.into_bytes(),
+        ));
+    }
+    Ok(())
+}
+
+/// Writes a rendered figure set all or nothing: every file is written to its temporary
+/// file ([`AtomicFile`]) before the first is renamed into place, so a failure while
+/// writing (a full disk, a target that is a folder) leaves no new figure and no
+/// temporary file.
+fn write_set(set: Vec<(PathBuf, Vec<u8>)>) -> Result<Vec<PathBuf>> {
+    use std::io::Write;
+    let mut pending = Vec::with_capacity(set.len());
+    for (p, bytes) in &set {
+        let werr = |error| PlotError::Write {
+            path: p.clone(),
+            error,
+        };
+        let mut f = AtomicFile::create(p).map_err(werr)?;
+        f.write_all(bytes)
+            .and_then(|()| f.flush())
+            .map_err(|e| werr(OutputError::io("cannot write", p)(e)))?;
+        pending.push(f);
+    }
+    for (f, (p, _)) in pending.into_iter().zip(&set) {
+        f.commit().map_err(|error| PlotError::Write {
             path: p.clone(),
             error,
         })?;
-        files.push(p);
     }
-    Ok(files)
+    Ok(set.into_iter().map(|(p, _)| p).collect())
 }
 
 /// Writes the debris-density map of the ensemble folder `dir` and, when it has one, its
@@ -189,43 +214,38 @@ pub fn write_ensemble(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec
         path: out.to_path_buf(),
         error: OutputError::io("cannot create the plot folder", out)(e),
     })?;
-    let mut files = write_figure(&fig, out, format)?;
+    let mut set = Vec::new();
+    render(&fig, out, format, &mut set)?;
     if let Some(map) = voids::RescueMapFigure::load(dir)? {
-        files.extend(write_figure(&map, out, format)?);
+        render(&map, out, format, &mut set)?;
     }
-    Ok(files)
+    write_set(set)
 }
 
-/// Writes every figure of `run` into `out` (created) and returns the files written.
+/// Writes every figure of `run` into `out` (created), all or nothing ([`write_set`]), and
+/// returns the files written.
 pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
         path: out.to_path_buf(),
         error: OutputError::io("cannot create the plot folder", out)(e),
     })?;
-    let mut files = Vec::new();
+    let mut set = Vec::new();
     for view in [
         geometry::View::Plan,
         geometry::View::ElevationXz,
         geometry::View::ElevationYz,
     ] {
-        files.extend(write_figure(
-            &ruin::RuinFigure::new(run, view),
-            out,
-            format,
-        )?);
+        render(&ruin::RuinFigure::new(run, view), out, format, &mut set)?;
     }
-    files.extend(write_figure(
-        &history::HistoryFigure::new(run),
-        out,
-        format,
-    )?);
-    files.extend(write_figure(
+    render(&history::HistoryFigure::new(run), out, format, &mut set)?;
+    render(
         &connections::ConnectionsFigure::new(run),
         out,
         format,
-    )?);
+        &mut set,
+    )?;
     if energy::EnergyFigure::has_data(run) {
-        files.extend(write_figure(&energy::EnergyFigure::new(run), out, format)?);
+        render(&energy::EnergyFigure::new(run), out, format, &mut set)?;
     }
     if let Some(vs) = voids::read_voids(&run.dir)? {
         for view in [
@@ -234,10 +254,10 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
             geometry::View::ElevationYz,
         ] {
             let fig = voids::VoidsFigure::new(Some(run), view, vs.clone());
-            files.extend(write_figure(&fig, out, format)?);
+            render(&fig, out, format, &mut set)?;
         }
     }
-    Ok(files)
+    write_set(set)
 }
 
 /// The run's mode and collapse moment for titles, from `summary.json`:

@@ -104,6 +104,9 @@ pub struct Scene {
     pub constraints: Vec<SceneConstraint>,
     /// Kinematic bodies that move, in body order.
     pub kinematic_motions: Vec<KinematicMotion>,
+    /// The line of the scene file where each body starts (0 when not known), for
+    /// messages.
+    pub body_lines: Vec<usize>,
 }
 
 /// A world built from a scene, with the handles in scene order.
@@ -170,6 +173,26 @@ impl Scene {
             SceneError::Syntax(format!("{e}{within}{hint}"))
         })?;
         validate(&file, &loc)
+    }
+
+    /// Body i as messages name it: `body 3 "slab" (line 20)`.
+    pub fn body_label(&self, i: usize) -> String {
+        let name = self.bodies.get(i).map_or("", |(n, _)| n.as_str());
+        match self.body_lines.get(i).copied().unwrap_or(0) {
+            0 => format!("body {i} \"{name}\""),
+            l => format!("body {i} \"{name}\" (line {l})"),
+        }
+    }
+
+    /// Every value outside its plausible range and every pair of bodies that start
+    /// inside each other ([`super::plausibility`]), as message lines; empty for a
+    /// plausible scene.
+    pub fn unusual(&self) -> Vec<String> {
+        let label = |i: usize| self.body_label(i);
+        super::plausibility::unusual(self, &label)
+            .iter()
+            .map(|f| f.message(&label))
+            .collect()
     }
 
     /// Creates the world, the bodies and the constraints.
@@ -588,6 +611,9 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         });
     }
 
+    let body_lines = (0..bodies.len())
+        .map(|i| loc.bodies.starts.get(i).copied().unwrap_or(0))
+        .collect();
     Ok(Scene {
         world,
         substep,
@@ -595,6 +621,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
         bodies,
         constraints,
         kinematic_motions,
+        body_lines,
     })
 }
 

@@ -6,6 +6,14 @@ use serde::Deserialize;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct SceneFile {
+    /// What the scene is, for the reader (not used by the simulation).
+    #[serde(default)]
+    #[allow(dead_code)]
+    pub name: Option<String>,
+    /// A description for the reader (not used by the simulation).
+    #[serde(default)]
+    #[allow(dead_code)]
+    pub description: Option<String>,
     /// World settings (preset and overrides); all optional.
     #[serde(default)]
     pub world: WorldSpec,

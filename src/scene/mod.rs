@@ -69,6 +69,12 @@
 //!   `breaking_impulse_threshold` [N·s per substep] (absent = unbreakable),
 //!   `disable_collisions_between` (true), `enabled` (true), `override_solver_iterations`.
 //!
+//! * **name**, **description** (optional strings): what the scene is, for the reader;
+//!   the simulation does not use them.
+//!
+//! Values outside their plausible ranges and bodies that start inside each other are
+//! refused unless `--allow-unusual` is given ([`plausibility`]).
+//!
 //! Unknown fields are errors. Errors name the line (syntax, unknown field, bad type) or
 //! the item (`body 3 "slab" (line 20)`, `constraint 1 (line 41)`).
 //!
@@ -81,6 +87,7 @@
 pub mod assemble;
 pub mod format;
 pub mod locate;
+pub mod plausibility;
 pub mod run;
 
 pub use assemble::{BuiltScene, KinematicMotion, Scene, SceneConstraint};
@@ -124,6 +131,21 @@ pub enum SceneError {
     /// Stepping the world or reading its state failed.
     #[error(transparent)]
     Step(#[from] crate::physics::PhysicsError),
+    /// Values outside their plausible ranges or bodies that start inside each other
+    /// ([`plausibility`]), without `--allow-unusual`.
+    #[error(
+        "scene file {}: {} implausible value(s) or start overlap(s) (docs/reliability.md):\n  {}\n\
+         If they are meant, run again with --allow-unusual.",
+        path.display(),
+        findings.len(),
+        findings.join("\n  ")
+    )]
+    Unusual {
+        /// The scene file.
+        path: PathBuf,
+        /// One line per finding.
+        findings: Vec<String>,
+    },
     /// Options of the run (`--frames`).
     #[error("{0}")]
     Options(String),

@@ -95,8 +95,15 @@ pub(crate) fn run_scene_with(
 
 /// Runs a scene file and writes its poses CSV atomically to `out_path` (nothing is
 /// written if anything fails).
-pub fn run_scene_file(scene_path: &Path, out_path: &Path, every: Option<u64>) -> Result<()> {
-    run_scene_file_with(scene_path, out_path, every, &mut |_, _| {})
+/// A scene with values outside their plausible ranges or bodies that start inside each
+/// other is refused unless `allow_unusual` ([`super::plausibility`]).
+pub fn run_scene_file(
+    scene_path: &Path,
+    out_path: &Path,
+    every: Option<u64>,
+    allow_unusual: bool,
+) -> Result<()> {
+    run_scene_file_with(scene_path, out_path, every, allow_unusual, &mut |_, _| {})
 }
 
 /// [`run_scene_file`] with a progress hook ([`run_scene_with`]).
@@ -104,11 +111,19 @@ pub fn run_scene_file_with(
     scene_path: &Path,
     out_path: &Path,
     every: Option<u64>,
+    allow_unusual: bool,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<()> {
     crate::output::location::check_output_file(out_path, "--out")?;
     crate::output::location::check_not_an_input(out_path, &[scene_path], "--out")?;
     let scene = Scene::load(scene_path)?;
+    let findings = scene.unusual();
+    if !findings.is_empty() && !allow_unusual {
+        return Err(SceneError::Unusual {
+            path: scene_path.to_path_buf(),
+            findings,
+        });
+    }
     let mut file = AtomicFile::create(out_path)?;
     run_scene_with(&scene, every, &mut file, progress).map_err(|e| SceneError::Run {
         path: scene_path.to_path_buf(),

@@ -18,6 +18,7 @@ pub mod error;
 pub mod exec;
 pub mod format;
 pub mod fragility;
+pub mod lock;
 pub mod plan;
 pub mod plot;
 pub mod rescue;

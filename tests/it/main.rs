@@ -88,6 +88,7 @@ mod ruin {
 }
 mod scene {
     mod cli;
+    mod plausibility;
 }
 mod study {
     mod ensemble;

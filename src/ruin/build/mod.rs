@@ -234,8 +234,17 @@ fn check_rates(settings: &StageSettings) -> Result<(f64, u64), StageError> {
         return Err(bad(
             "steps_per_second",
             format!(
-                "{} substeps/s is not a whole multiple of the frame rate {} frames/s",
-                r.steps_per_second, r.frame_rate
+                "{} substeps/s is not a whole multiple of the frame rate {} frames/s at \
+                 time scale {}: a keyframe is written every {} s of simulated time, and \
+                 the world is stepped a whole number of substeps between two keyframes, \
+                 so that every keyframe is a state Bullet computed; give a multiple of {} \
+                 substeps/s, e.g. {}",
+                r.steps_per_second,
+                r.frame_rate,
+                r.time_scale,
+                frame_sim,
+                r.frame_rate / r.time_scale,
+                ((r.steps_per_second * frame_sim).ceil().max(1.0) / frame_sim).round()
             ),
         ));
     }

@@ -94,6 +94,25 @@ fn model(from: &str, to: &str) -> String {
     m.replacen(from, to, 1)
 }
 
+/// A model of `n` nodes on a line and nothing else (over the node bound when n > 200 000).
+fn nodes_model(n: usize) -> String {
+    let mut s = String::with_capacity(n * 40);
+    for i in 1..=n {
+        s.push_str(&format!(
+            "[[node]]\ntag = {i}\nx = {}.0\ny = 0.0\nz = 0.0\n",
+            i % 1000
+        ));
+    }
+    s
+}
+
+/// The drop scene (`data/scenes/drop.json`) with `from` replaced by `to`.
+fn drop_scene(from: &str, to: &str) -> String {
+    let s = std::fs::read_to_string(root().join("data/scenes/drop.json")).unwrap();
+    assert!(s.contains(from), "{from}");
+    s.replacen(from, to, 1)
+}
+
 fn at2(npts: &str, dt: &str, values: &str) -> String {
     format!(
         "PEER NGA STRONG MOTION DATABASE RECORD\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\n\
@@ -462,6 +481,88 @@ fn cases() -> Vec<Case> {
         )
         .with("s.toml", SCENARIO)
         .with("model.toml", model("scale = 0.25", "scale = 1e-9")),
+        // ---- geometry roles (frame3: stories of 1 m, bays of 1.5 m, 0.1 m columns)
+        case(
+            "beam deeper than its story",
+            run,
+            1,
+            &["element 49: beam depth h 1.2 m / story height 1 m = 1.2 is outside the plausible beam depth / story height range [0, 1]"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("h = 0.15", "h = 1.2")),
+        case(
+            "slab thicker than its story",
+            run,
+            1,
+            &["element 57: slab thickness 1.5 m / story height 1 m = 1.5 is outside the plausible slab thickness / story height range [0, 1]"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("thickness = 0.03", "thickness = 1.5")),
+        case(
+            "column section larger than the bay",
+            run,
+            1,
+            &["element 1: column size 2 m / bay 1.5 m = 1.333", "column size / bay range [0, 1]"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("model.toml", model("b = 0.1", "b = 2.0")),
+        case(
+            "2 m wall between 0.1 m columns",
+            run,
+            1,
+            &["element 9001: wall thickness 2 m / column size 0.1 m = 20 is outside the plausible wall thickness / column size range [0, 4]"],
+        )
+        .with("s.toml", SCENARIO)
+        .with(
+            "model.toml",
+            model(
+                "[[element]]\ntag = 1\n",
+                "[[element]]\ntag = 9001\ntype_name = \"Wall\"\ngroup = 1\ntype = \"panel\"\n\
+                 nodes = [1, 21, 121, 101]\nthickness = 2.0\n\n[[element]]\ntag = 1\n",
+            ),
+        ),
+        case(
+            "node at z = 1e308 (allowed as unusual)",
+            "--allow-unusual modal {w}/model.toml",
+            1,
+            &["its lumped mass inf kg is not finite: the self-weight of the elements at it overflows"],
+        )
+        .with(
+            "model.toml",
+            model("x = 0.0\ny = 0.0\nz = 0.0", "x = 0.0\ny = 0.0\nz = 1e308"),
+        ),
+        case(
+            "steps_per_second 10",
+            run,
+            1,
+            &[
+                "10 substeps/s is not a whole multiple of the frame rate 25 frames/s at time scale 1",
+                "a keyframe is written every 0.04 s of simulated time",
+                "give a multiple of 25 substeps/s, e.g. 25",
+            ],
+        )
+        .with("s.toml", scenario("", "[physics]\nsteps_per_second = 10")),
+        // ---- no hang, no abort
+        case(
+            "200 001 nodes",
+            "modal {w}/big.toml",
+            1,
+            &["big.toml", "node count 200001 exceeds the limit of 200000"],
+        )
+        .with("big.toml", nodes_model(200_001)),
+        case(
+            "5000 unused nodes",
+            "modal {w}/model.toml",
+            1,
+            &["5000 node(s) used by no structural element (node 900001, 900002, 900003, 900004, 900005, 900006, 900007, 900008, 900009, 900010, …)"],
+        )
+        .with("model.toml", {
+            let mut m = model("", "");
+            for i in 1..=5000 {
+                m.push_str(&format!("\n[[node]]\ntag = {}\nx = 0.5\ny = 0.5\nz = 0.5\n", 900_000 + i));
+            }
+            m
+        }),
         case(
             "1e30 kg on a node",
             run,
@@ -853,6 +954,96 @@ fn cases() -> Vec<Case> {
             std::fs::read_to_string(root().join("data/scenes/drop.json")).unwrap(),
         )
         .with("adir/keep", "x"),
+        // ---- `scene` plausibility (refused unless --allow-unusual)
+        case(
+            "scene box 0.9 m into the ground",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &[
+                "sc.json",
+                "body 0 \"ground\" (line 6) and body 1 \"box\" (line 8) start 0.9 m inside each other",
+                "tolerance of 0.01 m",
+                "--allow-unusual",
+            ],
+        )
+        .with("sc.json", drop_scene("[0, 0, 1.5]", "[0, 0, -0.4]")),
+        case(
+            "scene boxes inside each other",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["body 1 \"box\" (line 8) and body 2 \"twin\" (line 10) start 0.75 m inside each other"],
+        )
+        .with(
+            "sc.json",
+            drop_scene(
+                "\"friction\": 0.5 }",
+                "\"friction\": 0.5 },\n    { \"name\": \"twin\", \"half_extents\": [0.5, 0.5, 0.5], \"mass\": 1,\n      \"position\": [0.25, 0, 1.5] }",
+            ),
+        ),
+        case(
+            "scene velocity 1e6 m/s",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["body 1 \"box\" (line 8): |linear_velocity| = 1e6 m/s is outside the plausible speed range [0 m/s, 1000 m/s]"],
+        )
+        .with(
+            "sc.json",
+            drop_scene("\"friction\": 0.5", "\"friction\": 0.5, \"linear_velocity\": [1e6, 0, 0]"),
+        ),
+        case(
+            "scene restitution 2",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["body 1 \"box\" (line 8): restitution = 2 is outside the plausible restitution range [0, 1]"],
+        )
+        .with(
+            "sc.json",
+            drop_scene("\"friction\": 0.5", "\"friction\": 0.5, \"restitution\": 2"),
+        ),
+        case(
+            "scene friction 1e9",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["body 1 \"box\" (line 8): friction = 1e9 is outside the plausible friction coefficient range [0, 10]"],
+        )
+        .with("sc.json", drop_scene("\"friction\": 0.5", "\"friction\": 1e9")),
+        case(
+            "scene ERP 5 and negative CFM",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &[
+                "2 implausible value(s)",
+                "world.solver: erp = 5 is outside the plausible error-reduction parameter range [0, 1]",
+                "world.solver: global_cfm = -0.1 is outside the plausible constraint-force mixing range [0, 1]",
+            ],
+        )
+        .with(
+            "sc.json",
+            drop_scene(
+                "\"preset\": \"pybullet\"",
+                "\"preset\": \"pybullet\", \"solver\": { \"erp\": 5, \"global_cfm\": -0.1 }",
+            ),
+        ),
+        case(
+            "scene gravity 1e9",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["world: |gravity| = 1e9 m/s² is outside the plausible gravity range [0 m/s², 100 m/s²]"],
+        )
+        .with(
+            "sc.json",
+            drop_scene("\"preset\": \"pybullet\"", "\"preset\": \"pybullet\", \"gravity\": [0, 0, -1e9]"),
+        ),
+        case(
+            "scene substep 1 s",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["substep = 1 s is outside the plausible substep range [0 s, 0.1 s]"],
+        )
+        .with(
+            "sc.json",
+            drop_scene("\"substeps_per_second\": 240", "\"substep\": 1"),
+        ),
         // ---- run folders (`export gltf`, `export vtk`, `plot`)
         case(
             "gltf: no run folder",
@@ -943,6 +1134,34 @@ fn every_bad_input_is_refused_cleanly() {
         failures.join("\n")
     );
     eprintln!("{} hostile cases refused cleanly", cases.len());
+}
+
+/// `--allow-unusual` accepts a scene with a box 0.9 m into the ground and runs it; the
+/// scene's descriptive `name` and `description` keys are accepted.
+#[test]
+fn allow_unusual_runs_an_overlapping_scene() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    let text = drop_scene("[0, 0, 1.5]", "[0, 0, -0.4]").replacen(
+        "{",
+        "{\n  \"name\": \"sunk box\", \"description\": \"a box 0.9 m into the ground\",",
+        1,
+    );
+    std::fs::write(w.join("sc.json"), text).unwrap();
+    let out = Command::new(BIN)
+        .current_dir(w)
+        .args(["--allow-unusual", "scene", "sc.json", "--out", "o.csv"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(w.join("o.csv")).unwrap();
+    // Header and the two bodies' final rows.
+    assert_eq!(csv.lines().count(), 3, "{csv}");
+    assert!(csv.lines().nth(2).unwrap().starts_with("480,"), "{csv}");
 }
 
 /// A comma, quote or newline in a body's name or group no longer breaks the run folder:

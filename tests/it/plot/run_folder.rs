@@ -519,3 +519,27 @@ fn a_missing_file_is_named() {
     assert!(msg.contains("history.csv"), "{msg}");
     assert!(!dir.path().join("plots").exists(), "nothing written");
 }
+
+/// A figure set is written all or nothing: when one figure cannot be written (its name
+/// is taken by a folder), no other figure of the set appears and no temporary file is
+/// left.
+#[test]
+fn a_figure_set_is_written_all_or_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    write_run(dir.path(), &building([3.5, -1.0, 0.15]), "hybrid");
+    let out = dir.path().join("figs");
+    std::fs::create_dir_all(out.join("history.svg")).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fem2rbd"))
+        .args(["--quiet", "plot", dir.path().to_str().unwrap(), "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("history.svg"), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, ["history.svg"], "only the blocking folder remains");
+}

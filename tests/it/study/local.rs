@@ -383,3 +383,39 @@ fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
         }
     }
 }
+
+/// A study folder whose lock is held by a process that runs is refused naming that
+/// process's id, before any run; a lock left by a process that has ended is taken over,
+/// and the lock is removed when the study run ends.
+#[test]
+fn a_locked_study_folder_is_refused_and_a_stale_lock_is_taken_over() {
+    let t = tempfile::tempdir().unwrap();
+    let study = write_study(t.path());
+    let s = study.to_str().unwrap();
+    let out = t.path().join("out");
+    fs::create_dir_all(&out).unwrap();
+    let lock = out.join(".lock");
+    // A second process holds the folder.
+    let mut holder = Command::new("sleep").arg("600").spawn().unwrap();
+    let pid = holder.id();
+    fs::write(&lock, format!("{pid}\n")).unwrap();
+    let (ok, _, err) = fem2rbd(&["--quiet", "study", "run", s, "--out", out.to_str().unwrap()]);
+    holder.kill().unwrap();
+    holder.wait().unwrap();
+    assert!(!ok);
+    assert!(
+        err.contains(&format!(
+            "is in use by another `study run` (process {pid}, lock file {})",
+            lock.display()
+        )),
+        "{err}"
+    );
+    assert!(!out.join("runs").exists(), "no run started");
+    assert_eq!(fs::read_to_string(&lock).unwrap(), format!("{pid}\n"));
+    // The holder has ended: its lock is stale and taken over; the runs go ahead.
+    let (_, _, err) = fem2rbd(&["--quiet", "study", "run", s, "--out", out.to_str().unwrap()]);
+    assert!(!err.contains("in use"), "{err}");
+    assert!(err.contains("2 run(s) failed"), "{err}");
+    assert!(out.join("runs").is_dir(), "the runs went ahead");
+    assert!(!lock.exists(), "the lock is removed at the end");
+}

@@ -260,6 +260,39 @@ fn shell_section(
     Ok((LayeredSection::new(list), linear))
 }
 
+/// Refuses nodes with a free DOF that no structural element uses: no stiffness holds
+/// those DOFs, so the stiffness matrix is singular (and the modal analysis would
+/// condense thousands of them in a dense matrix). Names the first ten and the count.
+/// The command line checks every model with it before any work; [`build_domain`] does
+/// not, so that a program can build a domain and add stiffness of its own.
+pub fn check_unused_nodes(model: &Model) -> Result<()> {
+    let mut used = std::collections::BTreeSet::new();
+    for e in &model.elements {
+        if !matches!(e.kind, ElementKind::Panel { .. }) {
+            used.extend(e.nodes().iter().copied());
+        }
+    }
+    let fixity = model.fixity();
+    let unused: Vec<u32> = model
+        .nodes
+        .iter()
+        .map(|n| n.tag)
+        .filter(|t| !used.contains(t) && fixity.get(t).is_none_or(|d| d.contains(&0)))
+        .collect();
+    if unused.is_empty() {
+        return Ok(());
+    }
+    let shown: Vec<String> = unused.iter().take(10).map(u32::to_string).collect();
+    let more = if unused.len() > 10 { ", …" } else { "" };
+    Err(FeError::Unsupported(format!(
+        "{} node(s) used by no structural element (node {}{more}): nothing holds their \
+         free DOFs, so the stiffness matrix is singular; remove them, connect them to an \
+         element, or fix all six DOFs",
+        unused.len(),
+        shown.join(", ")
+    )))
+}
+
 /// Builds the domain of `model` (which must have passed validation, as
 /// [`Model::load`] guarantees). Shells are `ASDShellQ4` elements
 /// ([`crate::fe::shell::element::ShellElement`]) on `layered_shell` sections, small-
@@ -307,6 +340,13 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             .map_err(at_node(tag))?;
     }
     for (tag, m) in model.lumped_masses() {
+        if let Some(bad) = m.iter().find(|v| !v.is_finite()) {
+            return Err(FeError::Unsupported(format!(
+                "node {tag}: its lumped mass {bad} kg is not finite: the self-weight of the \
+                 elements at it overflows (check their node coordinates, lengths and \
+                 densities: docs/reliability.md)"
+            )));
+        }
         domain.set_mass(idx(tag)?, m).map_err(at_node(tag))?;
     }
     for (tag, fz) in model.gravity_loads() {

@@ -239,13 +239,16 @@ impl Model {
 
     /// Length (m) of a line element, or `None` for shells / unknown nodes.
     pub fn element_length(&self, e: &Element) -> Option<f64> {
-        let nodes = self.node_map();
-        match e.nodes() {
-            [i, j] => {
-                let (a, b) = (nodes.get(i)?, nodes.get(j)?);
-                Some(((b.x - a.x).powi(2) + (b.y - a.y).powi(2) + (b.z - a.z).powi(2)).sqrt())
-            }
-            _ => None,
+        length_in(&self.node_map(), e)
+    }
+
+    /// The lookups that one element's mass needs, built once for many elements
+    /// (building them per element made reading a model of n elements cost n² log n).
+    fn lookups(&self) -> Lookups<'_> {
+        Lookups {
+            nodes: self.node_map(),
+            mats: self.material_map(),
+            secs: self.section_map(),
         }
     }
 
@@ -276,51 +279,19 @@ impl Model {
 
     /// Area (m²) of a shell's quadrilateral (half the norm of the diagonals' cross product).
     pub fn shell_area(&self, e: &Element) -> Option<f64> {
-        let nodes = self.node_map();
-        match e.nodes() {
-            [a, b, c, d] => {
-                let p = |t: &u32| nodes.get(t).map(|n| n.xyz());
-                let (a, b, c, d) = (p(a)?, p(b)?, p(c)?, p(d)?);
-                let d1 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-                let d2 = [d[0] - b[0], d[1] - b[1], d[2] - b[2]];
-                let x = [
-                    d1[1] * d2[2] - d1[2] * d2[1],
-                    d1[2] * d2[0] - d1[0] * d2[2],
-                    d1[0] * d2[1] - d1[1] * d2[0],
-                ];
-                Some(0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt())
-            }
-            _ => None,
-        }
+        area_in(&self.node_map(), e)
     }
 
     /// Self-weight mass (kg) of one element: mass per length × length for line elements
     /// (section Σ ρA, strip ρ·w·t), ρ·h·area for shells.
     pub fn element_mass(&self, e: &Element) -> f64 {
-        let mats = self.material_map();
-        let secs = self.section_map();
-        match &e.kind {
-            ElementKind::BeamColumn { section, .. }
-            | ElementKind::ElasticBeamColumn { section, .. } => {
-                let mpl = secs.get(section).map_or(0.0, |s| s.mass_per_length(&mats));
-                mpl * self.element_length(e).unwrap_or(0.0)
-            }
-            ElementKind::ElasticStrip {
-                width,
-                thickness,
-                density,
-                ..
-            } => density * width * thickness * self.element_length(e).unwrap_or(0.0),
-            ElementKind::Shell { section, .. } => {
-                secs.get(section)
-                    .and_then(|s| s.mass_per_area())
-                    .unwrap_or(0.0)
-                    * self.shell_area(e).unwrap_or(0.0)
-            }
-            ElementKind::Panel {
-                thickness, density, ..
-            } => density * thickness * self.shell_area(e).unwrap_or(0.0),
-        }
+        mass_in(&self.lookups(), e)
+    }
+
+    /// [`Model::element_mass`] of every element, in model order (the lookups built once).
+    pub fn element_masses(&self) -> Vec<f64> {
+        let l = self.lookups();
+        self.elements.iter().map(|e| mass_in(&l, e)).collect()
     }
 
     /// Total lumped mass per node `[mx, my, mz, Ixx, Iyy, Izz]` (kg, kg·m²): the nodal
@@ -329,8 +300,7 @@ impl Model {
     /// Includes nodes at supports. Sorted by node tag.
     pub fn lumped_masses(&self) -> BTreeMap<u32, [f64; 6]> {
         let mut out: BTreeMap<u32, [f64; 6]> = BTreeMap::new();
-        for e in &self.elements {
-            let m = self.element_mass(e);
+        for (e, m) in self.elements.iter().zip(self.element_masses()) {
             if m == 0.0 {
                 continue;
             }
@@ -384,5 +354,72 @@ impl Model {
     /// Rayleigh coefficients (a0, a1), if damping is given.
     pub fn rayleigh(&self) -> Option<(f64, f64)> {
         self.damping.as_ref().and_then(|d| d.coefficients())
+    }
+}
+
+/// Node, material and section lookups by tag.
+struct Lookups<'a> {
+    nodes: BTreeMap<u32, &'a Node>,
+    mats: BTreeMap<u32, &'a Material>,
+    secs: BTreeMap<u32, &'a Section>,
+}
+
+/// Length (m) of a line element with its nodes looked up in `nodes`.
+fn length_in(nodes: &BTreeMap<u32, &Node>, e: &Element) -> Option<f64> {
+    match e.nodes() {
+        [i, j] => {
+            let (a, b) = (nodes.get(i)?, nodes.get(j)?);
+            Some(((b.x - a.x).powi(2) + (b.y - a.y).powi(2) + (b.z - a.z).powi(2)).sqrt())
+        }
+        _ => None,
+    }
+}
+
+/// Area (m²) of a quadrilateral element with its nodes looked up in `nodes`.
+pub(crate) fn area_in(nodes: &BTreeMap<u32, &Node>, e: &Element) -> Option<f64> {
+    match e.nodes() {
+        [a, b, c, d] => {
+            let p = |t: &u32| nodes.get(t).map(|n| n.xyz());
+            let (a, b, c, d) = (p(a)?, p(b)?, p(c)?, p(d)?);
+            let d1 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let d2 = [d[0] - b[0], d[1] - b[1], d[2] - b[2]];
+            let x = [
+                d1[1] * d2[2] - d1[2] * d2[1],
+                d1[2] * d2[0] - d1[0] * d2[2],
+                d1[0] * d2[1] - d1[1] * d2[0],
+            ];
+            Some(0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt())
+        }
+        _ => None,
+    }
+}
+
+/// Self-weight mass (kg) of one element ([`Model::element_mass`]).
+fn mass_in(l: &Lookups<'_>, e: &Element) -> f64 {
+    match &e.kind {
+        ElementKind::BeamColumn { section, .. }
+        | ElementKind::ElasticBeamColumn { section, .. } => {
+            let mpl = l
+                .secs
+                .get(section)
+                .map_or(0.0, |s| s.mass_per_length(&l.mats));
+            mpl * length_in(&l.nodes, e).unwrap_or(0.0)
+        }
+        ElementKind::ElasticStrip {
+            width,
+            thickness,
+            density,
+            ..
+        } => density * width * thickness * length_in(&l.nodes, e).unwrap_or(0.0),
+        ElementKind::Shell { section, .. } => {
+            l.secs
+                .get(section)
+                .and_then(|s| s.mass_per_area())
+                .unwrap_or(0.0)
+                * area_in(&l.nodes, e).unwrap_or(0.0)
+        }
+        ElementKind::Panel {
+            thickness, density, ..
+        } => density * thickness * area_in(&l.nodes, e).unwrap_or(0.0),
     }
 }

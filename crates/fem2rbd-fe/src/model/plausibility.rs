@@ -20,8 +20,13 @@
 //! * model scale 1/100 to 10 (shaking-table models are 1/4 to 1/50);
 //! * damping ratio 0–0.3 (RC buildings 0.02–0.07), anchor periods up to 20 s (the
 //!   tallest buildings' first periods are under 10 s);
-//! * a lumped nodal mass up to 10⁸ kg (a 100 m × 100 m floor of 1 t/m² is 10⁷ kg).
+//! * a lumped nodal mass up to 10⁸ kg (a 100 m × 100 m floor of 1 t/m² is 10⁷ kg);
+//! * the roles of members in the geometry ([`geometry`]): a beam no deeper than its
+//!   story, a slab no thicker than its story, a column section no larger than the
+//!   distance to the next column, a wall at most 4 times as thick as the columns that
+//!   bound it (real walls are at most about as thick as their boundary columns).
 use super::{ElementKind, MaterialLaw, Model, SectionKind, ShellLayer};
+use std::collections::BTreeMap;
 
 /// The kind of unit slip a quantity invites, which decides the hint.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,8 +95,18 @@ pub const DENSITY: Range = range("density", "kg/m³", 0.0, 20_000.0, Slip::Thous
 /// A lumped nodal mass.
 pub const NODAL_MASS: Range = range("nodal mass", "kg", 0.0, 1e8, Slip::None);
 
+/// A beam's depth over its story's height.
+pub const BEAM_DEPTH_PER_STORY: Range =
+    range("beam depth / story height", "", 0.0, 1.0, Slip::None);
+/// A slab's thickness over its story's height.
+pub const SLAB_PER_STORY: Range = range("slab thickness / story height", "", 0.0, 1.0, Slip::None);
+/// A column's larger section size over the distance to the nearest other column.
+pub const COLUMN_PER_BAY: Range = range("column size / bay", "", 0.0, 1.0, Slip::None);
+/// A wall's thickness over the largest section size of the columns it touches.
+pub const WALL_PER_COLUMN: Range = range("wall thickness / column size", "", 0.0, 4.0, Slip::None);
+
 /// Every range, for the documentation's table.
-pub const RANGES: [Range; 13] = [
+pub const RANGES: [Range; 17] = [
     SCALE,
     GRAVITY,
     DAMPING_RATIO,
@@ -105,6 +120,10 @@ pub const RANGES: [Range; 13] = [
     STEEL_YIELD,
     DENSITY,
     NODAL_MASS,
+    BEAM_DEPTH_PER_STORY,
+    SLAB_PER_STORY,
+    COLUMN_PER_BAY,
+    WALL_PER_COLUMN,
 ];
 
 /// One value outside its range.
@@ -306,7 +325,172 @@ pub fn unusual(m: &Model) -> Vec<Unusual> {
     for ms in &m.masses {
         f.check(|| format!("mass on node {}: m", ms.node), ms.m, NODAL_MASS);
     }
+    geometry(m, &mut f);
     f.0
+}
+
+/// The distance from each column line (x, y) to the nearest other one (farther than
+/// [`LEVEL_TOL`]), keyed by the bits of x and y; lines without a neighbour are left out.
+/// A sweep in x that stops once the x distance alone exceeds the best found, so a
+/// regular grid of n lines costs about n √n.
+fn bays(mut lines: Vec<[f64; 2]>) -> BTreeMap<(u64, u64), f64> {
+    lines.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    lines.dedup();
+    let mut out = BTreeMap::new();
+    for (i, a) in lines.iter().enumerate() {
+        let mut best = f64::INFINITY;
+        let mut look = |b: &[f64; 2]| {
+            if (b[0] - a[0]).abs() >= best {
+                return false;
+            }
+            let d = (b[0] - a[0]).hypot(b[1] - a[1]);
+            if d > LEVEL_TOL {
+                best = best.min(d);
+            }
+            true
+        };
+        for b in lines[i + 1..].iter() {
+            if !look(b) {
+                break;
+            }
+        }
+        for b in lines[..i].iter().rev() {
+            if !look(b) {
+                break;
+            }
+        }
+        if best.is_finite() {
+            out.insert((a[0].to_bits(), a[1].to_bits()), best);
+        }
+    }
+    out
+}
+
+/// Two heights closer than this \[m\] are one level.
+const LEVEL_TOL: f64 = 1e-6;
+
+/// The roles of members in the geometry. An element whose nodes share one height
+/// (to [`LEVEL_TOL`]) is horizontal (a beam, a slab strip, a slab shell or panel); a line
+/// element whose ends share x and y is a column; a shell spanning heights is a wall. The
+/// levels are the heights of horizontal elements' nodes and the lowest node; a story's
+/// height is the distance from a level down to the next level. Only sizes the model
+/// states are compared: the `b` and `h` of `rc_rect` sections and the thicknesses of
+/// shells, strips and panels.
+fn geometry(m: &Model, f: &mut Findings) {
+    let nodes = m.node_map();
+    let sections = m.section_map();
+    let xyz = |t: &u32| nodes.get(t).map(|n| n.xyz());
+    // Element points; elements with a missing node are left to validation.
+    let pts = |e: &super::Element| -> Option<Vec<[f64; 3]>> { e.nodes().iter().map(xyz).collect() };
+    let flat = |p: &[[f64; 3]]| p.iter().all(|q| (q[2] - p[0][2]).abs() <= LEVEL_TOL);
+    let rc_size = |e: &super::Element| -> Option<(f64, f64)> {
+        match &sections.get(&e.section()?)?.kind {
+            SectionKind::RcRect(r) => Some((r.b, r.h)),
+            _ => None,
+        }
+    };
+    let thickness = |e: &super::Element| -> Option<f64> {
+        match &e.kind {
+            ElementKind::Shell { section, .. } => sections.get(section)?.shell_thickness(),
+            ElementKind::Panel { thickness, .. } | ElementKind::ElasticStrip { thickness, .. } => {
+                Some(*thickness)
+            }
+            _ => None,
+        }
+    };
+    let mut levels = vec![m.nodes.iter().map(|n| n.z).fold(f64::INFINITY, f64::min)];
+    let mut columns: Vec<(u32, [f64; 2], f64)> = Vec::new(); // (tag, x y, larger size)
+    for e in &m.elements {
+        let Some(p) = pts(e) else { continue };
+        if p.len() >= 2 && flat(&p) {
+            levels.push(p[0][2]);
+        }
+        if let ([a, b], Some((sb, sh))) = (p.as_slice(), rc_size(e)) {
+            let dz = (b[2] - a[2]).abs();
+            if dz > LEVEL_TOL && (b[0] - a[0]).hypot(b[1] - a[1]) <= LEVEL_TOL {
+                columns.push((e.tag, [a[0], a[1]], sb.max(sh)));
+            }
+        }
+    }
+    levels.retain(|z| z.is_finite());
+    levels.sort_by(f64::total_cmp);
+    levels.dedup_by(|a, b| (*a - *b).abs() <= LEVEL_TOL);
+    let story_below = |z: f64| -> Option<f64> {
+        let below = levels.iter().rev().find(|&&l| l < z - LEVEL_TOL)?;
+        Some(z - below)
+    };
+    let column_size: BTreeMap<u32, f64> = columns.iter().map(|c| (c.0, c.2)).collect();
+    let bays = bays(columns.iter().map(|c| c.1).collect());
+    // Columns by node, for the walls.
+    let mut column_at_node: BTreeMap<u32, f64> = BTreeMap::new();
+    for e in &m.elements {
+        if let Some(&size) = column_size.get(&e.tag) {
+            for n in e.nodes() {
+                let s = column_at_node.entry(*n).or_insert(0.0);
+                *s = s.max(size);
+            }
+        }
+    }
+    for e in &m.elements {
+        let Some(p) = pts(e) else { continue };
+        let tag = e.tag;
+        if p.len() == 2 && flat(&p) {
+            if let (Some((_, h)), Some(story)) = (rc_size(e), story_below(p[0][2])) {
+                f.check(
+                    || {
+                        format!(
+                            "element {tag}: beam depth h {h} m / story height {} m",
+                            tidy(story)
+                        )
+                    },
+                    h / story,
+                    BEAM_DEPTH_PER_STORY,
+                );
+            }
+        }
+        if let Some(t) = thickness(e) {
+            if flat(&p) {
+                if let Some(story) = story_below(p[0][2]) {
+                    f.check(
+                        || {
+                            format!(
+                                "element {tag}: slab thickness {t} m / story height {} m",
+                                tidy(story)
+                            )
+                        },
+                        t / story,
+                        SLAB_PER_STORY,
+                    );
+                }
+            } else if matches!(
+                e.kind,
+                ElementKind::Shell { .. } | ElementKind::Panel { .. }
+            ) {
+                let size = e
+                    .nodes()
+                    .iter()
+                    .filter_map(|n| column_at_node.get(n))
+                    .fold(0.0f64, |a, &b| a.max(b));
+                if size > 0.0 {
+                    f.check(
+                        || format!("element {tag}: wall thickness {t} m / column size {size} m"),
+                        t / size,
+                        WALL_PER_COLUMN,
+                    );
+                }
+            }
+        }
+        if let Some(size) = column_size.get(&tag) {
+            let key = (p[0][0].to_bits(), p[0][1].to_bits());
+            if let Some(&bay) = bays.get(&key) {
+                f.check(
+                    || format!("element {tag}: column size {size} m / bay {} m", tidy(bay)),
+                    size / bay,
+                    COLUMN_PER_BAY,
+                );
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -157,6 +157,7 @@ pub(super) fn parse_and_validate(
 ) -> Result<Model, ModelError> {
     let (model, map) = if is_json {
         let map = SourceMap::from_json(text);
+        check_counts(file, &map)?;
         let model: Model = serde_json::from_str(text).map_err(|e| {
             let item = if top_level_key_error(&e.to_string()) {
                 Some("top level".to_string())
@@ -176,6 +177,7 @@ pub(super) fn parse_and_validate(
         (model, map)
     } else {
         let map = SourceMap::from_toml(text);
+        check_counts(file, &map)?;
         let model: Model = toml::from_str(text).map_err(|e| {
             let line = e.span().map(|s| line_of(text, s.start));
             let item = if top_level_key_error(e.message()) {
@@ -197,6 +199,20 @@ pub(super) fn parse_and_validate(
     };
     validate(&model, file, &map)?;
     Ok(model)
+}
+
+/// The node and element bounds, checked on the items the source map counted, before the
+/// model is built from the text (a file of 10⁶ nodes is refused without allocating them).
+fn check_counts(file: &str, map: &SourceMap) -> Result<(), ModelError> {
+    let cx = Ctx { file, map };
+    for (key, what, bound) in [
+        ("node", "node count", limits::MAX_NODES),
+        ("element", "element count", limits::MAX_ELEMENTS),
+    ] {
+        limits::check("model", what, map.item_count(key) as u64, bound as u64)
+            .map_err(|e| cx.key_limit(key, e))?;
+    }
+    Ok(())
 }
 
 /// An unknown key at the top level (serde lists the top-level keys): it must not be
@@ -457,6 +473,7 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
 
     // ---- elements
     let mut elems = BTreeSet::new();
+    let node_map = m.node_map();
     for (i, e) in m.elements.iter().enumerate() {
         let it = || format!("element {}", e.tag);
         let err = |kind: Kind, msg: String| cx.item(kind, "element", i, it(), msg);
@@ -620,12 +637,12 @@ pub(super) fn validate(m: &Model, file: &str, map: &SourceMap) -> Result<(), Mod
                         format!("density = {density} must not be negative"),
                     ));
                 }
-                if m.shell_area(e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
+                if super::area_in(&node_map, e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
                     return Err(err(Kind::Geometry, "has zero area".into()));
                 }
             }
             ElementKind::Shell { local_x, .. } => {
-                if m.shell_area(e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
+                if super::area_in(&node_map, e).unwrap_or(0.0) < MIN_LENGTH * MIN_LENGTH {
                     return Err(err(Kind::Geometry, "has zero area".into()));
                 }
                 if let Some(v) = local_x {

@@ -110,6 +110,10 @@ pub struct ModalResult {
     pub total_mass: [f64; 3],
 }
 
+/// The most equations the dense solver takes: its n × n matrix is 8 n² bytes (10 000
+/// equations: 0.8 GB).
+pub const MAX_DENSE_EQUATIONS: usize = 10_000;
+
 /// Runs the eigen analysis on the domain's committed state.
 pub fn modal_analysis(
     domain: &mut Domain,
@@ -146,7 +150,20 @@ pub fn modal_analysis(
         {
             shift_invert_lanczos(&pattern, &k, &m, settings.modes, tol, max_restarts)?
         }
-        _ => dense_condensed(&pattern.to_dense(&k), &m, settings.modes)?,
+        _ => {
+            // The dense solver holds n² reals: bounded before the allocation.
+            if n > MAX_DENSE_EQUATIONS {
+                return Err(AnalysisError::Input(format!(
+                    "modal analysis: {n} equations but only {massed} DOFs with mass, too \
+                     few for the sparse solver with {} modes; the dense solver would need \
+                     {:.1} GB (at most {MAX_DENSE_EQUATIONS} equations): give the model \
+                     more mass or ask for fewer modes",
+                    settings.modes,
+                    (n as f64).powi(2) * 8e-9
+                )));
+            }
+            dense_condensed(&pattern.to_dense(&k), &m, settings.modes)?
+        }
     };
     Ok(package(domain, omega2, phis, &m))
 }
