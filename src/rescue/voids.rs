@@ -517,6 +517,24 @@ fn measure(field: &Field, sizes: &Scaled, cells: Vec<usize>, enclosed: bool) -> 
     }
 }
 
+/// Calls `f(c, q, a, b)` once for every face between two labelled cells `c` and `q` (the
+/// step from `c` to `q` towards +x, +y or +z) whose labels `a` = `label[c]` and
+/// `b` = `label[q]` differ; `u32::MAX` marks an unlabelled cell. Cells in index order.
+fn for_each_shared_face(grid: &Grid, label: &[u32], mut f: impl FnMut(usize, usize, u32, u32)) {
+    for c in 0..grid.len() {
+        let a = label[c];
+        if a == u32::MAX {
+            continue;
+        }
+        for (q, _, sign) in grid.neighbours(c) {
+            let b = label[q];
+            if sign > 0 && b != u32::MAX && b != a {
+                f(c, q, a, b);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -534,23 +552,5 @@ mod tests {
         assert!(!holds_rectangle(&m, 5, 3, 2, 4));
         assert!(!holds_rectangle(&m, 5, 3, 5, 1));
         assert!(holds_rectangle(&m, 5, 3, 1, 1));
-    }
-}
-
-/// Calls `f(c, q, a, b)` once for every face between two labelled cells `c` and `q` (the
-/// step from `c` to `q` towards +x, +y or +z) whose labels `a` = `label[c]` and
-/// `b` = `label[q]` differ; `u32::MAX` marks an unlabelled cell. Cells in index order.
-fn for_each_shared_face(grid: &Grid, label: &[u32], mut f: impl FnMut(usize, usize, u32, u32)) {
-    for c in 0..grid.len() {
-        let a = label[c];
-        if a == u32::MAX {
-            continue;
-        }
-        for (q, _, sign) in grid.neighbours(c) {
-            let b = label[q];
-            if sign > 0 && b != u32::MAX && b != a {
-                f(c, q, a, b);
-            }
-        }
     }
 }
