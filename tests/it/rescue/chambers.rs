@@ -1,33 +1,19 @@
 //! Covered space split into chambers under one roof each, and the throats between them
 //! (`src/rescue/voids.rs`, docs/rescue.md §2).
 use super::scene::*;
+
+/// `boxes` without connections, full scale, analysed at cell `cell`.
+fn analysed_plain(boxes: &[SceneBox], cell: f64) -> fem2rbd::rescue::Analysis {
+    analysed(boxes, &[], 1.0, cell)
+}
 use fem2rbd::rescue::pattern::Pattern;
-use fem2rbd::rescue::{analyse, Analysis, Ruin, Sizes};
-
-fn analysed(boxes: &[SceneBox], cell: f64) -> Analysis {
-    let dir = tempfile::tempdir().unwrap();
-    write_run(dir.path(), boxes, &[], 1.0);
-    let ruin = Ruin::load(dir.path()).unwrap();
-    analyse(
-        &ruin,
-        Sizes {
-            cell_m: cell,
-            ..Sizes::default()
-        },
-    )
-    .unwrap()
-}
-
-fn close(a: f64, b: f64, tol: f64, what: &str) {
-    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
-}
 
 /// Two tables meeting over a wall: one chamber under each slab, 11.32 m³ each (exact on
 /// the aligned 0.1 m grid), joined by a throat over the wall: the 0.4 m gap's 80 faces
 /// (0.8 m²) and clearance 0.4/2 − h/2 = 0.15 m (the distance transform's half-cell).
 #[test]
 fn two_tables_over_a_low_wall_are_two_chambers_and_a_throat() {
-    let a = analysed(&two_tables(), 0.1);
+    let a = analysed_plain(&two_tables(), 0.1);
     assert_eq!(a.voids.len(), 2, "{}", a.voids_csv());
     let roofs: Vec<&str> = a
         .voids
@@ -63,7 +49,7 @@ fn two_tables_over_a_low_wall_are_two_chambers_and_a_throat() {
 #[test]
 fn a_lean_to_beside_a_pancake_is_two_chambers_with_their_patterns() {
     let h = 0.05;
-    let a = analysed(&lean_to_beside_pancake(40.0), h);
+    let a = analysed_plain(&lean_to_beside_pancake(40.0), h);
     let find = |roof: &str| {
         a.voids
             .iter()
@@ -101,7 +87,7 @@ fn a_lean_to_beside_a_pancake_is_two_chambers_with_their_patterns() {
 fn a_fragment_under_a_small_roof_joins_its_neighbour() {
     let (mut boxes, _) = table();
     boxes.push(beam(9, [0.0, 0.0, 1.9], [0.1, 0.1, 0.1]));
-    let a = analysed(&boxes, 0.1);
+    let a = analysed_plain(&boxes, 0.1);
     assert_eq!(a.voids.len(), 1, "{}", a.voids_csv());
     let v = &a.voids[0].void;
     close(v.volume_m3, 11.28 - 0.008, 1e-9, "chamber volume");

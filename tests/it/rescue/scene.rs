@@ -6,6 +6,7 @@ use fem2rbd::body::{BodyId, BodyType};
 use fem2rbd::output::history::{bodies_csv, BodyRow};
 use fem2rbd::output::ruins::{ruins_csv, RuinRow};
 use fem2rbd::physics::Pose;
+use fem2rbd::rescue::{analyse, Analysis, Ruin, Sizes};
 use std::path::Path;
 
 /// One box of a hand-built ruin.
@@ -295,4 +296,28 @@ pub fn two_stories_first_pancaked() -> Vec<SceneBox> {
         }
     }
     b
+}
+
+/// Writes `boxes` as a run folder and analyses it with cell `cell` (full scale).
+pub fn analysed(
+    boxes: &[SceneBox],
+    connections: &[(usize, usize, &str)],
+    scale: f64,
+    cell: f64,
+) -> Analysis {
+    let dir = tempfile::tempdir().unwrap();
+    write_run(dir.path(), boxes, connections, scale);
+    let ruin = Ruin::load(dir.path()).unwrap();
+    analyse(
+        &ruin,
+        Sizes {
+            cell_m: cell,
+            ..Sizes::default()
+        },
+    )
+    .unwrap()
+}
+
+pub fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }

@@ -2,31 +2,6 @@
 //! and read back as `fem2rbd voids` reads them (`src/rescue/`, docs/rescue.md).
 use super::scene::*;
 use fem2rbd::rescue::pattern::Pattern;
-use fem2rbd::rescue::{analyse, Analysis, Ruin, Sizes};
-
-/// Writes `boxes` as a run folder and analyses it with cell `cell` (full scale).
-fn analysed(
-    boxes: &[SceneBox],
-    connections: &[(usize, usize, &str)],
-    scale: f64,
-    cell: f64,
-) -> Analysis {
-    let dir = tempfile::tempdir().unwrap();
-    write_run(dir.path(), boxes, connections, scale);
-    let ruin = Ruin::load(dir.path()).unwrap();
-    analyse(
-        &ruin,
-        Sizes {
-            cell_m: cell,
-            ..Sizes::default()
-        },
-    )
-    .unwrap()
-}
-
-fn close(a: f64, b: f64, tol: f64, what: &str) {
-    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
-}
 
 /// The table: one void, clear space 2.0 m × (6.0 − 0.36) m² = 11.28 m³ exactly on a grid
 /// aligned with the boxes; 2.0 m clear; the largest ball 1.0 m to within half a cell; open
