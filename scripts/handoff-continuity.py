@@ -179,7 +179,7 @@ def ruin_ensembles(p, out, model, ts, n, sps_list):
     verdict = "met" if all(r <= 0.2 for r in rng) else "not met"
     p("Range of the ensemble-mean slab overlaps over all hand-offs and substeps, per floor pair: "
       + ", ".join(f"{r:.2f}" for r in rng)
-      + f" (issue 11's 0.2 applied to the means: {verdict}).\n")
+      + f" (the 0.2 criterion applied to the means: {verdict}).\n")
 
 
 def at(rows, t):

@@ -326,17 +326,17 @@ fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
         drift_d * 100.0
     );
     eprintln!(
-        "session-16 defaults: sag {:.2} mm, drift {:.4} %",
+        "the defaults: sag {:.2} mm, drift {:.4} %",
         sag_new * 1e3,
         drift_new * 100.0
     );
     assert_eq!(lost, 0, "connections gave way under gravity");
     assert!(drift <= 2e-4, "roof drift {:.4} % > 0.02 %", drift * 100.0);
-    assert_eq!(lost_new, 0, "session-16 defaults: connections gave way");
+    assert_eq!(lost_new, 0, "the defaults: connections gave way");
     assert!((sag_new - sag).abs() < 1e-3, "{sag_new} against {sag}");
     assert!(
         (2.5e-4..=3.2e-4).contains(&drift_new),
-        "session-16 defaults: roof drift {:.4} %",
+        "the defaults: roof drift {:.4} %",
         drift_new * 100.0
     );
     assert!(sag <= 0.030, "sag {:.2} mm > 30 mm", sag * 1e3);
