@@ -565,6 +565,30 @@ pub(crate) fn ensemble_stats(study: &Study, plan: &Plan, rows: &[RunRow]) -> (Va
     )
 }
 
+/// The ok runs of a study (no error, and `keep`) grouped by (model index, the mode's
+/// index in the study, intensity in milli-g), each group in plan order: the groups over
+/// which the density grids and the rescue maps are formed.
+pub(crate) fn intensity_groups<'a>(
+    study: &Study,
+    plan: &'a Plan,
+    rows: &[RunRow],
+    keep: impl Fn(&super::plan::Entry, &RunRow) -> bool,
+) -> BTreeMap<(usize, usize, u32), Vec<&'a super::plan::Entry>> {
+    let mode_index =
+        |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
+    let mut groups: BTreeMap<(usize, usize, u32), Vec<&super::plan::Entry>> = BTreeMap::new();
+    for (e, r) in plan.entries.iter().zip(rows) {
+        if r.error.is_some() || !keep(e, r) {
+            continue;
+        }
+        groups
+            .entry((e.model, mode_index(e.mode), e.milli_g))
+            .or_default()
+            .push(e);
+    }
+    groups
+}
+
 /// A density grid of one (model, mode, intensity): file stem
 /// `<model>__<mode>__<pga>g` and the grid over every ok run of that intensity (all
 /// records and members). Modes with a ruin stage only (not `fe`).
@@ -574,18 +598,9 @@ pub(crate) fn density_grids(
     plan: &Plan,
     rows: &[RunRow],
 ) -> Result<Vec<(String, StudyDensity)>> {
-    let mode_index =
-        |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
-    let mut groups: BTreeMap<(usize, usize, u32), Vec<&super::plan::Entry>> = BTreeMap::new();
-    for (e, r) in plan.entries.iter().zip(rows) {
-        if r.error.is_some() || e.mode == crate::pipeline::Mode::Fe {
-            continue;
-        }
-        groups
-            .entry((e.model, mode_index(e.mode), e.milli_g))
-            .or_default()
-            .push(e);
-    }
+    let groups = intensity_groups(study, plan, rows, |e, _| {
+        e.mode != crate::pipeline::Mode::Fe
+    });
     let mut out = Vec::new();
     for ((mi, modi, g), entries) in groups {
         let mut grid: Option<DensityGrid> = None;

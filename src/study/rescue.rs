@@ -9,7 +9,7 @@
 use super::collect::RunRow;
 use super::error::{Result, StudyError};
 use super::format::Study;
-use super::plan::{Entry, Plan, Store};
+use super::plan::{Plan, Store};
 use crate::rescue::ensemble::{maps, read_member, Maps, Member, MemberRescue};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -53,18 +53,7 @@ pub(crate) fn rescue_maps(
     plan: &Plan,
     rows: &[RunRow],
 ) -> Result<Vec<(String, Maps)>> {
-    let mode_index =
-        |m: crate::pipeline::Mode| study.modes.iter().position(|x| *x == m).unwrap_or(0);
-    let mut groups: BTreeMap<(usize, usize, u32), Vec<&Entry>> = BTreeMap::new();
-    for (e, r) in plan.entries.iter().zip(rows) {
-        if r.error.is_some() || r.ruin_stop.is_none() {
-            continue;
-        }
-        groups
-            .entry((e.model, mode_index(e.mode), e.milli_g))
-            .or_default()
-            .push(e);
-    }
+    let groups = super::collect::intensity_groups(study, plan, rows, |_, r| r.ruin_stop.is_some());
     let mut out = Vec::new();
     for ((mi, modi, g), entries) in groups {
         let mut members = Vec::new();

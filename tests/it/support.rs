@@ -199,3 +199,23 @@ dt = 0.005
 "#
     )
 }
+
+/// A ruin stage's result as bits: every frame's poses, the final velocities and each
+/// connection's break and plastic times (0 when never), in order, for bit-for-bit
+/// comparisons of two runs.
+pub fn ruin_bits(r: &fem2rbd::ruin::stage::RuinResult) -> Vec<u64> {
+    let mut v = Vec::new();
+    for f in &r.frames {
+        for p in &f.poses {
+            v.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
+        }
+    }
+    for vel in &r.final_velocities {
+        v.extend(vel.linear.iter().chain(&vel.angular).map(|x| x.to_bits()));
+    }
+    for c in &r.connections {
+        v.push(c.broke_at_s.map_or(0, f64::to_bits));
+        v.push(c.plastic_at_s.map_or(0, f64::to_bits));
+    }
+    v
+}

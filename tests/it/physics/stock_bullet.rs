@@ -28,24 +28,6 @@ use fem2rbd::pipeline::{physics_only_stage, Scenario};
 use fem2rbd::ruin::connection::ConnectionState;
 use fem2rbd::ruin::stage::{RuinResult, SpeedSettings, StageSettings, StopRule};
 
-/// Every frame's poses, the final velocities and every connection's history as bits.
-fn bits(r: &RuinResult) -> Vec<u64> {
-    let mut v = Vec::new();
-    for f in &r.frames {
-        for p in &f.poses {
-            v.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
-        }
-    }
-    for vel in &r.final_velocities {
-        v.extend(vel.linear.iter().chain(&vel.angular).map(|x| x.to_bits()));
-    }
-    for c in &r.connections {
-        v.push(c.broke_at_s.map_or(0, f64::to_bits));
-        v.push(c.plastic_at_s.map_or(0, f64::to_bits));
-    }
-    v
-}
-
 /// [`SECONDS`] of frame3 under LC5, physics-only (BCB's CT 22 breakable 6-DoF spring connections,
 /// 200 substeps/s, 100 iterations), on the given world.
 fn run(sc: &Scenario, stock: bool, threads: usize, sweep: Sweep) -> RuinResult {
@@ -113,7 +95,7 @@ fn the_shims_solver_gives_stock_bullets_bits_on_frame3() {
     for (threads, sweep) in [(1, Sweep::Bullet), (2, Sweep::Packed)] {
         let shim = run(&sc, false, threads, sweep);
         assert!(
-            bits(&shim) == bits(&stock),
+            crate::support::ruin_bits(&shim) == crate::support::ruin_bits(&stock),
             "the shim ({sweep:?}, {threads} thread(s)) differs from stock Bullet"
         );
     }

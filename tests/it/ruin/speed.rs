@@ -127,19 +127,7 @@ fn run_scene(
 }
 
 fn bits(r: &RuinResult) -> Vec<u64> {
-    let mut v = Vec::new();
-    for f in &r.frames {
-        for p in &f.poses {
-            v.extend(p.position.iter().chain(&p.orientation).map(|x| x.to_bits()));
-        }
-    }
-    for vel in &r.final_velocities {
-        v.extend(vel.linear.iter().chain(&vel.angular).map(|x| x.to_bits()));
-    }
-    for c in &r.connections {
-        v.push(c.broke_at_s.map_or(0, f64::to_bits));
-        v.push(c.plastic_at_s.map_or(0, f64::to_bits));
-    }
+    let mut v = crate::support::ruin_bits(r);
     v.push(r.ledger.injected_j.to_bits());
     v
 }
