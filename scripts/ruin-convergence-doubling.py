@@ -1,7 +1,12 @@
 #!/usr/bin/env python3
 """The doubling table of scripts/ruin-convergence.sh (docs/ruin-convergence.md).
 
-Usage: python3 scripts/ruin-convergence-doubling.py OUT MODE...
+Usage: python3 scripts/ruin-convergence-doubling.py OUT[,OUT2...] MODE...
+
+Several OUT folders, comma-separated (the script's runs with SEED=1 and SEED=2), pool
+each ensemble's members as scripts/ruin-convergence-table.py does: every member of the
+first, the perturbed members of the others (member 0 is the same unperturbed run in
+every seed); the wall time per member is the pooled folders' wall times over their members.
 
 Reads, per mode, the reference ensemble OUT/MODE-ensemble (200 substeps/s, 100
 iterations) and every variant ensemble OUT/MODE-spsS-itI[-KEY-VALUE...]-ens, and gives
@@ -19,11 +24,19 @@ each its Gauss–Seidel sweeps per simulated second, S·I. It prints:
       |mean_B − mean_A| ≤ max(0.05·|mean_A|, sd_A / 2)
 
   (A the coarser or plain ensemble, sd_A its sample standard deviation). A setting is
-  converged when the pair (it, its doubling) moves no mean beyond that.
+  converged when the pair (it, its doubling) moves no mean beyond that. Beside each
+  difference stands Welch's t (scripts/ruin-convergence-table.py); the table counts the
+  moves the ensembles resolve (|t| > 2.1) and prints the standard error of a difference of
+  two means in units of the spread, √(1/n_A + 1/n_B) (equal spreads): with 8 members each
+  it is 0.5, as large as the criterion's sd_A / 2, so a mean can fail the criterion by
+  sampling alone; resolving it needs about 4·√(2/n) ≤ 1, n ≥ 32 members per ensemble.
 
 The measures are those of scripts/ruin-convergence-table.py (floor offsets, slab
 overlaps, debris area, percentiles of the distance beyond the footprint, debris height),
-with the floors' vertical drops (the z of each floor's centroid displacement).
+with the floors' vertical drops (the z of each floor's centroid displacement) and, where
+the members' summary.json holds a `rescue` section (written by `fem2rbd run`, rewritten by
+`fem2rbd voids`), the rescue measures: the number of voids, of survivable voids, and the
+survivable volume (m³).
 """
 import glob, importlib.util, json, math, os, re, statistics, sys
 
@@ -38,38 +51,49 @@ def member_measures(d):
     s = json.load(open(os.path.join(d, 'summary.json')))
     for i, f in enumerate(s['ruins']['floors']):
         m.append(('floor %d drop m' % (i + 1), -f['centroid_displacement_m'][2], False))
+    r = s.get('rescue')
+    if r:
+        m.append(('voids', float(r['voids_count']), False))
+        m.append(('survivable voids', float(r['survivable_count']), False))
+        m.append(('survivable volume m³', r['survivable_volume_m3'], False))
     return dict((n, v) for n, v, _ in m), [n for n, _, _ in m], facts
 
 
-def ensemble(folder):
-    mem = sorted(glob.glob(os.path.join(folder, 'member-*')))
+def ensemble(outs, name):
+    mem = table.pooled(outs, name)
     if not mem:
         return None
     ms = [member_measures(d) for d in mem]
-    names = ms[0][1]
+    names = [n for n in ms[0][1] if all(n in m[0] for m in ms)]
     vals = {n: [m[0][n] for m in ms] for n in names}
-    wall_file = folder.rstrip('/') + '.wall_s'
-    wall = float(open(wall_file).read()) / len(ms) if os.path.isfile(wall_file) else float('nan')
+    wall_s, counted = 0.0, 0
+    for out in outs:
+        wall_file = os.path.join(out, name) + '.wall_s'
+        if os.path.isfile(wall_file):
+            wall_s += float(open(wall_file).read())
+            counted += len(glob.glob(os.path.join(out, name, 'member-*')))
+    wall = wall_s / counted if counted else float('nan')
     return {'n': len(ms), 'names': names, 'vals': vals, 'wall': wall, 'facts': [m[2] for m in ms]}
 
 
 def main():
-    out, modes = sys.argv[1], sys.argv[2:]
+    outs, modes = sys.argv[1].split(','), sys.argv[2:]
+    out = outs[0]
     for mode in modes:
         ens = {}
-        ref = ensemble(os.path.join(out, mode + '-ensemble'))
+        ref = ensemble(outs, mode + '-ensemble')
         if ref:
             ens[(200, 100, '')] = ref
         for d in sorted(glob.glob(os.path.join(out, mode + '-sps*-ens'))):
             m = re.match(r'sps(\d+)-it(\d+)(-.*)?-ens$', os.path.basename(d)[len(mode) + 1:])
-            e = ensemble(d) if m else None
+            e = ensemble(outs, os.path.basename(d)) if m else None
             if e:
                 ens[(int(m.group(1)), int(m.group(2)), (m.group(3) or '')[1:])] = e
         if not ens:
             print('no ensembles for %s in %s' % (mode, out))
             continue
         keys = sorted(ens, key=lambda k: (k[0] * k[1], k[2], k[0]))
-        names = ens[keys[0]]['names']
+        names = [n for n in ens[keys[0]]['names'] if all(n in ens[k]['vals'] for k in keys)]
         label = lambda k: '%d/%d%s' % (k[0], k[1], (' ' + k[2]) if k[2] else '')
         print('### %s: ensembles (substeps/s / iterations, sweeps/s)\n' % mode)
         print('| measure | ' + ' | '.join('%s (%d k)' % (label(k), k[0] * k[1] // 1000) for k in keys) + ' |')
@@ -107,9 +131,15 @@ def main():
                 ok = abs(mb - ma) <= allowed + 1e-12
                 if not ok:
                     moved[(a, b)].append(n)
-                row.append('%+.2f (±%.2f) %s' % (mb - ma, allowed, '✓' if ok else '✗'))
+                t = table.welch(va, vb)
+                row.append('%+.2f (±%.2f, t %+.1f) %s' % (mb - ma, allowed, t, '✓' if ok else '✗'))
             print('| %s | ' % n + ' | '.join(row) + ' |')
         print('| means moved | ' + ' | '.join('%d of %d' % (len(moved[p]), len(names)) for p in pairs) + ' |')
+        print('| of them resolved, abs(t) > 2.1 | ' + ' | '.join(
+            '%d' % sum(abs(table.welch(ens[a]['vals'][n], ens[b]['vals'][n])) > 2.1 for n in moved[(a, b)])
+            for a, b in pairs) + ' |')
+        print('| standard error of a difference of means / sd_A | ' + ' | '.join(
+            '%.2f' % math.sqrt(1 / ens[a]['n'] + 1 / ens[b]['n']) for a, b in pairs) + ' |')
         print()
 
 

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 pub mod export;
 pub mod fe;
 pub mod generate;
+pub mod interrupt;
 pub mod map;
 pub mod modal;
 pub mod plot;
@@ -109,6 +110,7 @@ pub fn plausible(
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn main() -> anyhow::Result<()> {
     let cli = Cli::parse();
+    interrupt::install();
     run(cli)
 }
 

@@ -10,6 +10,8 @@ pub struct AtomicFile {
     target: PathBuf,
     tmp: PathBuf,
     writer: Option<BufWriter<File>>,
+    /// The temporary file, removed by the interrupt handler ([`super::interrupt`]).
+    _registered: super::interrupt::Registered<'static>,
 }
 
 impl AtomicFile {
@@ -31,12 +33,14 @@ impl AtomicFile {
         }
         super::location::sweep_stale(&target);
         let tmp = target.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+        let registered = super::interrupt::temporary(&tmp);
         let file =
             File::create(&tmp).map_err(OutputError::io("cannot create temporary file", &tmp))?;
         Ok(Self {
             target,
             tmp,
             writer: Some(BufWriter::new(file)),
+            _registered: registered,
         })
     }
 
@@ -52,13 +56,15 @@ impl AtomicFile {
             file.sync_all()
                 .map_err(OutputError::io("cannot sync", &self.tmp))?;
             drop(file);
-            fs::rename(&self.tmp, &self.target).map_err(|error| OutputError::Io {
-                action: "cannot rename",
-                path: self.tmp.clone(),
-                error: std::io::Error::new(
-                    error.kind(),
-                    format!("to {}: {error}", self.target.display()),
-                ),
+            super::interrupt::critical(|| fs::rename(&self.tmp, &self.target)).map_err(|error| {
+                OutputError::Io {
+                    action: "cannot rename",
+                    path: self.tmp.clone(),
+                    error: std::io::Error::new(
+                        error.kind(),
+                        format!("to {}: {error}", self.target.display()),
+                    ),
+                }
             })
         })();
         if result.is_err() {

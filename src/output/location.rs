@@ -21,8 +21,9 @@
 //! * [`check_holds_no_input`] and [`check_not_an_input`] refuse an output folder that
 //!   contains an input of the command, and an output file that is an input (the same
 //!   file, however it is named), before any work.
-//! * Temporary names carry the process id. A process killed mid-write (SIGKILL, power
-//!   loss) leaves its `.NAME.tmp-PID` behind; the next write of the same target removes
+//! * Temporary names carry the process id. SIGINT and SIGTERM remove a process's
+//!   temporaries and put back a folder moved aside ([`super::interrupt`]); a process killed
+//!   mid-write otherwise (SIGKILL, power loss) leaves its `.NAME.tmp-PID` behind; the next write of the same target removes
 //!   the temporaries of processes that no longer run ([`sweep_stale`], Linux `/proc`).
 use super::error::{OutputError, Result};
 
@@ -340,6 +341,8 @@ pub(crate) struct StagedDir {
     target: PathBuf,
     stage: PathBuf,
     done: bool,
+    /// The staged folder, removed by the interrupt handler ([`super::interrupt`]).
+    _registered: super::interrupt::Registered<'static>,
 }
 
 impl StagedDir {
@@ -356,11 +359,13 @@ impl StagedDir {
         if stage.exists() {
             fs::remove_dir_all(&stage).map_err(OutputError::io("cannot remove", &stage))?;
         }
+        let registered = super::interrupt::temporary(&stage);
         fs::create_dir(&stage).map_err(OutputError::io("cannot create", &stage))?;
         let staged = StagedDir {
             target: target.to_path_buf(),
             stage,
             done: false,
+            _registered: registered,
         };
         staged.write(MARKER, kind.marker_text().as_bytes())?;
         Ok(staged)
@@ -380,27 +385,39 @@ impl StagedDir {
     pub fn swap_in(mut self) -> Result<()> {
         let old = sibling(&self.target, "old")?;
         let had_old = self.target.exists();
-        if had_old {
-            if old.exists() {
-                let _ = fs::remove_dir_all(&old);
-            }
-            fs::rename(&self.target, &old).map_err(|error| OutputError::Io {
-                action: "cannot move aside the old",
-                path: self.target.clone(),
-                error: std::io::Error::new(error.kind(), format!("to {}: {error}", old.display())),
-            })?;
+        if had_old && old.exists() {
+            let _ = fs::remove_dir_all(&old);
         }
-        if let Err(e) = fs::rename(&self.stage, &self.target) {
+        // Until the old folder is gone, an interrupt puts it back or removes it
+        // ([`super::interrupt`]); both renames run without an interrupt between them.
+        let _aside = had_old.then(|| super::interrupt::moved_aside(&old, &self.target));
+        super::interrupt::critical(|| {
             if had_old {
-                // Put the old folder back: the target is as it was.
-                let _ = fs::rename(&old, &self.target);
+                fs::rename(&self.target, &old).map_err(|error| OutputError::Io {
+                    action: "cannot move aside the old",
+                    path: self.target.clone(),
+                    error: std::io::Error::new(
+                        error.kind(),
+                        format!("to {}: {error}", old.display()),
+                    ),
+                })?;
             }
-            return Err(OutputError::Io {
-                action: "cannot rename",
-                path: self.stage.clone(),
-                error: std::io::Error::new(e.kind(), format!("to {}: {e}", self.target.display())),
-            });
-        }
+            if let Err(e) = fs::rename(&self.stage, &self.target) {
+                if had_old {
+                    // Put the old folder back: the target is as it was.
+                    let _ = fs::rename(&old, &self.target);
+                }
+                return Err(OutputError::Io {
+                    action: "cannot rename",
+                    path: self.stage.clone(),
+                    error: std::io::Error::new(
+                        e.kind(),
+                        format!("to {}: {e}", self.target.display()),
+                    ),
+                });
+            }
+            Ok(())
+        })?;
         self.done = true;
         if had_old {
             fs::remove_dir_all(&old)

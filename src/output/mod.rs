@@ -5,6 +5,7 @@ pub mod csv_text;
 pub mod error;
 pub mod gltf;
 pub mod history;
+pub mod interrupt;
 pub mod keyframes;
 pub mod location;
 pub mod palette;

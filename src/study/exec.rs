@@ -116,6 +116,7 @@ pub(crate) fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]
     std::fs::create_dir_all(&runs).at(|| format!("cannot create {}", runs.display()))?;
     let pid = std::process::id();
     let tmp = runs.join(format!(".tmp-{id}-{pid}"));
+    let _registered = crate::output::interrupt::temporary(&tmp);
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp)?;
     }
@@ -127,15 +128,19 @@ pub(crate) fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]
     }
     let dest = store.run_dir(id);
     let old = runs.join(format!(".old-{id}-{pid}"));
-    let moved = if dest.exists() {
-        std::fs::rename(&dest, &old)
-            .at(|| format!("cannot move the old {} aside", dest.display()))?;
-        true
-    } else {
-        false
-    };
-    std::fs::rename(&tmp, &dest)
-        .at(|| format!("cannot rename {} to {}", tmp.display(), dest.display()))?;
+    let moved = dest.exists();
+    // Until the old folder is gone, an interrupt puts it back or removes it
+    // (crate::output::interrupt); both renames run without an interrupt between them.
+    let _aside = moved.then(|| crate::output::interrupt::moved_aside(&old, &dest));
+    crate::output::interrupt::critical(|| -> Result<()> {
+        if moved {
+            std::fs::rename(&dest, &old)
+                .at(|| format!("cannot move the old {} aside", dest.display()))?;
+        }
+        std::fs::rename(&tmp, &dest)
+            .at(|| format!("cannot rename {} to {}", tmp.display(), dest.display()))?;
+        Ok(())
+    })?;
     if moved {
         std::fs::remove_dir_all(&old)?;
     }

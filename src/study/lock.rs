@@ -14,6 +14,8 @@ pub const LOCK_FILE: &str = ".lock";
 #[derive(Debug)]
 pub struct StudyLock {
     path: PathBuf,
+    /// The lock file, removed by the interrupt handler (crate::output::interrupt).
+    _registered: crate::output::interrupt::Registered<'static>,
 }
 
 /// Why the lock cannot be had.
@@ -70,8 +72,12 @@ impl StudyLock {
                 .open(&path)
             {
                 Ok(mut f) => {
+                    let registered = crate::output::interrupt::temporary(&path);
                     writeln!(f, "{}", std::process::id()).map_err(io)?;
-                    return Ok(StudyLock { path });
+                    return Ok(StudyLock {
+                        path,
+                        _registered: registered,
+                    });
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
                     let text = std::fs::read_to_string(&path).unwrap_or_default();
