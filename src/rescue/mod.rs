@@ -10,6 +10,7 @@
 //! * [`occupancy`]: each cell's exact volume fraction covered by boxes (a convex clip);
 //! * [`distance`]: the exact Euclidean distance transform (Felzenszwalb & Huttenlocher
 //!   2012) of the solid cells, giving every free cell's clearance;
+//! * [`boxes`]: a void's cells as a few disjoint boxes of whole cells;
 //! * [`voids`]: free space under debris (covered) vs open air, split into chambers under
 //!   one roof each, their measures and the throats between them;
 //! * [`person`]: the body sizes that make a void survivable, and the rescuer's and the
@@ -29,6 +30,7 @@
 //! each reads the classified grid only and writes its own result, and everything else
 //! runs in a fixed order: the same run folder gives the same bytes.
 pub mod access;
+pub mod boxes;
 pub mod distance;
 pub mod ensemble;
 pub mod grid;
