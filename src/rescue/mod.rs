@@ -23,6 +23,7 @@
 //! * [`stories`]: each story's volume loss (the free space under its ceiling, standing
 //!   and in the ruin);
 //! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`;
+//! * [`volumes`]: the survivable voids of a `voids.json` as the volumes of `collapse.glb`;
 //! * [`ensemble`]: over an ensemble's members, the plan map of the chance of a survivable
 //!   void, the spread of the measures and the voids that recur in one place.
 //!
@@ -42,6 +43,7 @@ pub mod report;
 pub mod rubble;
 pub mod stories;
 pub mod voids;
+pub mod volumes;
 
 pub use input::{Connection, Ruin, RuinBox};
 pub use person::Sizes;
