@@ -63,6 +63,7 @@ mod rescue {
     mod chambers;
     mod cli;
     pub(crate) mod ensemble;
+    mod footprint;
     mod occupancy;
     mod plots;
     mod scene;
