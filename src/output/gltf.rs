@@ -88,8 +88,8 @@ pub struct GroundBox {
 }
 
 /// A void of the ruin as a static, translucent volume: boxes of free space under debris
-/// (a survivable void of the rescue analysis, its cells merged into boxes:
-/// [`crate::rescue::boxes`]).
+/// (a survivable void of the rescue analysis, its cells merged into boxes; docs/rescue.md
+/// §3).
 #[derive(Debug, Clone, PartialEq)]
 pub struct VoidVolume {
     /// Node name shown by viewers (e.g. `void-03 v 0.0927 m3`).

@@ -3,12 +3,13 @@
 //! voids table and the rescue rows of the key figures.
 //!
 //! Each void is drawn as its exact cells: the disjoint boxes of whole cells of
-//! `voids.json` (`boxes`, [`crate::rescue::boxes`]), merged into one translucent mesh per
-//! void in its pattern's colour (the colours of the void figures,
-//! [`crate::plot::voids::pattern_colour`]), opaque to [`VOID_OPACITY`] when survivable and
-//! to [`OTHER_OPACITY`] when not. A survivable void the rescuer reaches has a marker at the
-//! middle of the side of its bounding box its route enters through (as in the figures); a
-//! survivable void the rescuer does not reach has one at the first debris cell to breach.
+//! `voids.json` (`boxes`, [`crate::rescue::boxes`]), one translucent instanced mesh per
+//! void (an instance per box) in its pattern's colour (the colours of the void figures,
+//! [`crate::output::palette::pattern_srgb`]), opaque to [`VOID_OPACITY`] when survivable and
+//! to [`OTHER_OPACITY`] when not. A survivable void the rescuer reaches has a post standing
+//! on the middle of the side of its bounding box its route enters through (as in the
+//! figures); a survivable void the rescuer reaches only through debris has a cube on the
+//! first debris cell to breach.
 //!
 //! A run folder without `voids.json` (no ruin stage, or written before the analysis
 //! existed) or whose `voids.json` records an error gets a page that says so. When
@@ -16,7 +17,7 @@
 use super::data::hex;
 use super::html::escape;
 use super::{inconsistent, ReportError, Result};
-use crate::plot::voids::pattern_colour;
+use crate::output::palette::pattern_srgb;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -227,8 +228,7 @@ pub fn entry_point(v: &ReportVoid) -> Option<[f64; 3]> {
 }
 
 fn pattern_hex(p: &str) -> String {
-    let c = pattern_colour(p);
-    hex([c.0, c.1, c.2])
+    hex(pattern_srgb(p))
 }
 
 /// The page data of the voids (`voids` of the page data; `null` without an analysis):

@@ -2,14 +2,13 @@
 //! ([`crate::output::gltf::VoidVolume`]): each survivable void's cells as the boxes of
 //! `voids.json` (`boxes`, [`super::boxes`]), named `void-NN <pattern> <volume> m3` (its
 //! number in `voids.csv`, its pattern, its volume at the model's scale), coloured as its
-//! pattern in the void figures and the report ([`crate::plot::voids::pattern_colour`], in
-//! linear light).
+//! pattern in the void figures and the report ([`crate::output::palette::pattern_srgb`],
+//! in linear light).
 //!
 //! Read from the file's text, so that `fem2rbd run`, `fem2rbd voids` and `fem2rbd export
 //! gltf` put the same nodes into the same bytes.
 use crate::output::gltf::VoidVolume;
-use crate::output::palette::srgb_to_linear;
-use crate::plot::voids::pattern_colour;
+use crate::output::palette::{pattern_srgb, srgb_to_linear};
 use serde_json::Value;
 
 /// The node name of void `number` (1 = largest).
@@ -73,11 +72,10 @@ pub fn survivable_volumes(text: &str) -> Result<Vec<VoidVolume>, String> {
                 [at(0, idx[3]), at(1, idx[4]), at(2, idx[5])],
             ]);
         }
-        let c = pattern_colour(pattern);
         out.push(VoidVolume {
             name: node_name(n, pattern, volume),
             pattern: pattern.to_string(),
-            colour: srgb_to_linear([c.0, c.1, c.2]),
+            colour: srgb_to_linear(pattern_srgb(pattern)),
             boxes: bounds,
         });
     }
