@@ -16,7 +16,8 @@ pub enum ExportCommand {
     /// A self-contained openseespy script (`python3 out.py eigen|gravity|th`).
     Opensees(OpenSeesArgs),
     /// An animated glTF 2.0 binary of a run folder's whole timeline (the run's own
-    /// collapse.glb, rebuilt from bodies.csv, keyframes.csv and history.csv).
+    /// collapse.glb, rebuilt from bodies.csv, keyframes.csv and history.csv, with the
+    /// survivable voids of voids.json).
     Gltf(GltfArgs),
     /// A ParaView time series (.pvd + one .vtu per frame) of a run folder's timeline.
     Vtk(VtkArgs),
@@ -60,9 +61,30 @@ fn run_folder_inputs(dir: &Path) -> Vec<PathBuf> {
 }
 
 /// The bytes of the glTF binary of the run folder `dir`: the same as the run's own
-/// `collapse.glb`.
+/// `collapse.glb` (with the survivable voids of its `voids.json`, when it has one).
 pub fn run_folder_glb(dir: &Path) -> Result<Vec<u8>> {
-    encode_glb(&run_folder_scene(dir)?)
+    let path = dir.join("voids.json");
+    let voids = if path.is_file() {
+        Some(
+            std::fs::read_to_string(&path)
+                .with_context(|| format!("cannot read {}", path.display()))?,
+        )
+    } else {
+        None
+    };
+    run_folder_glb_with(dir, voids.as_deref())
+}
+
+/// The glTF binary of the run folder `dir` with the survivable voids of the `voids.json`
+/// text `voids` (none: no void nodes).
+pub fn run_folder_glb_with(dir: &Path, voids: Option<&str>) -> Result<Vec<u8>> {
+    let mut scene = run_folder_scene(dir)?;
+    if let Some(text) = voids {
+        scene.voids = fem2rbd::rescue::volumes::survivable_volumes(text)
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("{}", dir.join("voids.json").display()))?;
+    }
+    encode_glb(&scene)
         .with_context(|| format!("cannot encode the glTF of run folder {}", dir.display()))
 }
 

@@ -1,7 +1,8 @@
 //! `fem2rbd voids RUN_DIR [--cell M] [--rescuer M] [--camera M] [--timing]`: the rescue
 //! analysis of a run folder's ruin (`src/rescue/`, docs/rescue.md): writes `voids.csv`,
-//! `voids.json` and `rubble_height.csv` into the folder and sets `summary.json`'s
-//! `rescue` section to the same analysis, each file atomically, after the whole analysis
+//! `voids.json` and `rubble_height.csv` into the folder, sets `summary.json`'s
+//! `rescue` section to the same analysis and rebuilds `collapse.glb` (when the folder has
+//! one) with the survivable voids as nodes, each file atomically, after everything
 //! succeeded; prints the files written (nothing with `--quiet`).
 use anyhow::{Context, Result};
 use clap::Args;
@@ -53,6 +54,15 @@ pub fn run(args: &VoidsArgs, quiet: bool) -> Result<()> {
     let summary = with_summary_section(&summary, analysis.summary())
         .with_context(|| format!("{}: not a JSON object", summary_path.display()))?;
     files.push(("summary.json", summary.into_bytes()));
+    // collapse.glb holds the survivable voids: rebuilt with the new voids.json.
+    if args.run_dir.join("collapse.glb").is_file() {
+        let voids = files
+            .iter()
+            .find(|f| f.0 == "voids.json")
+            .map(|f| std::str::from_utf8(&f.1).expect("voids.json is UTF-8"));
+        let glb = super::export::run_folder_glb_with(&args.run_dir, voids)?;
+        files.push(("collapse.glb", glb));
+    }
     for (name, bytes) in &files {
         fem2rbd::output::write_atomic(args.run_dir.join(name), bytes)?;
     }

@@ -13,7 +13,10 @@
 //!   material belongs to the mesh primitive: mesh *i* = the cube with material *i*;
 //! * **one PBR material per element type** (`AnimBody::type_name`, e.g. `Column`, `Beam`,
 //!   `Slab`), with a fixed colour ([`type_colour`]), plus `Ground` for the ground box;
-//! * **one node per body**, then one for the ground, all children of a root node;
+//! * **one node per body**, then one for the ground, then one static node per void of
+//!   the ruin ([`VoidVolume`]: its boxes as one triangle mesh with `u32` indices, a
+//!   translucent material per collapse pattern, alpha mode `BLEND`), all children of a
+//!   root node;
 //! * **one animation** with a `translation` and a `rotation` channel per body (and for the
 //!   ground when it moves), LINEAR interpolation, all sharing one input accessor of the
 //!   keyframe times (s) with its min/max. Rotations are written as glTF `x, y, z, w`
@@ -84,6 +87,24 @@ pub struct GroundBox {
     pub poses: Vec<Pose>,
 }
 
+/// A void of the ruin as a static, translucent volume: boxes of free space under debris
+/// (a survivable void of the rescue analysis, its cells merged into boxes; docs/rescue.md
+/// §3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VoidVolume {
+    /// Node name shown by viewers (e.g. `void-03 v 0.0927 m3`).
+    pub name: String,
+    /// Its collapse pattern: one material per pattern, named `void <pattern>`.
+    pub pattern: String,
+    /// Base colour of the pattern's material, linear RGB 0..1.
+    pub colour: [f32; 3],
+    /// The boxes, each `[min, max]` corner, m, in the data's Z-up frame.
+    pub boxes: Vec<[[f64; 3]; 2]>,
+}
+
+/// Opacity of a void's material ([`VoidVolume`]; alpha mode `BLEND`).
+pub const VOID_ALPHA: f32 = 0.45;
+
 /// Everything one animated glTF shows.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct AnimatedScene {
@@ -94,6 +115,8 @@ pub struct AnimatedScene {
     /// Keyframe times (s): at least one, `>= 0`, strictly increasing (also once rounded to
     /// `f32`, glTF's time type).
     pub times_s: Vec<f64>,
+    /// Voids of the final ruin, one static node each after the ground (none: no node).
+    pub voids: Vec<VoidVolume>,
 }
 
 /// Writes `scene` as one glTF 2.0 binary file at `path`, atomically (never a half file).
@@ -212,6 +235,51 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
             track.animate(node, time_accessor, &mut bin, &mut samplers, &mut channels);
         }
     }
+    // The voids: one material per pattern (ordered by name, after the types'), one mesh
+    // and one static node per void.
+    let mut patterns: BTreeMap<&str, usize> = BTreeMap::new();
+    for v in &scene.voids {
+        ensure!(
+            !v.boxes.is_empty(),
+            "void '{}' has no boxes: nothing to draw",
+            v.name
+        );
+        patterns.insert(v.pattern.as_str(), 0);
+    }
+    for (name, slot) in patterns.iter_mut() {
+        *slot = materials.len();
+        let colour = scene
+            .voids
+            .iter()
+            .find(|v| v.pattern == *name)
+            .map_or([0.0; 3], |v| v.colour);
+        materials.push(json!({
+            "name": format!("void {name}"),
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [colour[0], colour[1], colour[2], VOID_ALPHA],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 1.0
+            },
+            "alphaMode": "BLEND"
+        }));
+    }
+    for v in &scene.voids {
+        let (positions, normals, indices) = boxes_mesh(&v.boxes);
+        let position = bin.push_f32(&positions, 3, Some(ARRAY_BUFFER), true);
+        let normal = bin.push_f32(&normals, 3, Some(ARRAY_BUFFER), false);
+        let index = bin.push_u32_indices(&indices);
+        meshes.push(json!({
+            "name": v.name,
+            "primitives": [{
+                "attributes": { "POSITION": position, "NORMAL": normal },
+                "indices": index,
+                "material": patterns[v.pattern.as_str()],
+                "mode": 4
+            }]
+        }));
+        nodes.push(json!({ "name": v.name, "mesh": meshes.len() - 1 }));
+    }
+
     let half = std::f64::consts::FRAC_1_SQRT_2;
     let mut root = json!({
         "name": ROOT_NODE_NAME,
@@ -363,6 +431,7 @@ pub fn run_scene(
         bodies: anim,
         ground,
         times_s: times,
+        voids: Vec::new(),
     })
 }
 
@@ -406,6 +475,29 @@ pub(crate) fn unit_box() -> (Vec<f32>, Vec<f32>, Vec<u16>) {
     (positions, normals, indices)
 }
 
+/// One triangle mesh of axis-aligned boxes (`[min, max]` corners, m): the faces of
+/// [`unit_box`] for each box, placed and sized, their normals unchanged (flat, outward).
+/// Returns flat xyz positions, flat xyz normals and the triangle indices.
+fn boxes_mesh(boxes: &[[[f64; 3]; 2]]) -> (Vec<f32>, Vec<f32>, Vec<u32>) {
+    let (up, un, ui) = unit_box();
+    let mut positions = Vec::with_capacity(boxes.len() * up.len());
+    let mut normals = Vec::with_capacity(boxes.len() * un.len());
+    let mut indices = Vec::with_capacity(boxes.len() * ui.len());
+    for b in boxes {
+        let first = (positions.len() / 3) as u32;
+        for corner in up.chunks_exact(3) {
+            for d in 0..3 {
+                let c = 0.5 * (b[0][d] + b[1][d]);
+                let h = 0.5 * (b[1][d] - b[0][d]);
+                positions.push((c + h * f64::from(corner[d])) as f32);
+            }
+        }
+        normals.extend_from_slice(&un);
+        indices.extend(ui.iter().map(|&k| first + u32::from(k)));
+    }
+    (positions, normals, indices)
+}
+
 /// Converts one pose's quaternion `[w, x, y, z]` to glTF order `[x, y, z, w]`, normalised,
 /// with its sign chosen so that its dot product with `previous` (glTF order) is >= 0.
 pub(crate) fn gltf_rotation(q_wxyz: [f64; 4], previous: Option<[f64; 4]>) -> Option<[f64; 4]> {
@@ -430,6 +522,7 @@ const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_SHORT: u32 = 5123;
+const UNSIGNED_INT: u32 = 5125;
 
 /// Keyframe times as f32, checked: non-empty, finite, >= 0, strictly increasing in f32.
 fn check_times(times_s: &[f64]) -> Result<Vec<f32>> {
@@ -604,6 +697,18 @@ impl BinBuilder {
             accessor["max"] = json!(max.iter().map(|&v| f64::from(v)).collect::<Vec<_>>());
         }
         self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    fn push_u32_indices(&mut self, indices: &[u32]) -> usize {
+        let bytes: Vec<u8> = indices.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.push_view(&bytes, Some(ELEMENT_ARRAY_BUFFER));
+        self.accessors.push(json!({
+            "bufferView": view,
+            "componentType": UNSIGNED_INT,
+            "count": indices.len(),
+            "type": "SCALAR",
+        }));
         self.accessors.len() - 1
     }
 

@@ -1,5 +1,6 @@
 //! The one colour table of element types, shared by the figures (`plot`) and the glTF
-//! animation (`output::gltf`), so a slab is the same blue in both.
+//! animation (`output::gltf`), so a slab is the same blue in both; and the colours of the
+//! voids' collapse patterns, shared by the void figures, the report and the glTF.
 //!
 //! Colours are sRGB, 8 bits per channel. Known types have fixed colours; any other type
 //! name gets one of a fixed palette chosen by an FNV-1a hash of the name, so the same name
@@ -30,6 +31,21 @@ pub(crate) fn type_srgb(type_name: &str) -> [u8; 3] {
             });
             PALETTE[(h % PALETTE.len() as u64) as usize]
         }
+    }
+}
+
+/// sRGB colour of a void's collapse pattern (Okabe–Ito colours, distinguishable with
+/// common colour vision deficiencies); black for a name not listed.
+pub fn pattern_srgb(pattern: &str) -> [u8; 3] {
+    match pattern {
+        "pancake" => [0, 114, 178],
+        "supported-lean-to" => [230, 159, 0],
+        "unsupported-lean-to" => [213, 94, 0],
+        "v" => [0, 158, 115],
+        "a-frame" => [204, 121, 167],
+        "cantilever" => [86, 180, 233],
+        "debris" => [120, 120, 120],
+        _ => [0, 0, 0],
     }
 }
 

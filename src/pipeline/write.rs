@@ -50,10 +50,6 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     let body_rows = body_rows(rec);
     let history_text = history_csv(&body_rows, &history_frames(rec, &frames));
     let bodies_text = bodies_csv(&body_rows);
-    let glb = glb(&bodies_text, &keyframes_text, &history_text).map_err(|e| match e {
-        GlbError::Tables(e) => PipelineError::OwnTables(Box::new(e)),
-        GlbError::Scene(e) => PipelineError::OwnScene(Box::new(e)),
-    })?;
     out.push(("keyframes.csv", keyframes_text.into_bytes()));
     out.push(("history.csv", history_text.into_bytes()));
     out.push(("bodies.csv", bodies_text.into_bytes()));
@@ -85,7 +81,7 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
     }
     let js = run_summary(rec, timing).to_json()?;
     out.push(("summary.json", js.into_bytes()));
-    out.push(("collapse.glb", glb));
+    let glb_at = out.len();
     if rec.ruin.is_some() {
         let (rescue, section) =
             rescue_files(&out, rec.scale).map_err(|e| PipelineError::Rescue(Box::new(e)))?;
@@ -97,6 +93,23 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
         summary.1 = crate::rescue::report::with_summary_section(text, section)?.into_bytes();
         out.extend(rescue);
     }
+    // collapse.glb last: it holds the survivable voids of voids.json.
+    let text = |name: &str| {
+        out.iter()
+            .find(|f| f.0 == name)
+            .map(|f| std::str::from_utf8(&f.1).expect("the run's own text files are UTF-8"))
+    };
+    let glb = glb(
+        text("bodies.csv").unwrap_or(""),
+        text("keyframes.csv").unwrap_or(""),
+        text("history.csv").unwrap_or(""),
+        text("voids.json"),
+    )
+    .map_err(|e| match e {
+        GlbError::Tables(e) => PipelineError::OwnTables(Box::new(e)),
+        GlbError::Scene(e) => PipelineError::OwnScene(Box::new(e)),
+    })?;
+    out.insert(glb_at, ("collapse.glb", glb));
     Ok(out)
 }
 
@@ -335,24 +348,37 @@ fn history_frames<'a>(rec: &RunRecord, frames: &[(f64, &'a [Pose])]) -> Vec<Hist
 }
 
 /// `collapse.glb`, built from the run's own `bodies.csv`, `keyframes.csv` and
-/// `history.csv` texts read back with [`crate::output::run_folder`]'s parsers: the file
-/// is a function of those three files alone, so `fem2rbd export gltf` on the run folder
-/// writes the same bytes. (The positions therefore carry the CSVs' 6 decimals, 0.5 µm,
+/// `history.csv` texts read back with [`crate::output::run_folder`]'s parsers, and the
+/// survivable voids of its `voids.json` ([`crate::rescue::volumes`]): the file is a
+/// function of those four files alone, so `fem2rbd export gltf` on the run folder writes
+/// the same bytes. (The positions therefore carry the CSVs' 6 decimals, 0.5 µm,
 /// about the `f32` resolution of glTF at a few metres.)
-fn glb(bodies: &str, keyframes: &str, history: &str) -> std::result::Result<Vec<u8>, GlbError> {
+fn glb(
+    bodies: &str,
+    keyframes: &str,
+    history: &str,
+    voids: Option<&str>,
+) -> std::result::Result<Vec<u8>, GlbError> {
     let bodies = parse_bodies(bodies, "bodies.csv")?;
     let frames = parse_keyframes(keyframes, "keyframes.csv", &bodies)?;
     let history = parse_history(history, "history.csv")?;
     check_history_times(&history, &frames, "history.csv", "keyframes.csv")?;
     let ground: Vec<[f64; 3]> = history.iter().map(|h| h.ground_m).collect();
-    Ok(encode_glb(&run_scene(&bodies, &frames, &ground)?)?)
+    let mut scene = run_scene(&bodies, &frames, &ground)?;
+    if let Some(text) = voids {
+        scene.voids = crate::rescue::volumes::survivable_volumes(text)
+            .map_err(|e| AnimationError::Scene(format!("voids.json: {e}")))?;
+    }
+    Ok(encode_glb(&scene)?)
 }
 
-/// Why [`glb`] failed: reading the tables back, or the scene.
+/// Why [`glb`] failed: reading the tables back, or the scene (with the voids).
 #[derive(Debug, thiserror::Error)]
 enum GlbError {
+    /// A table cannot be read back.
     #[error(transparent)]
     Tables(#[from] RunFolderError),
+    /// The scene cannot be built or encoded, or `voids.json` cannot be read.
     #[error(transparent)]
     Scene(#[from] AnimationError),
 }

@@ -22,19 +22,12 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// The colour of a collapse pattern (Okabe–Ito colours, distinguishable with common colour
-/// vision deficiencies); black for a name not listed.
+/// The colour of a collapse pattern ([`crate::output::palette::pattern_srgb`]: Okabe–Ito
+/// colours, distinguishable with common colour vision deficiencies); black for a name not
+/// listed.
 pub fn pattern_colour(pattern: &str) -> RGBColor {
-    match pattern {
-        "pancake" => RGBColor(0, 114, 178),
-        "supported-lean-to" => RGBColor(230, 159, 0),
-        "unsupported-lean-to" => RGBColor(213, 94, 0),
-        "v" => RGBColor(0, 158, 115),
-        "a-frame" => RGBColor(204, 121, 167),
-        "cantilever" => RGBColor(86, 180, 233),
-        "debris" => RGBColor(120, 120, 120),
-        _ => RGBColor(0, 0, 0),
-    }
+    let [r, g, b] = crate::output::palette::pattern_srgb(pattern);
+    RGBColor(r, g, b)
 }
 
 /// The patterns in legend order.

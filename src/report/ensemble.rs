@@ -2,7 +2,8 @@
 //! `member-NNN/` run folders): the members' final ruins overlaid in one 3-D view (each
 //! member its own colour; members shown or hidden one by one), a table of the members'
 //! key figures, and the debris-density map of `fem2rbd plot` (the share of members with
-//! debris over each plan cell, [`crate::plot::density`]), inlined as SVG.
+//! debris over each plan cell, [`crate::plot::density`]), inlined as SVG, and the rescue
+//! map with the spread of the members' voids ([`super::rescue_map`]).
 //!
 //! Every member is read through [`RunFolder::load`]; all members must have the bodies of
 //! the first (the same names in the same order), or the differing member's `bodies.csv`
@@ -160,6 +161,9 @@ pub fn report_html(dir: &Path) -> Result<String> {
 <section id="density"><h2>Debris density</h2>
 <figure data-plot="debris_density">{density}<figcaption>Share of the members with debris over each plan cell (cell {cell:.3} m; the original footprint dashed).</figcaption></figure>
 </section>
+<section id="rescue"><h2>Survivable voids over the members</h2>
+{rescue}
+</section>
 <footer><details><summary>About this page</summary><p>Written by <code>fem2rbd report</code> from the ensemble folder alone; it works offline. It inlines three.js r187 and its OrbitControls (MIT licence below).</p><pre>{license}</pre></details></footer>
 <script type="application/json" id="report-data">{json}</script>
 <script>{THREE_BUNDLE}</script>
@@ -171,6 +175,7 @@ pub fn report_html(dir: &Path) -> Result<String> {
         title = escape(&title),
         bodies = names.len(),
         cell = grid.cell_m,
+        rescue = super::rescue_map::section(dir)?,
         license = escape(THREE_LICENSE),
         json = script_json(&data),
     );

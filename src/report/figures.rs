@@ -264,10 +264,20 @@ fn rows(s: &RunSummary, run: &RunFolder) -> Vec<Row> {
     r
 }
 
-/// The key-figures table of `run`.
-pub fn table(run: &RunFolder) -> String {
+/// The key-figures table of `run`, with the rescue rows `rescue` (key, label, text,
+/// value: [`super::voids::figure_rows`]) after the ruin's.
+pub fn table(run: &RunFolder, rescue: &[(String, String, String, Option<f64>)]) -> String {
     let mut s = String::from(r#"<table id="key-figures"><tbody>"#);
-    for r in rows(&run.summary, run) {
+    let mut all = rows(&run.summary, run);
+    let at = all
+        .iter()
+        .position(|r| r.key == "wall_time_s")
+        .unwrap_or(all.len());
+    all.splice(
+        at..at,
+        rescue.iter().map(|(k, l, t, v)| row(k, l, t.clone(), *v)),
+    );
+    for r in all {
         let value = match r.value {
             Some(v) => format!(r#" data-value="{v}""#),
             None => String::new(),

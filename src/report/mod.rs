@@ -9,6 +9,9 @@
 //!   ([`ground_strip`]);
 //! * the final ruin: picking a body shows its row of the body table (name, type, size,
 //!   final position from `ruins.csv`);
+//! * the voids of the final ruin (`voids.json`, `voids.csv`: [`voids`]) as translucent
+//!   volumes in the 3-D view, with the rescuer's entry and breach markers and a voids
+//!   table; picking a void or its row highlights the other;
 //! * the run's key figures from `summary.json` ([`figures`]) and the run's figures
 //!   `RUN_DIR/plots/*.svg`, inlined ([`plots`]).
 //!
@@ -22,9 +25,10 @@
 //! atomically: on an error nothing is written. The same run folder gives the same bytes.
 //!
 //! An ensemble folder (`ensemble.json` + `member-NNN/`) gets its own page: the members'
-//! final ruins overlaid, their key figures and the debris-density map ([`ensemble`]).
+//! final ruins overlaid, their key figures, the debris-density map and the rescue map
+//! ([`ensemble`], [`rescue_map`]).
 //!
-//! The page is laid out in sections (`<section id=...>`: view, figures, bodies, plots) so
+//! The page is laid out in sections (`<section id=...>`: view, figures, voids, bodies, plots) so
 //! that further sections of a run folder's results can be added beside them.
 pub mod base64;
 pub mod connections;
@@ -35,7 +39,9 @@ pub mod ground_strip;
 pub mod html;
 pub mod page;
 pub mod plots;
+pub mod rescue_map;
 pub mod script;
+pub mod voids;
 
 use crate::output::run_folder::{RunFolder, RunFolderError};
 use crate::output::OutputError;
@@ -105,7 +111,8 @@ pub fn report_html(dir: &Path) -> Result<String> {
     let run = RunFolder::load(dir)?;
     let connections = connections::load(dir, &run)?;
     let plots = plots::load(dir)?;
-    page::render(&run, connections.as_deref(), &plots)
+    let voids = voids::load(dir)?;
+    page::render(&run, connections.as_deref(), &plots, &voids)
 }
 
 /// Writes the report of the run or ensemble folder `dir` to `out` atomically; nothing is

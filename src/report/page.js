@@ -159,6 +159,102 @@
       row.append(sw, e.name);
       el.append(row);
     }
+    state.legendVoids = voidsShown();
+    if (state.legendVoids) {
+      const head = document.createElement("div");
+      head.textContent = "voids (faint: no adult fits)";
+      head.style.marginTop = "4px";
+      el.append(head);
+      for (const e of V.patterns) {
+        const row = document.createElement("div");
+        const sw = document.createElement("span");
+        sw.className = "swatch";
+        sw.style.background = e.colour;
+        row.append(sw, e.name);
+        el.append(row);
+      }
+      const mk = document.createElement("div");
+      mk.innerHTML = '<span class="swatch" style="background:#111"></span>rescuer\'s entry (post) <span class="swatch" style="background:#d01010"></span>breach';
+      el.append(mk);
+    }
+  }
+
+  // ---- the voids of the final ruin (src/report/voids.rs) ----------------------------
+  // One translucent instanced mesh per void: its cells as boxes of whole cells, one
+  // instance each; markers where the rescuer's route enters a survivable void (a black
+  // post standing on the entry point) or where debris must be breached to reach one (a
+  // red cube on the first cell to cut). Shown at the final ruin only, with the bodies
+  // made see-through so that the voids under the debris can be seen and picked.
+  const V = data.voids;
+  const voidMeshes = [];
+  const markers = [];
+  const voidOpacity = (v) => (v.survivable ? V.opacity.survivable : V.opacity.other);
+  if (V) {
+    const h = V.cell;
+    const o = V.origin;
+    const unit = new THREE.BoxGeometry(1, 1, 1);
+    const at = new THREE.Vector3();
+    const size = new THREE.Vector3();
+    const none = new THREE.Quaternion();
+    const m4v = new THREE.Matrix4();
+    for (const v of V.list) {
+      const nb = v.boxes.length / 6;
+      const m = new THREE.InstancedMesh(
+        unit,
+        new THREE.MeshLambertMaterial({
+          color: v.colour, transparent: true, opacity: voidOpacity(v),
+          depthWrite: false,
+        }),
+        nb
+      );
+      for (let b = 0; b < nb; b++) {
+        const lo = [0, 1, 2].map((d) => o[d] + v.boxes[6 * b + d] * h);
+        const hi = [0, 1, 2].map((d) => o[d] + v.boxes[6 * b + 3 + d] * h);
+        at.set((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+        size.set(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+        m.setMatrixAt(b, m4v.compose(at, none, size));
+      }
+      m.instanceMatrix.needsUpdate = true;
+      m.computeBoundingSphere();
+      m.name = "void-" + v.void;
+      m.userData.void = v.void;
+      m.renderOrder = 2;
+      scene.add(m);
+      voidMeshes.push(m);
+      const mark = (sx, sy, sz, p, colour, name) => {
+        const mk = new THREE.Mesh(unit, new THREE.MeshLambertMaterial({ color: colour }));
+        mk.scale.set(sx, sy, sz);
+        mk.position.set(p[0], p[1], p[2]);
+        mk.name = name;
+        mk.renderOrder = 3;
+        scene.add(mk);
+        markers.push(mk);
+      };
+      if (v.entry) mark(h, h, 6 * h, [v.entry[0], v.entry[1], v.entry[2] + 3 * h], 0x111111, "entry-" + v.void);
+      if (v.breach) mark(2 * h, 2 * h, 2 * h, v.breach, 0xd01010, "breach-" + v.void);
+    }
+  }
+  const showVoidsBox = document.getElementById("show-voids");
+
+  // Whether the voids are drawn now: there are some, they are switched on, and the time
+  // is the final ruin's.
+  function voidsShown() {
+    return !!V && !!showVoidsBox && showVoidsBox.checked && state.t >= t1;
+  }
+
+  function applyVoids() {
+    const on = voidsShown();
+    for (const m of voidMeshes) m.visible = on;
+    for (const m of markers) m.visible = on;
+    mesh.material.transparent = on;
+    mesh.material.opacity = on ? 0.3 : 1;
+    mesh.material.depthWrite = !on;
+    mesh.material.needsUpdate = true;
+    for (const m of voidMeshes) {
+      const picked = m.userData.void === state.pickedVoid;
+      m.material.opacity = picked ? 0.85 : voidOpacity(V.list[m.userData.void - 1]);
+      m.material.emissive.setHex(picked ? 0x505050 : 0x000000);
+    }
   }
 
   // ---- time --------------------------------------------------------------------------
@@ -208,7 +304,7 @@
   const slider = document.getElementById("time-slider");
   const readout = document.getElementById("time-readout");
   const cursor = document.getElementById("strip-cursor");
-  const state = { t: t0, playing: false, speed: 1, colour: "type", view: "3d", picked: -1 };
+  const state = { t: t0, playing: false, speed: 1, colour: "type", view: "3d", picked: -1, pickedVoid: -1 };
 
   function stageAt(t) {
     if (data.ruin_start !== null && t >= data.ruin_start) return "ruin stage";
@@ -226,6 +322,8 @@
       (data.tc !== null ? " · Tc = " + data.tc + " s" : "");
     poseBodies(state.t);
     applyColours();
+    applyVoids();
+    if (voidsShown() !== state.legendVoids) drawLegend();
     render();
   }
 
@@ -335,16 +433,75 @@
     return hit ? hit.instanceId : -1;
   }
 
+  // The void drawn at client point (x, y) (the nearest along the ray), or -1 when none is
+  // drawn there or the voids are not shown.
+  function pickVoidAt(x, y) {
+    if (!voidsShown()) return -1;
+    const r = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((x - r.left) / r.width) * 2 - 1, -((y - r.top) / r.height) * 2 + 1);
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.intersectObjects(voidMeshes, false)[0];
+    return hit ? hit.object.userData.void : -1;
+  }
+
+  // Picks void n (its number in voids.csv; -1: none): highlights its mesh and its row of
+  // the voids table, and goes to the final ruin with the voids shown.
+  function selectVoid(n) {
+    const prev = document.querySelector("#void-table tr.picked");
+    if (prev) prev.classList.remove("picked");
+    state.pickedVoid = n;
+    if (n > 0) {
+      const row = document.getElementById("void-" + n);
+      row.classList.add("picked");
+      row.scrollIntoView({ block: "nearest" });
+      if (showVoidsBox) showVoidsBox.checked = true;
+      if (state.t < t1) {
+        setPlaying(false);
+        setTime(t1);
+        return;
+      }
+    }
+    applyVoids();
+    drawLegend();
+    render();
+  }
+
   let down = null;
   canvas.addEventListener("pointerdown", (e) => { down = [e.clientX, e.clientY]; });
   canvas.addEventListener("pointerup", (e) => {
-    if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) < 4) select(pickAt(e.clientX, e.clientY));
+    if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) < 4) {
+      const v = pickVoidAt(e.clientX, e.clientY);
+      if (v > 0) selectVoid(v);
+      else select(pickAt(e.clientX, e.clientY));
+    }
     down = null;
   });
   document.querySelector("#body-table tbody").addEventListener("click", (e) => {
     const tr = e.target.closest("tr");
     if (tr) select(Number(tr.dataset.body));
   });
+
+  const voidTable = document.querySelector("#void-table tbody");
+  if (voidTable) {
+    voidTable.addEventListener("click", (e) => {
+      const tr = e.target.closest("tr");
+      if (tr) selectVoid(Number(tr.dataset.void));
+    });
+  }
+  if (showVoidsBox) {
+    showVoidsBox.addEventListener("change", () => {
+      applyVoids();
+      drawLegend();
+      render();
+    });
+  }
+  function showVoids(on) {
+    if (!showVoidsBox) return;
+    showVoidsBox.checked = on;
+    applyVoids();
+    drawLegend();
+    render();
+  }
 
   // ---- start: #t=SECONDS&colour=KIND&view=plan -----------------------------------------
   const params = new URLSearchParams(location.hash.slice(1));
@@ -357,6 +514,7 @@
   window.fem2rbdReport = {
     times, bodies: nBodies, mesh, camera, scene, renderer, state,
     setTime, setColour, setView, select, pickAt, render,
+    voidMeshes, markers, selectVoid, pickVoidAt, showVoids, voidsShown,
   };
   document.documentElement.dataset.reportReady = "1";
 })();

@@ -1,11 +1,12 @@
 //! The page: the run folder's consistency checks, then the HTML document with its
-//! sections (`view`, `figures`, `bodies`, `plots`), the data ([`super::data`]) and the
+//! sections (`view`, `figures`, `voids`, `bodies`, `plots`), the data ([`super::data`]) and the
 //! inlined scripts ([`super::script`]).
 use super::connections::Connection;
 use super::data::{hex, page_data, stories};
 use super::html::{escape, script_json};
 use super::plots::Plot;
 use super::script::{PAGE_CSS, PAGE_JS, THREE_BUNDLE, THREE_LICENSE};
+use super::voids::RunVoids;
 use super::{figures, ground_strip, inconsistent, Result};
 use crate::output::palette::type_srgb;
 use crate::output::run_folder::RunFolder;
@@ -117,6 +118,7 @@ pub fn render(
     run: &RunFolder,
     connections: Option<&[Connection]>,
     plots: &[Plot],
+    voids: &RunVoids,
 ) -> Result<String> {
     check(run)?;
     let name = super::html::folder_name(&run.dir);
@@ -124,7 +126,8 @@ pub fn render(
     let s = &run.summary;
     let t0 = run.frames.first().map_or(0.0, |f| f.0);
     let t1 = run.frames.last().map_or(0.0, |f| f.0);
-    let data = page_data(run, connections);
+    let mut data = page_data(run, connections);
+    data["voids"] = super::voids::page_data(voids);
     let frames = run.frames.len();
     let n = run.bodies.len();
     let pose_bytes = frames * n * 7 * 4;
@@ -138,7 +141,7 @@ pub fn render(
 <button id="play" type="button">▶ play</button>
 <label>speed <select id="speed"><option value="0.1">0.1×</option><option value="0.25">0.25×</option><option value="0.5">0.5×</option><option value="1" selected>1×</option><option value="2">2×</option><option value="4">4×</option></select></label>
 <label>colour by <select id="colour-by"><option value="type">element type</option><option value="story">story</option>{connection_option}</select></label>
-<button id="view-3d" type="button">3-D view</button><button id="view-plan" type="button">plan view</button>
+{voids_toggle}<button id="view-3d" type="button">3-D view</button><button id="view-plan" type="button">plan view</button>
 {tc_button}<button id="goto-end" type="button">final ruin</button>
 <span id="time-readout"></span>
 </div>
@@ -150,6 +153,9 @@ pub fn render(
 </section>
 <section id="figures"><h2>Key figures</h2>
 {figures}
+</section>
+<section id="voids"><h2>Voids of the final ruin</h2>
+{voids}
 </section>
 <section id="bodies"><h2>Bodies and their final positions</h2>
 <details open><summary>{n} bodies (<code>bodies.csv</code>, final centres from <code>ruins.csv</code>)</summary>
@@ -183,6 +189,11 @@ pub fn render(
         } else {
             ""
         },
+        voids_toggle = if matches!(voids, RunVoids::Analysed(a) if !a.voids.is_empty()) {
+            r#"<label><input id="show-voids" type="checkbox" checked> voids at the final ruin</label>"#
+        } else {
+            ""
+        },
         tc_button = if s.tc_s.is_some() {
             r#"<button id="goto-tc" type="button">Tc</button>"#
         } else {
@@ -195,7 +206,8 @@ pub fn render(
         strip = ground_strip::svg(run),
         strip_legend = ground_strip::legend(run),
         pose_mb = pose_bytes as f64 / 1e6,
-        figures = figures::table(run),
+        figures = figures::table(run, &super::voids::figure_rows(voids)),
+        voids = super::voids::section(voids),
         bodies = body_table(run),
         plots = if plots.is_empty() {
             r#"<p class="note">No figures: <code>plots/*.svg</code> is not in the run folder (<code>fem2rbd plot RUN_DIR</code> draws them).</p>"#.to_string()

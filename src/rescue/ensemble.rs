@@ -1,14 +1,16 @@
 //! The rescue analysis over an ensemble: how likely a survivable void is beneath each plan
 //! cell, how the members' void and pile measures spread, and which voids recur in the same
 //! place (docs/rescue.md §6). It reads only the members' own rescue files — `voids.csv`
-//! (columns by their header names), `voids.json` (counts, rubble, grid, scale) — so it
+//! (columns by their header names), `voids.json` (rubble, grid, scale, each void's
+//! boxes) — so it
 //! follows whatever the per-ruin analysis finds.
 //!
 //! * **Plan map.** A 2-D grid of square cells of edge [`MAP_CELL_M`] × the model's scale
 //!   over the union of the members' analysis grids in plan (origin at the union's lower
 //!   corner). A void lies **beneath** a map cell when the cell's centre is inside the
-//!   void's plan bounding box (`min_x…max_x` × `min_y…max_y` of `voids.csv`, bounds
-//!   included). Per cell and member: whether a void, a survivable void, a survivable void
+//!   plan of the void's own cells: one of the plan rectangles of its boxes (`voids.json`
+//!   `boxes`, [`super::boxes`]; bounds included), so an L-shaped void does not claim the
+//!   corner of its bounding box that it does not cover. Per cell and member: whether a void, a survivable void, a survivable void
 //!   the rescuer reaches, one the camera reaches lies beneath; the probability is the count
 //!   of members with it over the analysed members.
 //! * **Distributions** over the analysed members of the void count, the survivable void
@@ -61,6 +63,10 @@ pub struct MemberVoid {
     pub centroid_m: [f64; 3],
     /// Bounding box (min, max), m.
     pub bounds_m: [[f64; 3]; 2],
+    /// Its plan footprint: the plan rectangles ([min x, min y], [max x, max y], m) of its
+    /// cells' boxes (`voids.json` `boxes`, [`super::boxes`]), without repeats; their
+    /// union is the plan of its columns. Empty until [`read_member`] reads them.
+    pub footprint_m: Vec<[[f64; 2]; 2]>,
 }
 
 /// One member's rescue analysis.
@@ -191,6 +197,7 @@ pub fn parse_voids_csv(text: &str, file: &Path) -> Result<Vec<MemberVoid>> {
             pattern: text("pattern")?.to_string(),
             centroid_m: [num("centroid_x")?, num("centroid_y")?, num("centroid_z")?],
             bounds_m,
+            footprint_m: Vec::new(),
         });
     }
     Ok(out)
@@ -218,14 +225,18 @@ pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, Strin
             format!("`scale` = {scale}: not positive"),
         ));
     }
-    let extent_m = match js.get("grid") {
-        None | Some(Value::Null) => None,
+    // The grid's plan corner and cell, and its plan extent.
+    let (plan, extent_m) = match js.get("grid") {
+        None | Some(Value::Null) => (None, None),
         Some(g) => {
             let o = |k: usize| number(g.get("origin_m").and_then(|o| o.get(k)), "grid.origin_m");
             let n = |k: usize| number(g.get("cells").and_then(|o| o.get(k)), "grid.cells");
             let h = number(g.get("cell_m"), "grid.cell_m")?;
             let (ox, oy) = (o(0)?, o(1)?);
-            Some([[ox, oy], [ox + n(0)? * h, oy + n(1)? * h]])
+            (
+                Some(([ox, oy], h)),
+                Some([[ox, oy], [ox + n(0)? * h, oy + n(1)? * h]]),
+            )
         }
     };
     let (max_height_m, mean_height_m) = match js.get("rubble") {
@@ -236,7 +247,61 @@ pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, Strin
         ),
     };
     let cf = dir.join("voids.csv");
-    let voids = parse_voids_csv(&read(&cf)?, &cf)?;
+    let mut voids = parse_voids_csv(&read(&cf)?, &cf)?;
+    let listed = js
+        .get("voids")
+        .and_then(Value::as_array)
+        .map_or(&[][..], Vec::as_slice);
+    if listed.len() != voids.len() {
+        return Err(inconsistent(
+            &jf,
+            1,
+            format!(
+                "lists {} voids, {} has {}: the two are of different analyses",
+                listed.len(),
+                cf.display(),
+                voids.len()
+            ),
+        ));
+    }
+    for (n, (v, j)) in voids.iter_mut().zip(listed).enumerate() {
+        let Some((o, h)) = plan else {
+            return Err(inconsistent(&jf, 1, "voids without a grid".into()));
+        };
+        let boxes = j.get("boxes").and_then(Value::as_array).ok_or_else(|| {
+            inconsistent(
+                &jf,
+                1,
+                format!(
+                    "void {} has no `boxes` (its cells; the file is of an older analysis: \
+                     `fem2rbd voids {}` writes it again)",
+                    n + 1,
+                    dir.display()
+                ),
+            )
+        })?;
+        let mut rects: Vec<[[u64; 2]; 2]> = Vec::with_capacity(boxes.len());
+        for b in boxes {
+            let k: Vec<u64> = b
+                .as_array()
+                .map(|a| a.iter().filter_map(Value::as_u64).collect())
+                .unwrap_or_default();
+            if k.len() != 6 || (0..3).any(|d| k[d] >= k[d + 3]) {
+                return Err(inconsistent(
+                    &jf,
+                    1,
+                    format!("void {}: box {b} is not 6 cell indices of a box", n + 1),
+                ));
+            }
+            rects.push([[k[0], k[1]], [k[3], k[4]]]);
+        }
+        rects.sort_unstable();
+        rects.dedup();
+        v.footprint_m = rects
+            .iter()
+            .map(|r| r.map(|c| [o[0] + c[0] as f64 * h, o[1] + c[1] as f64 * h]))
+            .collect();
+    }
     Ok(Ok(MemberRescue {
         voids,
         extent_m,
@@ -460,29 +525,32 @@ pub fn maps(members: Vec<Member>, folder: &Path) -> Result<Maps> {
                     v.survivable && v.rescuer,
                     v.survivable && v.camera,
                 ];
-                // The cells whose centres lie in the box: x_c = x0 + (i + ½) h ∈ [min, max].
-                let range = |k: usize| {
-                    let a = ((v.bounds_m[0][k] - g.origin_m[k]) / g.cell_m - 0.5)
-                        .ceil()
-                        .max(0.0) as usize;
-                    let b = ((v.bounds_m[1][k] - g.origin_m[k]) / g.cell_m - 0.5).floor();
-                    (
-                        a,
-                        if b < 0.0 {
-                            None
-                        } else {
-                            Some((b as usize).min(g.n[k] - 1))
-                        },
-                    )
-                };
-                let ((i0, i1), (j0, j1)) = (range(0), range(1));
-                let (Some(i1), Some(j1)) = (i1, j1) else {
-                    continue;
-                };
-                for j in j0..=j1 {
-                    for i in i0..=i1 {
-                        for (u, on) in under.iter_mut().zip(kinds) {
-                            u[j * g.n[0] + i] |= on;
+                for rect in &v.footprint_m {
+                    // The cells whose centres lie in the rectangle:
+                    // x_c = x0 + (i + ½) h ∈ [min, max].
+                    let range = |k: usize| {
+                        let a = ((rect[0][k] - g.origin_m[k]) / g.cell_m - 0.5)
+                            .ceil()
+                            .max(0.0) as usize;
+                        let b = ((rect[1][k] - g.origin_m[k]) / g.cell_m - 0.5).floor();
+                        (
+                            a,
+                            if b < 0.0 {
+                                None
+                            } else {
+                                Some((b as usize).min(g.n[k] - 1))
+                            },
+                        )
+                    };
+                    let ((i0, i1), (j0, j1)) = (range(0), range(1));
+                    let (Some(i1), Some(j1)) = (i1, j1) else {
+                        continue;
+                    };
+                    for j in j0..=j1 {
+                        for i in i0..=i1 {
+                            for (u, on) in under.iter_mut().zip(kinds) {
+                                u[j * g.n[0] + i] |= on;
+                            }
                         }
                     }
                 }
@@ -625,7 +693,7 @@ impl Maps {
                 "cell_m": self.grid.map(|g| r6(g.cell_m)),
                 "origin_m": self.grid.map(|g| g.origin_m.map(r6)),
                 "cells": self.grid.map(|g| g.n),
-                "beneath": "the cell's centre lies in the void's plan bounding box",
+                "beneath": "the cell's centre lies in the plan of the void's cells (its boxes' plan rectangles, bounds included)",
             },
             "distributions": {
                 "voids_count": dist(&|r| r.voids.len() as f64),

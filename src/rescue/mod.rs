@@ -10,6 +10,7 @@
 //! * [`occupancy`]: each cell's exact volume fraction covered by boxes (a convex clip);
 //! * [`distance`]: the exact Euclidean distance transform (Felzenszwalb & Huttenlocher
 //!   2012) of the solid cells, giving every free cell's clearance;
+//! * [`boxes`]: a void's cells as a few disjoint boxes of whole cells;
 //! * [`voids`]: free space under debris (covered) vs open air, split into chambers under
 //!   one roof each, their measures and the throats between them;
 //! * [`person`]: the body sizes that make a void survivable, and the rescuer's and the
@@ -22,6 +23,7 @@
 //! * [`stories`]: each story's volume loss (the free space under its ceiling, standing
 //!   and in the ruin);
 //! * [`report`]: `voids.csv`, `voids.json` and `rubble_height.csv`;
+//! * [`volumes`]: the survivable voids of a `voids.json` as the volumes of `collapse.glb`;
 //! * [`ensemble`]: over an ensemble's members, the plan map of the chance of a survivable
 //!   void, the spread of the measures and the voids that recur in one place.
 //!
@@ -29,6 +31,7 @@
 //! each reads the classified grid only and writes its own result, and everything else
 //! runs in a fixed order: the same run folder gives the same bytes.
 pub mod access;
+pub mod boxes;
 pub mod distance;
 pub mod ensemble;
 pub mod grid;
@@ -40,6 +43,7 @@ pub mod report;
 pub mod rubble;
 pub mod stories;
 pub mod voids;
+pub mod volumes;
 
 pub use input::{Connection, Ruin, RuinBox};
 pub use person::Sizes;

@@ -2,12 +2,15 @@
 //!
 //! * `voids.csv`: one row per void, largest first (columns in docs/rescue.md §5);
 //! * `voids.json`: the sizes used, the grid, the counts, the rubble measures and the
-//!   same voids;
+//!   same voids, each with its cells as disjoint boxes of whole cells (`boxes`:
+//!   `[i0, j0, k0, i1, j1, k1]`, cell indices of the grid, upper bounds excluded;
+//!   [`super::boxes`]);
 //! * `rubble_height.csv`: the height map, one row per grid column (`x,y,height_m`: the
 //!   column's centre and the pile surface above the ground).
 //!
 //! Lengths are at the model's scale (the run folder's coordinates), to 6 decimals.
 use super::access::{self, Access, Breach};
+use super::boxes::cell_boxes;
 use super::grid::{grid_over, ground_level, Grid};
 use super::input::Ruin;
 use super::occupancy::occupancy;
@@ -312,6 +315,7 @@ impl Analysis {
                 "side": r.breach.side,
             },
             "region": v.region + 1,
+            "boxes": self.grid().map_or(Vec::new(), |g| cell_boxes(g, &v.cells)),
             "neighbours": self.neighbours(n).iter().map(|(o, t)| json!({
                 "void": o + 1,
                 "throat_clearance_m": r6(t.clearance_m),

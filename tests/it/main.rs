@@ -24,8 +24,8 @@ mod mapping {
     mod overlap;
     mod shell_walls;
 }
-mod output {
-    mod gltf_common;
+pub(crate) mod output {
+    pub(crate) mod gltf_common;
     mod gltf_export;
     mod gltf_roundtrip;
     mod gltf_three;
@@ -58,11 +58,13 @@ mod report {
     mod command;
     mod ensemble;
     mod frame3;
+    mod gltf_voids;
 }
 mod rescue {
     mod chambers;
     mod cli;
     pub(crate) mod ensemble;
+    mod footprint;
     mod occupancy;
     mod plots;
     mod scene;

@@ -72,6 +72,9 @@ try {
     out.shots.push({ name, t: Number(t), file, readout });
   }
 
+  // The checks of the bodies below see them opaque: the voids off.
+  await page.evaluate(() => window.fem2rbdReport.showVoids(false));
+
   // At the end of the timeline: the world box of the drawn active bodies (the corners of
   // each instance's unit box through its matrix) and, in the 3-D view, the drawn bodies'
   // box on the canvas in pixels.
@@ -198,6 +201,82 @@ try {
       info_text: info.textContent,
     };
   }, target);
+
+  // The voids at the final ruin: the meshes (name, boxes, the volume of the drawn boxes:
+  // each instance is the unit cube through its matrix, so its volume is the matrix's
+  // determinant), the markers, the table rows and the rescue key figures.
+  out.voids = await page.evaluate(() => {
+    const r = window.fem2rbdReport;
+    r.select(-1);
+    r.showVoids(true);
+    r.setView("3d");
+    r.setTime(r.times[r.times.length - 1]);
+    const m4 = new window.THREE.Matrix4();
+    const meshes = r.voidMeshes.map((m) => {
+      let vol = 0;
+      for (let i = 0; i < m.count; i++) {
+        m.getMatrixAt(i, m4);
+        vol += Math.abs(m4.determinant());
+      }
+      return { name: m.name, boxes: m.count, volume: vol, visible: m.visible };
+    });
+    const cell = (key) => {
+      const td = document.querySelector(`#key-figures tr[data-key="${key}"] td`);
+      return td ? Number(td.dataset.value) : null;
+    };
+    const none = document.getElementById("voids-none");
+    return {
+      shown: r.voidsShown(),
+      meshes,
+      in_scene: r.scene.children.filter((c) => /^void-[0-9]+$/.test(c.name)).length,
+      markers: r.markers.map((m) => m.name),
+      rows: Array.from(document.querySelectorAll("#void-table tbody tr")).map((tr) => Number(tr.dataset.void)),
+      none: none ? none.textContent : null,
+      key_voids_count: cell("rescue.voids_count"),
+      key_survivable_count: cell("rescue.survivable_count"),
+      key_survivable_volume: cell("rescue.survivable_volume_m3"),
+      key_pile_height: cell("rescue.pile_max_height_m"),
+    };
+  });
+
+  if (out.voids.meshes.length > 0) {
+    // A row picks its void: the mesh is highlighted.
+    out.void_row_pick = await page.evaluate(() => {
+      const r = window.fem2rbdReport;
+      const n = r.voidMeshes.length;
+      document.getElementById("void-" + n).click();
+      const m = r.voidMeshes[n - 1];
+      return { wanted: n, picked: r.state.pickedVoid, opacity: m.material.opacity, row: document.querySelector("#void-table tr.picked").dataset.void };
+    });
+    // A click in the view picks the nearest void along the ray through the centre of the
+    // largest void's first box; its row is highlighted.
+    const target = await page.evaluate(() => {
+      const r = window.fem2rbdReport;
+      const T = window.THREE;
+      r.renderer.domElement.scrollIntoView();
+      const d = JSON.parse(document.getElementById("report-data").textContent).voids;
+      const b = d.list[0].boxes;
+      const c = new T.Vector3(...[0, 1, 2].map((k) => d.origin[k] + 0.5 * (b[k] + b[k + 3]) * d.cell));
+      const ndc = c.clone().project(r.camera);
+      const ray = new T.Raycaster();
+      ray.setFromCamera(new T.Vector2(ndc.x, ndc.y), r.camera);
+      const hit = ray.intersectObjects(r.voidMeshes, false)[0];
+      const rect = r.renderer.domElement.getBoundingClientRect();
+      return {
+        wanted: hit ? hit.object.userData.void : -1,
+        x: rect.left + ((ndc.x + 1) / 2) * rect.width,
+        y: rect.top + ((1 - ndc.y) / 2) * rect.height,
+      };
+    });
+    await page.mouse.click(target.x, target.y);
+    out.void_view_pick = await page.evaluate((target) => {
+      const row = document.querySelector("#void-table tr.picked");
+      return { wanted: target.wanted, picked: window.fem2rbdReport.state.pickedVoid, row: row ? Number(row.dataset.void) : null };
+    }, target);
+    const voidShot = path.join(outDir, "voids_at_rest.png");
+    await page.locator("#view").screenshot({ path: voidShot });
+    out.void_shot = voidShot;
+  }
 } finally {
   await browser.close();
 }

@@ -66,6 +66,25 @@ try {
       };
     })
   );
+  // The rescue maps: per map, the cells drawn and the sum of their shares; the
+  // distributions' medians; the places' rows.
+  out.rescue = await page.evaluate(() => {
+    const maps = {};
+    for (const svg of document.querySelectorAll("#rescue svg.rescue-map")) {
+      const ps = Array.from(svg.querySelectorAll("rect[data-p]")).map((r) => Number(r.dataset.p));
+      maps[svg.dataset.column] = { cells: ps.length, sum: ps.reduce((a, b) => a + b, 0) };
+    }
+    const medians = {};
+    for (const tr of document.querySelectorAll("#rescue-distributions tbody tr")) medians[tr.dataset.key] = Number(tr.dataset.median);
+    return {
+      maps,
+      legend: !!document.getElementById("rescue-map-legend"),
+      medians,
+      places: Array.from(document.querySelectorAll("#rescue-places tbody tr")).map((tr) => Number(tr.dataset.probability)),
+      none: document.getElementById("rescue-none") ? document.getElementById("rescue-none").textContent : null,
+    };
+  });
+  await page.locator("#rescue").screenshot({ path: shot.replace(/\.png$/, "") + "_rescue.png" });
   // Unticking member 0 in the table hides its mesh.
   await page.locator('.member-toggle[data-member="0"]').uncheck();
   out.visible_after_untick = await page.evaluate(() => window.fem2rbdReport.meshes.map((m) => m.visible));

@@ -118,6 +118,7 @@ pub fn falling_scene(n_bodies: usize, n_keys: usize, moving_ground: bool) -> Ani
         bodies,
         ground: Some(ground),
         times_s,
+        voids: Vec::new(),
     }
 }
 

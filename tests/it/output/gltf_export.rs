@@ -4,7 +4,8 @@
 //!
 //! * the exported file is byte-identical to the run's own `collapse.glb` (both are built
 //!   from the folder's tables by `output::gltf::run_scene`);
-//! * decoded independently (tests/gltf/common.rs), its nodes, materials, times,
+//! * decoded independently (tests/gltf/common.rs), its nodes (the bodies, the ground and
+//!   the survivable voids of `voids.json`), materials, times,
 //!   translations and rotations equal `keyframes.csv`/`history.csv` within f32 rounding,
 //!   and the simulation's own full-precision poses within the CSVs' 6/8 decimals + f32;
 //! * the Khronos validator reports 0 errors and 0 warnings;
@@ -174,9 +175,31 @@ fn check_against_run(run: &Run, glb: &Glb) -> (f64, f64) {
     assert_eq!(n_frames, run.frames.len());
     assert_eq!(history.len(), n_frames);
 
-    // Nodes: the root, one per body in body order, the ground.
+    // The survivable voids of voids.json (number, pattern), when the run has one.
+    let survivable: Vec<(u64, String)> = std::fs::read_to_string(run.dir.join("voids.json"))
+        .ok()
+        .map(|t| serde_json::from_str::<Value>(&t).unwrap())
+        .and_then(|js| js["voids"].as_array().cloned())
+        .unwrap_or_default()
+        .iter()
+        .filter(|v| v["survivable"] == true)
+        .map(|v| {
+            (
+                v["void"].as_u64().unwrap(),
+                v["pattern"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    // Nodes: the root, one per body in body order, the ground, one per survivable void.
     let nodes = glb.json["nodes"].as_array().unwrap();
-    assert_eq!(nodes.len(), 1 + n + 1);
+    assert_eq!(nodes.len(), 1 + n + 1 + survivable.len());
+    for (k, (number, pattern)) in survivable.iter().enumerate() {
+        let name = nodes[2 + n + k]["name"].as_str().unwrap();
+        assert!(
+            name.starts_with(&format!("void-{number:02} {pattern} ")),
+            "{name}"
+        );
+    }
     assert_eq!(nodes[0]["name"], fem2rbd::output::gltf::ROOT_NODE_NAME);
     for (i, b) in bodies.iter().enumerate() {
         assert_eq!(nodes[1 + i]["name"], b[0].as_str());
@@ -192,11 +215,16 @@ fn check_against_run(run: &Run, glb: &Glb) -> (f64, f64) {
         assert_eq!(glb.json["materials"][mat]["name"], b[2].as_str());
     }
     assert_eq!(nodes[1 + n]["name"], "ground");
-    // One material per type (frame3: Beam, Column, Foundation, Slab) plus Ground.
+    // One material per type (frame3: Beam, Column, Foundation, Slab) plus Ground, then
+    // one per pattern of the survivable voids (`void <pattern>`, by name).
     let mut types: Vec<&str> = bodies.iter().map(|b| b[2].as_str()).collect();
     types.push("Ground");
     types.sort_unstable();
     types.dedup();
+    let mut patterns: Vec<String> = survivable.iter().map(|v| format!("void {}", v.1)).collect();
+    patterns.sort_unstable();
+    patterns.dedup();
+    types.extend(patterns.iter().map(String::as_str));
     let materials: Vec<&str> = glb.json["materials"]
         .as_array()
         .unwrap()

@@ -103,6 +103,44 @@ fn fixed_ground_and_bodyless_scenes_validate_cleanly() {
     assert_clean(&single_key, "3 boxes, one keyframe, no ground");
 }
 
+#[test]
+fn void_volumes_validate_cleanly_and_add_a_material_per_pattern() {
+    use fem2rbd::output::gltf::VoidVolume;
+    let base = falling_scene(5, 20, false);
+    let plain = assert_clean(&base, "5 boxes");
+    let mut scene = base.clone();
+    // An L of two boxes (pattern v) and one box (pancake).
+    scene.voids = vec![
+        VoidVolume {
+            name: "void-01 v 0.3000 m3".into(),
+            pattern: "v".into(),
+            colour: [0.0, 0.34, 0.17],
+            boxes: vec![
+                [[0.0, 0.0, 0.0], [1.0, 0.5, 0.4]],
+                [[0.0, 0.5, 0.0], [0.5, 1.0, 0.4]],
+            ],
+        },
+        VoidVolume {
+            name: "void-02 pancake 0.1000 m3".into(),
+            pattern: "pancake".into(),
+            colour: [0.0, 0.17, 0.44],
+            boxes: vec![[[2.0, 0.0, 0.0], [3.0, 1.0, 0.1]]],
+        },
+    ];
+    let with = assert_clean(&scene, "5 boxes and 2 voids");
+    let n = |r: &Value, k: &str| r["info"][k].as_u64().unwrap();
+    assert_eq!(n(&with, "materialCount"), n(&plain, "materialCount") + 2);
+    assert_eq!(n(&with, "drawCallCount"), n(&plain, "drawCallCount") + 2);
+    assert_eq!(
+        n(&with, "totalTriangleCount"),
+        n(&plain, "totalTriangleCount") + 3 * 12
+    );
+    assert_eq!(
+        n(&with, "totalVertexCount"),
+        n(&plain, "totalVertexCount") + 3 * 24
+    );
+}
+
 /// The check can fail: a file whose POSITION data no longer match their declared max
 /// is reported as an error by the validator and by validate.mjs's exit code.
 #[test]

@@ -17,7 +17,12 @@
 //! * in a plan-view screenshot at rest, the pixels in element colours span the drawn
 //!   active bodies' box projected through the camera, to 3 px;
 //! * clicking the highest body in plan view shows that body's row;
-//! * screenshots before Tc, at Tc and at rest are PNGs of the view, all different.
+//! * screenshots before Tc, at Tc and at rest are PNGs of the view, all different;
+//! * at the final ruin, one void mesh per void of `voids.json`, named `void-N`, each
+//!   drawn as the boxes of `voids.json` whose volumes (each instance's matrix
+//!   determinant) add up to its volume in `voids.csv`, one voids-table row per row of `voids.csv`, an entry or breach marker per
+//!   survivable void as `voids.csv` says, the rescue key figures of `voids.json`; clicking
+//!   a row highlights its mesh and clicking a void in the view highlights its row.
 //!
 //! Fails (does not skip) when node, playwright-core or chromium is missing.
 use super::frame3::run_dir;
@@ -251,4 +256,90 @@ fn frame3_report_in_headless_chromium() {
     }
     assert_eq!(pictures.len(), 3);
     assert!(pictures[0] != pictures[1] && pictures[1] != pictures[2]);
+
+    check_voids(dir, &r);
+}
+
+/// The voids of the final ruin on the page against `voids.json` and `voids.csv`.
+fn check_voids(dir: &Path, r: &Value) {
+    let vj: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("voids.json")).unwrap()).unwrap();
+    let csv = std::fs::read_to_string(dir.join("voids.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    // No quoted field holds a comma before `breach_m` (the body lists are `;`-separated).
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let count = vj["voids_count"].as_u64().unwrap() as usize;
+    assert!(count > 0, "the CI ruin has voids");
+    let v = &r["voids"];
+    eprintln!(
+        "voids: {count} in voids.json, {} meshes, {} rows, markers {}",
+        v["in_scene"],
+        v["rows"].as_array().unwrap().len(),
+        v["markers"]
+    );
+    assert_eq!(v["shown"], true);
+    assert_eq!(v["in_scene"], count);
+    assert_eq!(v["meshes"].as_array().unwrap().len(), count);
+    assert_eq!(rows.len(), count);
+    let row_numbers: Vec<u64> = (1..=count as u64).collect();
+    assert_eq!(v["rows"], serde_json::json!(row_numbers));
+    assert_eq!(v["none"], Value::Null);
+    // Each mesh is its void's cells: named for it, visible, its boxes, its volume.
+    for (n, (m, row)) in v["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&rows)
+        .enumerate()
+    {
+        assert_eq!(m["name"], format!("void-{}", n + 1));
+        assert_eq!(
+            m["boxes"],
+            vj["voids"][n]["boxes"].as_array().unwrap().len()
+        );
+        assert_eq!(m["visible"], true);
+        let want: f64 = row[col("volume_m3")].parse().unwrap();
+        let drawn = f(&m["volume"]);
+        assert!(
+            (drawn - want).abs() <= 1e-6 + 1e-4 * want,
+            "void {}: drawn volume {drawn}, voids.csv {want}",
+            n + 1
+        );
+    }
+    // Markers: an entry cone per survivable void the rescuer reaches, a breach cube per
+    // survivable void it does not reach behind debris.
+    let mut markers = Vec::new();
+    for row in &rows {
+        if row[col("survivable")] != "1" {
+            continue;
+        }
+        let n = row[col("void")];
+        if row[col("rescuer_access")] == "1" {
+            markers.push(format!("entry-{n}"));
+        } else if row[col("breach_m")].parse::<f64>().unwrap() > 0.0 {
+            markers.push(format!("breach-{n}"));
+        }
+    }
+    assert_eq!(v["markers"], serde_json::json!(markers));
+    // The rescue key figures are voids.json's.
+    assert_eq!(f(&v["key_voids_count"]), count as f64);
+    assert_eq!(f(&v["key_survivable_count"]), f(&vj["survivable_count"]));
+    assert_eq!(
+        f(&v["key_survivable_volume"]),
+        f(&vj["survivable_volume_m3"])
+    );
+    assert_eq!(f(&v["key_pile_height"]), f(&vj["rubble"]["max_height_m"]));
+    // Picking: a row highlights its mesh; a click on a void highlights its row.
+    let rp = &r["void_row_pick"];
+    assert_eq!(rp["picked"], rp["wanted"], "{rp}");
+    assert_eq!(rp["row"], rp["wanted"].to_string());
+    assert_eq!(f(&rp["opacity"]), 0.85);
+    let vp = &r["void_view_pick"];
+    assert!(vp["wanted"].as_i64().unwrap() > 0, "{vp}");
+    assert_eq!(vp["picked"], vp["wanted"], "{vp}");
+    assert_eq!(vp["row"], vp["wanted"], "{vp}");
+    let shot = std::fs::read(r["void_shot"].as_str().unwrap()).unwrap();
+    assert_eq!(&shot[1..4], b"PNG");
 }

@@ -4,7 +4,9 @@
 //! members' own run folders: no JavaScript error; one mesh per member with one box per
 //! row of `bodies.csv`; the world box of each member's drawn active bodies is that
 //! member's ruin extent of `summary.json` to 2 mm (float32 poses, 6-decimal summary); one
-//! table row per member; the debris-density map inlined; unticking a member hides it. A
+//! table row per member; the debris-density map inlined; the rescue maps drawn cell for
+//! cell from `rescue_map.csv` (one cell per share above 0, the same shares), the medians of
+//! `rescue.json`'s distributions and its places; unticking a member hides it. A
 //! member with other bodies is refused, naming its `bodies.csv`.
 use super::frame3::{fem2rbd, scenario_text};
 use fem2rbd::output::run_folder::RunFolder;
@@ -87,6 +89,66 @@ fn ensemble_report_overlays_the_members_in_headless_chromium() {
         }
     }
     assert_eq!(r["visible_after_untick"], serde_json::json!([false, true]));
+
+    // The rescue map: per column of rescue_map.csv, one drawn cell per cell with a share
+    // above 0, the same shares; the distributions' medians and the places of rescue.json.
+    let rescue = &r["rescue"];
+    assert_eq!(rescue["none"], Value::Null);
+    assert_eq!(rescue["legend"], true);
+    let map = std::fs::read_to_string(dir.join("rescue_map.csv")).unwrap();
+    let mut lines = map.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    for col in [
+        "p_survivable",
+        "p_survivable_rescuer",
+        "p_survivable_camera",
+        "p_void",
+    ] {
+        let c = header.iter().position(|h| *h == col).unwrap();
+        let ps: Vec<f64> = rows.iter().map(|r| r[c]).filter(|p| *p > 0.0).collect();
+        let drawn = &rescue["maps"][col];
+        assert_eq!(drawn["cells"], ps.len(), "{col}");
+        let sum: f64 = ps.iter().sum();
+        assert!(
+            (f(&drawn["sum"]) - sum).abs() < 1e-9,
+            "{col}: {drawn} vs {sum}"
+        );
+        eprintln!(
+            "rescue map {col}: {} cells above 0, shares sum {sum}",
+            ps.len()
+        );
+    }
+    assert!(
+        rescue["maps"]["p_void"]["cells"].as_u64().unwrap() > 0,
+        "the members' ruins have voids"
+    );
+    let rj: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("rescue.json")).unwrap()).unwrap();
+    for key in [
+        "voids_count",
+        "survivable_count",
+        "survivable_volume_m3",
+        "rescuer_reachable_survivable",
+        "max_height_m",
+        "mean_height_m",
+    ] {
+        assert_eq!(
+            f(&rescue["medians"][key]),
+            f(&rj["distributions"][key]["median"]),
+            "{key}"
+        );
+    }
+    let places: Vec<f64> = rj["places"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| f(&p["probability"]))
+        .collect();
+    let shown: Vec<f64> = rescue["places"].as_array().unwrap().iter().map(f).collect();
+    assert_eq!(shown, places);
     let png = std::fs::read(&shot).unwrap();
     assert_eq!(&png[1..4], b"PNG");
 

@@ -108,9 +108,11 @@ fn member_dirs(dir: &Path) -> Vec<PathBuf> {
     names
 }
 
-/// The members' voids from their `voids.csv` (read with the csv crate by column name):
-/// (min x, max x, min y, max y, survivable, rescuer, camera), per analysed member.
-fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<([f64; 4], [bool; 3])>> {
+/// The members' voids: per void, the plan squares of its cells' columns (each cell of each
+/// box of `voids.json`, one by one) and its survivable, rescuer and camera flags from
+/// `voids.csv` (read with the csv crate by column name), per analysed member.
+type PlanVoid = (Vec<[f64; 4]>, [bool; 3]);
+fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<PlanVoid>> {
     let mut out = Vec::new();
     for d in dirs {
         let js: Value =
@@ -122,12 +124,25 @@ fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<([f64; 4], [bool; 3])>> {
         let h = r.headers().unwrap().clone();
         let col = |name: &str| h.iter().position(|x| x == name).unwrap();
         let mut vs = Vec::new();
-        for rec in r.records() {
+        for (n, rec) in r.records().enumerate() {
             let rec = rec.unwrap();
-            let f = |name: &str| rec[col(name)].parse::<f64>().unwrap();
             let b = |name: &str| &rec[col(name)] == "1";
+            let g = &js["grid"];
+            let o = |k: usize| g["origin_m"][k].as_f64().unwrap();
+            let cell = g["cell_m"].as_f64().unwrap();
+            let mut squares = Vec::new();
+            for bx in js["voids"][n]["boxes"].as_array().unwrap() {
+                let k = |d: usize| bx[d].as_u64().unwrap();
+                for i in k(0)..k(3) {
+                    for j in k(1)..k(4) {
+                        let (x0, y0) = (o(0) + i as f64 * cell, o(1) + j as f64 * cell);
+                        squares.push([x0, x0 + cell, y0, y0 + cell]);
+                    }
+                }
+            }
+            assert!(!squares.is_empty());
             vs.push((
-                [f("min_x"), f("max_x"), f("min_y"), f("max_y")],
+                squares,
                 [b("survivable"), b("rescuer_access"), b("camera_access")],
             ));
         }
@@ -137,7 +152,8 @@ fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<([f64; 4], [bool; 3])>> {
 }
 
 /// Every map cell's probabilities counted again, member by member, from the members'
-/// `voids.csv`: a void lies beneath a cell whose centre is in its plan bounding box.
+/// `voids.csv` and `voids.json`: a void lies beneath a cell whose centre is in the plan
+/// square of one of its cells.
 fn assert_map_agrees_with_members(dir: &Path) {
     assert_map_agrees(&dir.join("rescue_map.csv"), &member_dirs(dir));
 }
@@ -153,7 +169,10 @@ pub fn assert_map_agrees(file: &Path, members: &[PathBuf]) {
         for vs in &members {
             let under: Vec<&[bool; 3]> = vs
                 .iter()
-                .filter(|(b, _)| b[0] <= *x && *x <= b[1] && b[2] <= *y && *y <= b[3])
+                .filter(|(sq, _)| {
+                    sq.iter()
+                        .any(|b| b[0] <= *x && *x <= b[1] && b[2] <= *y && *y <= b[3])
+                })
                 .map(|(_, f)| f)
                 .collect();
             count[0] += usize::from(!under.is_empty());
