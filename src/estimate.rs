@@ -290,7 +290,7 @@ pub fn for_scenario(
             crate::ruin::search::find_contacts(&pipeline::geoms(&bodies), &settings.ruin.search)?;
         size.bodies = bodies.len() as u64;
         size.connections = contacts.len() as u64;
-        if sc.physics.connection_model(sc.mode) == ConnectionModel::Fe {
+        if sc.physics.connections == ConnectionModel::Fe {
             capacity_passes = if sc.mode == Mode::Hybrid { 2 } else { 1 };
         }
     }

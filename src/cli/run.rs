@@ -118,7 +118,7 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENARIO));
     let mut sc = Scenario::load(&path)?;
     if let Some(m) = args.mode {
-        sc.mode = m;
+        sc.set_mode(m);
     }
     if let Some(o) = &args.out {
         sc.output = o.clone();

@@ -38,6 +38,7 @@
 
 pub mod ensemble;
 pub mod error;
+pub mod preset;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
@@ -303,9 +304,11 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
         .collect()
 }
 
-/// The ruin stage's settings from the scenario.
-pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
-    let mut s = StageSettings::default();
+/// The ruin stage's settings of a scenario: its resolved `[physics]` values
+/// ([`scenario::PhysicsTable::resolve`]) mapped onto the stage's settings, field by field
+/// (the ground damping, which needs the model, is set by the stage's builder).
+pub fn stage_settings(sc: &Scenario) -> StageSettings {
+    let mut s = StageSettings::bcb();
     let p = &sc.physics;
     s.ruin.steps_per_second = p.steps_per_second;
     s.ruin.solver_iterations = p.solver_iterations;
@@ -331,8 +334,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.plastic.spring_cap_per_body = p.spring_cap_per_body;
     s.plastic.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
     s.monitor_every_substep = p.monitor_every_substep;
-    s.touch.pairs = p.pairs_touch_for(sc.mode);
-    s.touch.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);
+    s.touch.pairs = p.connected_pairs_touch;
+    s.touch.ground_under_connected_bases = p.ground_under_connected_bases;
     s.ruin.search.search_distance = p.search_distance_m;
     s.joints.rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
@@ -342,14 +345,14 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
         },
     };
     s.body.disable_deactivation = !p.sleeping;
-    s.joints.warmstart = p.joint_warmstart_for(sc.mode);
+    s.joints.warmstart = p.joint_warmstart;
     s.joints.iterations = p.joint_iterations;
     s.joints.solve = match p.joint_solve {
         scenario::JointSolveSpec::Pgs => crate::physics::JointSolve::Pgs,
         scenario::JointSolveSpec::Direct => crate::physics::JointSolve::Direct,
     };
     s.joints.solve_regularisation = p.joint_solve_regularisation;
-    s.ruin.axial_rows = p.axial_rows_for(sc.mode);
+    s.ruin.axial_rows = p.axial_rows;
     s.ruin.hinge_end = p.hinge_end;
     s.ruin.search.joints = p.joints;
     s
@@ -530,8 +533,7 @@ pub(crate) fn load_inputs(
     let bodies = bodies_of(&model, &mapping);
     // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
     // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let groups =
         group_strengths_for(&model, fe_strengths).map_err(|error| PipelineError::Groups {
             path: sc.model.clone(),
@@ -930,8 +932,7 @@ fn build_stage(
 /// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be physics-only with
 /// `connections = "formula"` (the default of that mode).
 pub fn physics_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
-    if sc.mode != Mode::Physics || sc.physics.connection_model(sc.mode) != ConnectionModel::Formula
-    {
+    if sc.mode != Mode::Physics || sc.physics.connections != ConnectionModel::Formula {
         return Err(PipelineError::Scenario(ScenarioError::Invalid {
             file: sc.path.display().to_string(),
             message: "a physics-only stage needs mode = \"physics\" with connections = \"formula\""
@@ -978,8 +979,7 @@ pub(crate) fn run_perturbed(
     let mut start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
     // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
     // the physics mode the undamaged capacities at them.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let push = PushSettings::default();
     let domain = if sc.mode != Mode::Physics || fe_strengths {
         Some(fe_domain(sc, &inputs.model)?)

@@ -253,12 +253,14 @@ pub fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64
     (x / (x + 2.0 * zeta), 1.0 / (x * (x + 2.0 * zeta)))
 }
 
-impl Default for StageSettings {
+impl StageSettings {
+    /// The paper's settings (BCB), the ruin stage's defaults and the scenario's `bcb`
+    /// preset (`crate::pipeline::preset`): each value is documented at its field's type.
     /// BCB's world (docs/bcb.md §11.1): sequential impulses, 100 iterations, split impulse
     /// off, gravity (0, 0, −9.81); Bullet's process-globals set to Bullet's own values
     /// (gDbvtMargin 0.05, gContactBreakingThreshold 0.02) so a stage never depends on
     /// what ran before it in the process.
-    fn default() -> Self {
+    pub fn bcb() -> Self {
         StageSettings {
             ruin: RuinSettings::default(),
             world: WorldSettings {

@@ -46,6 +46,7 @@ mod pipeline {
     mod handoff_continuity;
     mod library_slab;
     mod run_frame3;
+    mod settings;
     mod wall_building;
 }
 mod plot {
