@@ -107,6 +107,9 @@ pub struct RunRecord {
     pub fe_frames: Vec<(f64, Vec<Pose>)>,
     /// The ruin stage's result.
     pub ruin: Option<RuinResult>,
+    /// The preset the ruin stage's settings started from (`summary.json` `preset`;
+    /// `None` when no ruin stage ran).
+    pub preset: Option<preset::Preset>,
     /// Final poses (ruin stage, else the FE's last state).
     pub final_poses: Vec<Pose>,
     /// Ground displacement history (for the glTF ground and the debris height).
@@ -966,6 +969,7 @@ pub(crate) fn run_perturbed(
         tc_reason: TcReason::PhysicsOnly,
         fe_frames: Vec::new(),
         ruin: None,
+        preset: None,
         final_poses: bodies.iter().map(|b| b.pose0).collect(),
         ground: inputs.ground.clone(),
         fe_wall: Duration::ZERO,
@@ -1084,6 +1088,7 @@ pub(crate) fn run_perturbed(
     rec.ruin_in_bullet = result.wall.in_bullet;
     rec.final_poses = result.final_poses.clone();
     rec.ruin = Some(result);
+    rec.preset = Some(sc.physics.preset);
     Ok(rec)
 }
 
@@ -1196,13 +1201,16 @@ mod tests {
         assert_eq!(erps(""), (0.2, 0.2));
         assert_eq!(erps("steps_per_second = 800"), (0.05, 0.05));
         assert_eq!(
-            erps("steps_per_second = 800\ncontact_erp = 0.4\njoint_erp = 0.1"),
+            erps("steps_per_second = 800\nexperimental.contact_erp = 0.4\nexperimental.joint_erp = 0.1"),
             (0.1, 0.025)
         );
         assert_eq!(
-            erps("steps_per_second = 800\nerp_steps_per_second = 0"),
+            erps("steps_per_second = 800\nexperimental.erp_steps_per_second = 0"),
             (0.2, 0.2)
         );
-        assert_eq!(erps("steps_per_second = 20\njoint_erp = 0.5"), (1.0, 1.0));
+        assert_eq!(
+            erps("steps_per_second = 20\nexperimental.joint_erp = 0.5"),
+            (1.0, 1.0)
+        );
     }
 }

@@ -385,6 +385,8 @@ impl PhysicsSpec {
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PhysicsTable {
+    /// The preset the run starts from; absent = the mode's ([`super::preset::Preset::for_mode`]).
+    pub preset: Option<super::preset::Preset>,
     /// [`PhysicsSpec::steps_per_second`].
     pub steps_per_second: Option<f64>,
     /// [`PhysicsSpec::solver_iterations`].
@@ -397,12 +399,126 @@ pub struct PhysicsTable {
     pub linear_damping: Option<f64>,
     /// [`PhysicsSpec::angular_damping`].
     pub angular_damping: Option<f64>,
-    /// [`PhysicsSpec::spring_correction`].
-    pub spring_correction: Option<f64>,
+    #[serde(deserialize_with = "moved::spring_correction")]
+    #[doc(hidden)]
+    pub spring_correction: Option<moved::Moved>,
     /// [`PhysicsSpec::linear_correction`].
     pub linear_correction: Option<f64>,
     /// [`PhysicsSpec::bending_correction`].
     pub bending_correction: Option<f64>,
+    #[serde(deserialize_with = "moved::spring_damping")]
+    #[doc(hidden)]
+    pub spring_damping: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_limit")]
+    #[doc(hidden)]
+    pub spring_limit: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::angular_spring")]
+    #[doc(hidden)]
+    pub angular_spring: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::split_impulse")]
+    #[doc(hidden)]
+    pub split_impulse: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::split_impulse_threshold_m")]
+    #[doc(hidden)]
+    pub split_impulse_threshold_m: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::contact_erp")]
+    #[doc(hidden)]
+    pub contact_erp: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_erp")]
+    #[doc(hidden)]
+    pub joint_erp: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::erp_steps_per_second")]
+    #[doc(hidden)]
+    pub erp_steps_per_second: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::margin_m")]
+    #[doc(hidden)]
+    pub margin_m: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::margin_max_share")]
+    #[doc(hidden)]
+    pub margin_max_share: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_rest_at_plastic_onset")]
+    #[doc(hidden)]
+    pub spring_rest_at_plastic_onset: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::hinge_keeps_rotation")]
+    #[doc(hidden)]
+    pub hinge_keeps_rotation: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::hinge_return_mapping")]
+    #[doc(hidden)]
+    pub hinge_return_mapping: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_rows")]
+    #[doc(hidden)]
+    pub joint_rows: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_modulus_pa")]
+    #[doc(hidden)]
+    pub joint_modulus_pa: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_damping_ratio")]
+    #[doc(hidden)]
+    pub joint_damping_ratio: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_warmstart")]
+    #[doc(hidden)]
+    pub joint_warmstart: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_iterations")]
+    #[doc(hidden)]
+    pub joint_iterations: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_solve")]
+    #[doc(hidden)]
+    pub joint_solve: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_solve_regularisation")]
+    #[doc(hidden)]
+    pub joint_solve_regularisation: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::axial_rows")]
+    #[doc(hidden)]
+    pub axial_rows: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_cap_per_body")]
+    #[doc(hidden)]
+    pub spring_cap_per_body: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_cap_steps_per_second")]
+    #[doc(hidden)]
+    pub spring_cap_steps_per_second: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::monitor_every_substep")]
+    #[doc(hidden)]
+    pub monitor_every_substep: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::connected_pairs_touch")]
+    #[doc(hidden)]
+    pub connected_pairs_touch: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::ground_under_connected_bases")]
+    #[doc(hidden)]
+    pub ground_under_connected_bases: Option<moved::Moved>,
+    /// [`PhysicsSpec::search_distance_m`].
+    pub search_distance_m: Option<f64>,
+    /// [`PhysicsSpec::sleeping`].
+    pub sleeping: Option<bool>,
+    /// [`PhysicsSpec::time_limit_s`].
+    pub time_limit_s: Option<f64>,
+    /// [`PhysicsSpec::settle_s`].
+    pub settle_s: Option<f64>,
+    /// [`PhysicsSpec::stop_at_rest`].
+    pub stop_at_rest: Option<bool>,
+    /// [`PhysicsSpec::rest`].
+    pub rest: Option<RestTest>,
+    /// [`PhysicsSpec::connections`].
+    pub connections: Option<ConnectionModel>,
+    /// [`PhysicsSpec::panel_connections`].
+    pub panel_connections: Option<PanelConnections>,
+    /// [`PhysicsSpec::hinge_end`].
+    pub hinge_end: Option<crate::ruin::connection::HingeEnd>,
+    /// [`PhysicsSpec::joints`].
+    pub joints: Option<crate::ruin::search::JointContacts>,
+    /// [`PhysicsSpec::ground_damping`].
+    pub ground_damping: Option<GroundDamping>,
+    /// `[physics.experimental]`: research and numerical keys ([`ExperimentalTable`]).
+    pub experimental: ExperimentalTable,
+}
+
+/// `[physics.experimental]` as written: the keys a scenario does not need to describe a
+/// building and its earthquake — solver numerics, research toggles and the alternatives
+/// the measurements in docs/ruin-numerics.md and docs/handoff.md compare (each key's
+/// meaning and default: [`PhysicsSpec`]; absent = the preset's value).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ExperimentalTable {
+    /// [`PhysicsSpec::spring_correction`].
+    pub spring_correction: Option<f64>,
     /// [`PhysicsSpec::spring_damping`].
     pub spring_damping: Option<f64>,
     /// [`PhysicsSpec::spring_limit`].
@@ -455,36 +571,37 @@ pub struct PhysicsTable {
     pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
     /// [`PhysicsSpec::ground_under_connected_bases`].
     pub ground_under_connected_bases: Option<bool>,
-    /// [`PhysicsSpec::search_distance_m`].
-    pub search_distance_m: Option<f64>,
-    /// [`PhysicsSpec::sleeping`].
-    pub sleeping: Option<bool>,
-    /// [`PhysicsSpec::time_limit_s`].
-    pub time_limit_s: Option<f64>,
-    /// [`PhysicsSpec::settle_s`].
-    pub settle_s: Option<f64>,
-    /// [`PhysicsSpec::stop_at_rest`].
-    pub stop_at_rest: Option<bool>,
-    /// [`PhysicsSpec::rest`].
-    pub rest: Option<RestTest>,
-    /// [`PhysicsSpec::connections`].
-    pub connections: Option<ConnectionModel>,
-    /// [`PhysicsSpec::panel_connections`].
-    pub panel_connections: Option<PanelConnections>,
-    /// [`PhysicsSpec::hinge_end`].
-    pub hinge_end: Option<crate::ruin::connection::HingeEnd>,
-    /// [`PhysicsSpec::joints`].
-    pub joints: Option<crate::ruin::search::JointContacts>,
-    /// [`PhysicsSpec::ground_damping`].
-    pub ground_damping: Option<GroundDamping>,
+}
+
+/// The keys of `[physics.experimental]` written directly in `[physics]`: refused, naming
+/// the key and its table (the error carries the file's line from the `toml` crate).
+mod moved {
+    use serde::Deserializer;
+
+    /// Never built: a moved key's value is refused while it is read.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Moved {}
+
+    macro_rules! refuse {
+        ($($key:ident)*) => {$(
+            pub fn $key<'de, D: Deserializer<'de>>(_: D) -> Result<Option<Moved>, D::Error> {
+                Err(serde::de::Error::custom(concat!(
+                    "physics.", stringify!($key), " is an experimental key: write it in ",
+                    "[physics.experimental] (docs/scenario-format.md)"
+                )))
+            }
+        )*};
+    }
+
+    refuse!(spring_correction spring_damping spring_limit angular_spring split_impulse split_impulse_threshold_m contact_erp joint_erp erp_steps_per_second margin_m margin_max_share spring_rest_at_plastic_onset hinge_keeps_rotation hinge_return_mapping joint_rows joint_modulus_pa joint_damping_ratio joint_warmstart joint_iterations joint_solve joint_solve_regularisation axial_rows spring_cap_per_body spring_cap_steps_per_second monitor_every_substep connected_pairs_touch ground_under_connected_bases);
 }
 
 impl PhysicsTable {
     /// The settings of a run in `mode`. Every default that depends on the mode or on
     /// another key is resolved here, one rule each:
     ///
-    /// 1. The preset: hybrid and fe runs take `fem2rbd`'s values, physics-only runs
-    ///    `bcb`'s ([`super::preset::Preset::for_mode`]).
+    /// 1. The preset: as named (`preset`), else `fem2rbd` for hybrid and fe runs and
+    ///    `bcb` for physics-only runs ([`super::preset::Preset::for_mode`]).
     /// 2. `connections` given and not the preset's: the keys that follow the connection
     ///    model (`axial_rows`, `connected_pairs_touch`, `ground_under_connected_bases`,
     ///    `joint_warmstart`) take the values of the preset built on that model
@@ -502,7 +619,7 @@ impl PhysicsTable {
     pub fn resolve(&self, mode: Mode) -> PhysicsSpec {
         use super::preset::Preset;
         // Rule 1.
-        let mut p = Preset::for_mode(mode).physics();
+        let mut p = self.preset.unwrap_or(Preset::for_mode(mode)).physics();
         // Rule 2.
         if let Some(c) = self.connections {
             if c != p.connections {
@@ -532,7 +649,7 @@ impl PhysicsTable {
         if let Some(v) = self.angular_damping {
             p.angular_damping = v;
         }
-        if let Some(v) = self.spring_correction {
+        if let Some(v) = self.experimental.spring_correction {
             p.spring_correction = v;
         }
         if let Some(v) = self.linear_correction {
@@ -541,82 +658,82 @@ impl PhysicsTable {
         if let Some(v) = self.bending_correction {
             p.bending_correction = v;
         }
-        if let Some(v) = self.spring_damping {
+        if let Some(v) = self.experimental.spring_damping {
             p.spring_damping = v;
         }
-        if let Some(v) = self.spring_limit {
+        if let Some(v) = self.experimental.spring_limit {
             p.spring_limit = v;
         }
-        if let Some(v) = self.angular_spring {
+        if let Some(v) = self.experimental.angular_spring {
             p.angular_spring = v;
         }
-        if let Some(v) = self.split_impulse {
+        if let Some(v) = self.experimental.split_impulse {
             p.split_impulse = v;
         }
-        if let Some(v) = self.split_impulse_threshold_m {
+        if let Some(v) = self.experimental.split_impulse_threshold_m {
             p.split_impulse_threshold_m = v;
         }
-        if let Some(v) = self.contact_erp {
+        if let Some(v) = self.experimental.contact_erp {
             p.contact_erp = v;
         }
-        if let Some(v) = self.joint_erp {
+        if let Some(v) = self.experimental.joint_erp {
             p.joint_erp = v;
         }
-        if let Some(v) = self.erp_steps_per_second {
+        if let Some(v) = self.experimental.erp_steps_per_second {
             p.erp_steps_per_second = v;
         }
-        if let Some(v) = self.margin_m {
+        if let Some(v) = self.experimental.margin_m {
             p.margin_m = v;
         }
-        if let Some(v) = self.margin_max_share {
+        if let Some(v) = self.experimental.margin_max_share {
             p.margin_max_share = v;
         }
-        if let Some(v) = self.spring_rest_at_plastic_onset {
+        if let Some(v) = self.experimental.spring_rest_at_plastic_onset {
             p.spring_rest_at_plastic_onset = v;
         }
-        if let Some(v) = self.hinge_keeps_rotation {
+        if let Some(v) = self.experimental.hinge_keeps_rotation {
             p.hinge_keeps_rotation = v;
         }
-        if let Some(v) = self.hinge_return_mapping {
+        if let Some(v) = self.experimental.hinge_return_mapping {
             p.hinge_return_mapping = v;
         }
-        if let Some(v) = self.joint_rows {
+        if let Some(v) = self.experimental.joint_rows {
             p.joint_rows = v;
         }
-        if let Some(v) = self.joint_modulus_pa {
+        if let Some(v) = self.experimental.joint_modulus_pa {
             p.joint_modulus_pa = v;
         }
-        if let Some(v) = self.joint_damping_ratio {
+        if let Some(v) = self.experimental.joint_damping_ratio {
             p.joint_damping_ratio = v;
         }
-        if let Some(v) = self.joint_warmstart {
+        if let Some(v) = self.experimental.joint_warmstart {
             p.joint_warmstart = v;
         }
-        if let Some(v) = self.joint_iterations {
+        if let Some(v) = self.experimental.joint_iterations {
             p.joint_iterations = Some(v);
         }
-        if let Some(v) = self.joint_solve {
+        if let Some(v) = self.experimental.joint_solve {
             p.joint_solve = v;
         }
-        if let Some(v) = self.joint_solve_regularisation {
+        if let Some(v) = self.experimental.joint_solve_regularisation {
             p.joint_solve_regularisation = v;
         }
-        if let Some(v) = self.axial_rows {
+        if let Some(v) = self.experimental.axial_rows {
             p.axial_rows = v;
         }
-        if let Some(v) = self.spring_cap_per_body {
+        if let Some(v) = self.experimental.spring_cap_per_body {
             p.spring_cap_per_body = v;
         }
-        if let Some(v) = self.spring_cap_steps_per_second {
+        if let Some(v) = self.experimental.spring_cap_steps_per_second {
             p.spring_cap_steps_per_second = v;
         }
-        if let Some(v) = self.monitor_every_substep {
+        if let Some(v) = self.experimental.monitor_every_substep {
             p.monitor_every_substep = v;
         }
-        if let Some(v) = self.connected_pairs_touch {
+        if let Some(v) = self.experimental.connected_pairs_touch {
             p.connected_pairs_touch = v;
         }
-        if let Some(v) = self.ground_under_connected_bases {
+        if let Some(v) = self.experimental.ground_under_connected_bases {
             p.ground_under_connected_bases = v;
         }
         if let Some(v) = self.search_distance_m {
@@ -822,7 +939,7 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.spring_correction",
+            "physics.experimental.spring_correction",
             self.spring_correction,
             0.0,
             false,
@@ -846,7 +963,7 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.spring_damping",
+            "physics.experimental.spring_damping",
             self.spring_damping,
             0.0,
             false,
@@ -867,10 +984,24 @@ impl PhysicsSpec {
         // Contact and joint error reduction (Bullet: a share of the error per substep),
         // the split-impulse penetration threshold (≤ 0 m: Bullet's convention, default
         // −0.04 m) and the collision margin.
-        r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
-        r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
         r(
-            "physics.spring_cap_steps_per_second",
+            "physics.experimental.contact_erp",
+            self.contact_erp,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.experimental.joint_erp",
+            self.joint_erp,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.experimental.spring_cap_steps_per_second",
             self.spring_cap_steps_per_second,
             0.0,
             false,
@@ -878,7 +1009,7 @@ impl PhysicsSpec {
             "1/s",
         )?;
         r(
-            "physics.erp_steps_per_second",
+            "physics.experimental.erp_steps_per_second",
             self.erp_steps_per_second,
             0.0,
             false,
@@ -886,7 +1017,7 @@ impl PhysicsSpec {
             "1/s",
         )?;
         r(
-            "physics.joint_modulus_pa",
+            "physics.experimental.joint_modulus_pa",
             self.joint_modulus_pa,
             0.0,
             true,
@@ -894,7 +1025,7 @@ impl PhysicsSpec {
             "Pa",
         )?;
         r(
-            "physics.joint_warmstart",
+            "physics.experimental.joint_warmstart",
             self.joint_warmstart,
             0.0,
             false,
@@ -902,7 +1033,7 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.joint_solve_regularisation",
+            "physics.experimental.joint_solve_regularisation",
             self.joint_solve_regularisation,
             0.0,
             false,
@@ -911,7 +1042,7 @@ impl PhysicsSpec {
         )?;
         if let Some(n) = self.joint_iterations {
             r(
-                "physics.joint_iterations",
+                "physics.experimental.joint_iterations",
                 f64::from(n),
                 1.0,
                 false,
@@ -920,7 +1051,7 @@ impl PhysicsSpec {
             )?;
         }
         r(
-            "physics.joint_damping_ratio",
+            "physics.experimental.joint_damping_ratio",
             self.joint_damping_ratio,
             0.0,
             true,
@@ -928,14 +1059,21 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.split_impulse_threshold_m",
+            "physics.experimental.split_impulse_threshold_m",
             self.split_impulse_threshold_m,
             -1.0,
             false,
             0.0,
             "m",
         )?;
-        r("physics.margin_m", self.margin_m, 0.0, true, 1.0, "m")?;
+        r(
+            "physics.experimental.margin_m",
+            self.margin_m,
+            0.0,
+            true,
+            1.0,
+            "m",
+        )?;
         r(
             "physics.search_distance_m",
             self.search_distance_m,
@@ -945,7 +1083,7 @@ impl PhysicsSpec {
             "m",
         )?;
         r(
-            "physics.margin_max_share",
+            "physics.experimental.margin_max_share",
             self.margin_max_share,
             0.0,
             true,
@@ -1129,7 +1267,7 @@ impl Scenario {
             && !(physics.hinge_keeps_rotation && physics.connections == ConnectionModel::Fe)
         {
             return Err(invalid(
-                "physics.hinge_return_mapping = true re-locks the ductile hinges of FE-derived \
+                "physics.experimental.hinge_return_mapping = true re-locks the ductile hinges of FE-derived \
                  connections: it needs connections = \"fe\" and hinge_keeps_rotation = true"
                     .into(),
             ));

@@ -113,7 +113,8 @@ fn connections_given_bring_their_presets_rows() {
     assert_eq!(fe.physics.joint_warmstart, 0.5);
     let given = lc5_in(
         Mode::Hybrid,
-        "connections = \"formula\"\naxial_rows = \"two_way\"\njoint_warmstart = 0.25",
+        "connections = \"formula\"\nexperimental.axial_rows = \"two_way\"\n\
+         experimental.joint_warmstart = 0.25",
     );
     assert_eq!(given.physics.axial_rows, AxialRows::TwoWay);
     assert_eq!(given.physics.joint_warmstart, 0.25);
