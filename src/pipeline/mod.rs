@@ -358,6 +358,11 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.ruin.axial_rows = p.axial_rows;
     s.ruin.hinge_end = p.hinge_end;
     s.ruin.search.joints = p.joints;
+    s.speed.sweep = p.sweep.sweep();
+    if let Some(n) = sc.threads {
+        s.speed.solver_threads = n;
+    }
+    s.traces = sc.traces.clone();
     s
 }
 
@@ -585,6 +590,7 @@ fn fe_build(sc: &Scenario) -> BuildOptions {
     BuildOptions {
         variant: sc.variant,
         concrete_integration: sc.concrete_integration,
+        threads: sc.threads,
         ..Default::default()
     }
 }

@@ -133,6 +133,7 @@ fn bcb() -> PhysicsSpec {
         ground_under_connected_bases: s.touch.ground_under_connected_bases,
         search_distance_m: s.ruin.search.search_distance,
         sleeping: !s.body.disable_deactivation,
+        sweep: super::scenario::SweepSpec::of(s.speed.sweep),
         // Run to the record's end + 5 s, or until the debris is at rest.
         time_limit_s: None,
         settle_s: 5.0,

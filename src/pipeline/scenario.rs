@@ -163,6 +163,45 @@ pub enum JointRowsSpec {
     Member,
 }
 
+/// How the solver sweeps its Gauss–Seidel iterations (`[physics.experimental] sweep`,
+/// [`crate::physics::Sweep`]): every choice gives the same bits; the others are for
+/// `bench_ruin`'s before/after (docs/performance.md, "Ruin stage").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepSpec {
+    /// The lean sweep over packed copies of the joint rows ([`crate::physics::Sweep::Packed`]).
+    Packed,
+    /// Bullet 3.24's own sweep ([`crate::physics::Sweep::Bullet`]).
+    Bullet,
+    /// Bullet's sweep without its empty per-iteration walk ([`crate::physics::Sweep::Lean`]).
+    Lean,
+    /// The packed sweep with the joints' set-up on the solver threads
+    /// ([`crate::physics::Sweep::PackedThreads`]).
+    Threads,
+}
+
+impl SweepSpec {
+    /// The solver's sweep.
+    pub fn sweep(self) -> crate::physics::Sweep {
+        match self {
+            SweepSpec::Packed => crate::physics::Sweep::Packed,
+            SweepSpec::Bullet => crate::physics::Sweep::Bullet,
+            SweepSpec::Lean => crate::physics::Sweep::Lean,
+            SweepSpec::Threads => crate::physics::Sweep::PackedThreads,
+        }
+    }
+
+    /// The choice of a sweep.
+    pub fn of(sweep: crate::physics::Sweep) -> SweepSpec {
+        match sweep {
+            crate::physics::Sweep::Packed => SweepSpec::Packed,
+            crate::physics::Sweep::Bullet => SweepSpec::Bullet,
+            crate::physics::Sweep::Lean => SweepSpec::Lean,
+            crate::physics::Sweep::PackedThreads => SweepSpec::Threads,
+        }
+    }
+}
+
 /// How the joints' bilateral rows are solved at each substep
 /// (`crate::physics::JointSolve`, docs/ruin-numerics.md, "A direct solve").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
@@ -305,6 +344,9 @@ pub struct PhysicsSpec {
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
     /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
     pub search_distance_m: f64,
+    /// The solver's sweep (`"packed"`, the default, `"bullet"`, `"lean"` or `"threads"`):
+    /// the same bits for each, [`SweepSpec`].
+    pub sweep: SweepSpec,
     /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
     /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
     pub sleeping: bool,
@@ -517,6 +559,8 @@ pub struct PhysicsTable {
 #[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExperimentalTable {
+    /// [`PhysicsSpec::sweep`].
+    pub sweep: Option<SweepSpec>,
     /// [`PhysicsSpec::spring_correction`].
     pub spring_correction: Option<f64>,
     /// [`PhysicsSpec::spring_damping`].
@@ -648,6 +692,9 @@ impl PhysicsTable {
         }
         if let Some(v) = self.angular_damping {
             p.angular_damping = v;
+        }
+        if let Some(v) = self.experimental.sweep {
+            p.sweep = v;
         }
         if let Some(v) = self.experimental.spring_correction {
             p.spring_correction = v;
@@ -848,6 +895,12 @@ pub struct Scenario {
     pub physics: PhysicsSpec,
     /// The `[physics]` table as written.
     physics_table: PhysicsTable,
+    /// Threads for the FE and the ruin stage's solver (`fem2rbd run --threads`; not read
+    /// from the file); `None` = the machine's cores. The same bytes for any number.
+    pub threads: Option<usize>,
+    /// The ruin stage's debug traces (`fem2rbd run --trace-axial`, `--trace-body`; not
+    /// read from the file): none by default.
+    pub traces: crate::ruin::stage::TraceSettings,
 }
 
 impl Scenario {
@@ -1303,6 +1356,8 @@ impl Scenario {
             criterion,
             physics,
             physics_table: raw.physics.clone(),
+            threads: None,
+            traces: Default::default(),
         })
     }
 }

@@ -72,6 +72,7 @@ mod rescue {
 mod repo {
     mod anyhow_edge;
     mod docs;
+    mod no_env;
     mod no_unsafe;
     mod test_layout;
 }

@@ -639,7 +639,7 @@ fn fastest_piece_3pct(monitor_every_substep: bool, erp_steps: f64) -> (f64, Stri
 /// `erp_steps_per_second = 0`, as then). Checked after every substep, the
 /// connection breaks when it passes its tolerances and the fastest piece is a column
 /// piece pinched between a landing beam and the ground (12.2 m/s at 2.515 s, measured
-/// with `FEM2RBD_BODY_TRACE`).
+/// with `fem2rbd run --trace-body`).
 #[test]
 fn a_slider_connection_throws_its_piece_unless_the_monitor_checks_every_substep() {
     let (v_frame, body_frame, t_frame, inj_frame) = fastest_piece_3pct(false, 0.0);

@@ -120,3 +120,36 @@ fn connections_given_bring_their_presets_rows() {
     assert_eq!(given.physics.joint_warmstart, 0.25);
     assert_eq!(given.physics.connected_pairs_touch, PairsTouch::Never);
 }
+
+/// The binary's options reach the ruin stage as values: threads and traces from the
+/// scenario's run controls (`fem2rbd run --threads`, `--trace-body`), the sweep from
+/// `[physics.experimental] sweep`; a traced body that does not exist is an error naming
+/// the option and the body.
+#[test]
+fn threads_traces_and_sweep_reach_the_stage_as_values() {
+    use fem2rbd::physics::Sweep;
+    use fem2rbd::pipeline::physics_only_stage;
+    use fem2rbd::pipeline::scenario::SweepSpec;
+    use fem2rbd::ruin::stage::BodyTraceSettings;
+    assert_eq!(lc5_in(Mode::Physics, "").physics.sweep, SweepSpec::Packed);
+    let mut sc = lc5_in(Mode::Physics, "experimental.sweep = \"lean\"");
+    assert_eq!(stage_settings(&sc).speed.sweep, Sweep::Lean);
+    sc.threads = Some(3);
+    sc.traces.body = Some(BodyTraceSettings {
+        path: "t.txt".into(),
+        body: "Column:99:99".into(),
+        from_s: 0.5,
+        to_s: 1.0,
+    });
+    let s = stage_settings(&sc);
+    assert_eq!(s.speed.solver_threads, 3);
+    assert_eq!(s.traces, sc.traces);
+    let err = match physics_only_stage(&sc, &|_| ()) {
+        Ok(_) => panic!("a trace of a body that does not exist"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("--trace-body") && err.contains("Column:99:99"),
+        "{err}"
+    );
+}
