@@ -99,7 +99,7 @@ impl Progress for Bars {
         if !self.visible {
             return;
         }
-        // Both stages: a bar over the simulated time span (the physics stage may stop
+        // Both stages: a bar over the simulated time span (the ruin stage may stop
         // earlier, when the debris is at rest).
         let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
         b.set_style(
@@ -114,7 +114,7 @@ impl Progress for Bars {
     fn plan(&self, fe_steps: u64, substeps: u64) {
         if self.visible {
             eprintln!(
-                "work: {fe_steps} FE steps, at most {substeps} physics substeps (bounds: docs/reliability.md)"
+                "work: {fe_steps} FE steps, at most {substeps} ruin-stage substeps (bounds: docs/reliability.md)"
             );
         }
     }

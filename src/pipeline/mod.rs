@@ -134,10 +134,10 @@ pub trait Progress {
     /// Physics stage: frame at simulated time `t` of at most `t_end` s, with the
     /// connection counts (intact, plastic, broken) after it.
     fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
-    /// A stage begins (`"fe"`, `"physics"`), with its simulated time span.
+    /// A stage begins (`"fe"`, `"ruin"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
     /// The work ahead, once checked against the resource bounds ([`check_budget`]):
-    /// FE steps and physics substeps (at most; the physics stage may stop at rest).
+    /// FE steps and ruin-stage substeps (at most; the ruin stage may stop at rest).
     fn plan(&self, _fe_steps: u64, _physics_substeps: u64) {}
     /// A stage ends.
     fn done(&self) {}
@@ -465,11 +465,11 @@ pub(crate) fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64
     } else {
         grid_count(
             format!(
-                "{p}: physics stage of up to {} s at physics.steps_per_second = {}",
+                "{p}: ruin stage of up to {} s at physics.steps_per_second = {}",
                 show_number(limit),
                 show_number(sc.physics.steps_per_second)
             ),
-            "physics substeps",
+            "ruin-stage substeps",
             limit,
             1.0 / sc.physics.steps_per_second,
             MAX_PHYSICS_SUBSTEPS,
@@ -878,7 +878,7 @@ pub fn ruin_stage(
         rest: sc.physics.stop_at_rest.then_some(sc.physics.rest),
     };
     let t0 = Instant::now();
-    progress.stage("physics", input.start_time_s, limit);
+    progress.stage("ruin", input.start_time_s, limit);
     let mut stage = build_stage(sc, inputs, input, &|_| ())?;
     let result = stage
         .run_with(&stop, &mut |f| {
