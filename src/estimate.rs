@@ -284,7 +284,7 @@ pub fn for_scenario(
                 path: sc.model.clone(),
                 error: Box::new(error),
             })?;
-        let bodies = pipeline::bodies_of(&model, &map);
+        let bodies = crate::mapping::foundation::bodies_of(&model, &map);
         let settings = pipeline::stage_settings(sc);
         let contacts =
             crate::ruin::search::find_contacts(&pipeline::geoms(&bodies), &settings.ruin.search)?;

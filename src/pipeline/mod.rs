@@ -16,10 +16,8 @@
 //! * `fe`: the FE stage only (no collapse monitor stop).
 //!
 //! **Foundation.** The FE model's base nodes are fixed to the ground; the rigid-body
-//! model gets one passive (kinematic) foundation block under every column that stands on
-//! the base: plan 2·a × 2·a, depth a, a = the larger cross-section size of the column box,
-//! top at the base level. The bottom columns connect to it with ×2 thresholds (BCB's
-//! passive group rule).
+//! model gets passive foundation blocks under the base columns and walls
+//! ([`crate::mapping::foundation`]).
 //!
 //! **FE damage → connection start state.** With FE-derived connections (`[physics]
 //! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
@@ -43,7 +41,6 @@ pub mod scenario;
 pub mod strengths;
 pub mod write;
 
-use crate::body::BodyId;
 use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
 use crate::fe::build::{BuildOptions, BuiltDomain};
@@ -53,7 +50,7 @@ use crate::fe::capacity::{
 use crate::fe::domain::Domain;
 use crate::fe::run::{prepare, run_prepared, Prepared, RunOptions};
 use crate::mapping::handoff::{GroundState, Handoff, NodeState};
-use crate::mapping::{self, MapOptions, Role};
+use crate::mapping::{self, MapOptions};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
@@ -186,107 +183,6 @@ pub fn ground_motion(sc: &Scenario) -> Result<GroundMotion> {
         gm.components[axis] = Some(rec);
     }
     Ok(gm)
-}
-
-/// The model's bodies: mapped boxes then foundation blocks (module docs).
-pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
-    let mut out: Vec<Body> = mapping
-        .bodies
-        .iter()
-        .map(|b| Body {
-            id: b.id.clone(),
-            kind: Some(b.kind),
-            half_extents: b.half_extents,
-            pose0: to_pose(&BodyGeom::pose(&geom_of_box(b))),
-            mass_kg: b.mass_kg,
-            passive: false,
-        })
-        .collect();
-    let zmin = model
-        .nodes
-        .iter()
-        .map(|n| n.xyz()[2])
-        .fold(f64::INFINITY, f64::min);
-    let mut feet = Vec::new();
-    for b in &mapping.bodies {
-        if b.kind == Role::Wall {
-            if let Some(f) = wall_foot(b, zmin) {
-                feet.push(f);
-            }
-            continue;
-        }
-        if b.kind != Role::Column {
-            continue;
-        }
-        let Some(base) = b.nodes.iter().find(|n| (n[2] - zmin).abs() < 1e-9) else {
-            continue;
-        };
-        let a = b.half_extents[1].max(b.half_extents[2]) * 2.0;
-        let tag = model
-            .nodes
-            .iter()
-            .find(|n| n.xyz() == *base)
-            .map_or(0, |n| n.tag);
-        feet.push(Body {
-            id: BodyId::Foundation { node: tag },
-            kind: None,
-            half_extents: [a, a, a / 2.0],
-            pose0: Pose::at([base[0], base[1], zmin - a / 2.0]),
-            mass_kg: 0.0,
-            passive: true,
-        });
-    }
-    out.extend(feet);
-    out
-}
-
-/// The passive foundation strip under a wall body whose element stands on the base
-/// (two nodes at the lowest level): as long as the wall body (its trimmed length), as
-/// wide as 2·a and a deep, a = the wall body's thickness, top at the base level, turned
-/// with the wall in plan. Named `Foundation:wall:<element>`.
-fn wall_foot(b: &mapping::RigidBox, zmin: f64) -> Option<Body> {
-    let base = b
-        .nodes
-        .iter()
-        .filter(|n| (n[2] - zmin).abs() < 1e-9)
-        .count();
-    if base < 2 {
-        return None;
-    }
-    let element = b.id.element_tag()?;
-    // The wall's horizontal in-plane axis (local x of the generator's walls; else the
-    // local axis with the smallest vertical component among x and y).
-    let m = b.rotation.to_rotation_matrix().into_inner();
-    let (ax, half_len) = if m[(2, 0)].abs() <= m[(2, 1)].abs() {
-        (0, b.half_extents[0])
-    } else {
-        (1, b.half_extents[1])
-    };
-    let yaw = m[(1, ax)].atan2(m[(0, ax)]);
-    let a = 2.0 * b.half_extents[2];
-    let q = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
-    Some(Body {
-        id: BodyId::WallFoundation { element },
-        kind: None,
-        half_extents: [half_len, a, a / 2.0],
-        pose0: Pose {
-            position: [b.centre[0], b.centre[1], zmin - a / 2.0],
-            orientation: [q.w, q.i, q.j, q.k],
-        },
-        mass_kg: 0.0,
-        passive: true,
-    })
-}
-
-fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
-    BodyGeom {
-        name: b.id.name(),
-        group: b.id.group().to_string(),
-        centre: b.centre,
-        rotation: b.rotation,
-        half_extents: b.half_extents,
-        passive: false,
-    }
 }
 
 /// The ruin stage's view of the bodies.
@@ -496,7 +392,8 @@ pub struct Inputs {
     pub ground: GroundHistory,
     /// The mapping of the FE elements to boxes.
     pub mapping: mapping::Mapping,
-    /// The run's bodies: mapped boxes, then foundation blocks ([`bodies_of`]).
+    /// The run's bodies: mapped boxes, then foundation blocks
+    /// ([`mapping::foundation::bodies_of`]).
     pub bodies: Vec<Body>,
     /// BCB's Formula-Assistant strengths per group.
     pub groups: Vec<GroupStrength>,
@@ -538,7 +435,7 @@ pub(crate) fn load_inputs(
             path: sc.model.clone(),
             error: Box::new(error),
         })?;
-    let bodies = bodies_of(&model, &mapping);
+    let bodies = mapping::foundation::bodies_of(&model, &mapping);
     // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
     // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
     let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
