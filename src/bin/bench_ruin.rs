@@ -15,7 +15,7 @@
 //! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the lean
 //! sweep; docs/performance.md) or `+threads` (the packed sweep always on the threads where
 //! eligible, instead of whichever of one thread and the threads measures faster) and/or
-//! `+direct` (`[physics] joint_solve = "direct"`: the joints' bilateral rows solved by a
+//! `+direct` (`[physics.experimental] joint_solve = "direct"`: the joints' bilateral rows solved by a
 //! sparse LDLᵀ factorisation first, docs/ruin-numerics.md, "A direct solve"); default
 //! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
@@ -69,7 +69,7 @@ struct Config {
     /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`), `threads` (`+threads`)
     /// or `packed` (default).
     sweep: &'static str,
-    /// `[physics] joint_solve = "direct"` (`+direct`).
+    /// `[physics.experimental] joint_solve = "direct"` (`+direct`).
     direct: bool,
 }
 

@@ -1034,7 +1034,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
                 scenario: sc.path.clone(),
                 message: format!(
                     "body {} has a non-finite pose at t = {:.4} s \
-                     (physics.steps_per_second = {}, spring_correction = {}, \
+                     (physics.steps_per_second = {}, physics.experimental.spring_correction = {}, \
                      spring_damping = {}; a higher substep rate or spring_limit = true \
                      may help)",
                     bodies[i].id,
