@@ -13,15 +13,15 @@
 #
 # Environment: ENSEMBLE (members, default 8), SEED (default 1), THREADS (ensemble worker
 # threads, default 2), FEM2RBD (the binary, default target/release/fem2rbd, built first),
-# RUIN_EXTRA (extra [physics] lines for every run, e.g. 'joint_erp = 0.05'),
+# RUIN_EXTRA (extra [physics] lines for every run, e.g. 'experimental.joint_erp = 0.05'),
 # VARIANT_ENSEMBLE (default 0; N > 0 also runs every variant as an ensemble of N members,
 # same seed, into MODE-spsX-itY-ens, and the table compares the distributions: a single
 # run of a chaotic pile is one sample, docs/ruin-numerics.md, "The error reduction per second").
 # VARIANTS (default "400/100 800/100 200/200"): the variants, each SPS/IT or
 # SPS/IT/KEY=VALUE[,KEY=VALUE...] with extra [physics] lines (e.g.
-# "200/100/joint_solve=direct", "200/100/joint_warmstart=0"); a variant's folder is
+# "200/100/experimental.joint_solve=direct", "200/100/experimental.joint_warmstart=0"); a variant's folder is
 # MODE-spsSPS-itIT[-KEY-VALUE...] (string values unquoted in the name: VALUE='"direct"' gives
-# -joint_solve-direct). SINGLE_RUNS=0 skips the single variant runs (step 2) when only the
+# -experimental.joint_solve-direct). SINGLE_RUNS=0 skips the single variant runs (step 2) when only the
 # distributions are wanted.
 # After the tables of scripts/ruin-convergence-table.py, with VARIANT_ENSEMBLE set,
 # scripts/ruin-convergence-doubling.py prints the doubling table (docs/ruin-convergence.md):

@@ -284,13 +284,13 @@ pub fn for_scenario(
                 path: sc.model.clone(),
                 error: Box::new(error),
             })?;
-        let bodies = pipeline::bodies_of(&model, &map);
+        let bodies = crate::mapping::foundation::bodies_of(&model, &map);
         let settings = pipeline::stage_settings(sc);
         let contacts =
             crate::ruin::search::find_contacts(&pipeline::geoms(&bodies), &settings.ruin.search)?;
         size.bodies = bodies.len() as u64;
         size.connections = contacts.len() as u64;
-        if sc.physics.connection_model(sc.mode) == ConnectionModel::Fe {
+        if sc.physics.connections == ConnectionModel::Fe {
             capacity_passes = if sc.mode == Mode::Hybrid { 2 } else { 1 };
         }
     }

@@ -14,7 +14,7 @@
 //! Δt = 0.005 s. Prints ms per transient step for both programs and the ratio, how far
 //! the two roof histories differ, fem2rbd's time per phase of an equilibrium iteration
 //! (element state determination, residual, tangent assembly, factorisation, solve), and
-//! with `--threads` also fem2rbd on 1 thread against 2 (`FEM2RBD_THREADS`), with a check
+//! with `--threads` also fem2rbd on 1 thread against 2 (`BuildOptions::threads`), with a check
 //! that both give the same bits.
 //!
 //! `cargo run --release --bin bench_fe [-- STEPS] [--frame7 | --walls] [--no-opensees]
@@ -148,7 +148,6 @@ fn run_ours(
     duration: f64,
     threads: usize,
 ) -> Result<(RunResult, f64, f64, Vec<(Phase, f64, u64)>, u64)> {
-    std::env::set_var("FEM2RBD_THREADS", threads.to_string());
     let mut t_first = None;
     let mut t_last = Instant::now();
     let (mut cpu_first, mut cpu_last) = (None, None);
@@ -159,6 +158,7 @@ fn run_ours(
         &RunOptions {
             build: BuildOptions {
                 variant: case.variant,
+                threads: Some(threads),
                 ..Default::default()
             },
             dt: DT,

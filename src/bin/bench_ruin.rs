@@ -15,7 +15,7 @@
 //! or `+lean` (the lean sweep over Bullet's rows with a sequential joint set-up, the lean
 //! sweep; docs/performance.md) or `+threads` (the packed sweep always on the threads where
 //! eligible, instead of whichever of one thread and the threads measures faster) and/or
-//! `+direct` (`[physics] joint_solve = "direct"`: the joints' bilateral rows solved by a
+//! `+direct` (`[physics.experimental] joint_solve = "direct"`: the joints' bilateral rows solved by a
 //! sparse LDLᵀ factorisation first, docs/ruin-numerics.md, "A direct solve"); default
 //! `t1,t2`. CPU time per simulated second is the process's
 //! CPU time (every thread) from the first to the last frame of the stage. The
@@ -26,7 +26,8 @@
 //! The 7-story building of docs/performance.md: `bash scripts/ruin-speed.sh`.
 use anyhow::{bail, Context, Result};
 use fem2rbd::physics::{profile_read, profile_start, profile_stop, ProfileZone};
-use fem2rbd::pipeline::{run, scenario::Scenario, Progress};
+use fem2rbd::pipeline::scenario::{JointSolveSpec, Scenario, SweepSpec};
+use fem2rbd::pipeline::{run, Progress};
 use std::cell::Cell;
 
 /// CPU time (user + system, every thread) of this process, s, from `/proc/self/stat`
@@ -68,7 +69,7 @@ struct Config {
     /// The solver's sweep: `bullet` (`+bullet`), `lean` (`+lean`), `threads` (`+threads`)
     /// or `packed` (default).
     sweep: &'static str,
-    /// `[physics] joint_solve = "direct"` (`+direct`).
+    /// `[physics.experimental] joint_solve = "direct"` (`+direct`).
     direct: bool,
 }
 
@@ -128,14 +129,17 @@ fn run_once(base: &Scenario, cfg: &Config, time_s: f64) -> Result<Sample> {
     let mut sc = base.clone();
     sc.physics.sleeping = cfg.sleeping;
     if cfg.direct {
-        sc.physics.joint_solve = fem2rbd::pipeline::scenario::JointSolveSpec::Direct;
+        sc.physics.joint_solve = JointSolveSpec::Direct;
     }
     sc.physics.stop_at_rest = false;
     sc.physics.time_limit_s = Some(time_s);
-    // The stage reads its solver threads from FEM2RBD_THREADS (as the FE); this program
-    // is single-threaded here, so setting the variable is sound.
-    std::env::set_var("FEM2RBD_THREADS", cfg.threads.to_string());
-    std::env::set_var("FEM2RBD_SWEEP", cfg.sweep);
+    sc.threads = Some(cfg.threads);
+    sc.physics.sweep = match cfg.sweep {
+        "bullet" => SweepSpec::Bullet,
+        "lean" => SweepSpec::Lean,
+        "threads" => SweepSpec::Threads,
+        _ => SweepSpec::Packed,
+    };
     profile_start()?;
     let clock = CpuClock::default();
     let rec = run(&sc, &clock)?;

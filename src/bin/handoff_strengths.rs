@@ -9,9 +9,10 @@
 use anyhow::{Context, Result};
 use fem2rbd::fe::build::BuildOptions;
 use fem2rbd::fe::capacity::{gravity_capacities, PushSettings};
+use fem2rbd::mapping::foundation::bodies_of;
 use fem2rbd::mapping::{self, MapOptions};
 use fem2rbd::model::Model;
-use fem2rbd::pipeline::{bodies_of, geoms, strengths::body_strengths};
+use fem2rbd::pipeline::{geoms, strengths::body_strengths};
 use fem2rbd::ruin::connection::{build_connections, build_connections_with, RuinSettings};
 use fem2rbd::ruin::groups::group_strengths;
 use fem2rbd::ruin::search::find_contacts;

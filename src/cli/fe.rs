@@ -38,6 +38,10 @@ pub const FE_FOLDER: FolderKind = FolderKind {
 pub struct FeArgs {
     /// Model file (.toml or .json).
     pub model: PathBuf,
+    /// Threads for element state determination (default: the machine's cores); the same
+    /// bytes for any number.
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// Ground-motion component `DIR=PATH[,pga=G]` (DIR = X, Y or Z; PATH an AT2 or
     /// two-column file; G the target PGA in g); repeat for several components.
     #[arg(long = "gm", value_name = "DIR=PATH[,pga=G]", required = true)]
@@ -202,6 +206,9 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     if args.every == 0 {
         bail!("--every must be at least 1");
     }
+    if args.threads == Some(0) {
+        bail!("--threads 0: give at least 1 thread");
+    }
     if let Some(d) = args.duration {
         check_range("--duration", d, 0.0, true, MAX_TIME_S, "s")?;
     }
@@ -210,6 +217,7 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         build: BuildOptions {
             variant: args.variant,
             concrete_integration: args.concrete_integration,
+            threads: args.threads,
             ..Default::default()
         },
         dt: args.dt,

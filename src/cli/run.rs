@@ -6,6 +6,7 @@
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use fem2rbd::pipeline::{self, Mode, Progress, Scenario};
+use fem2rbd::ruin::stage::{AxialTraceSettings, BodyTraceSettings, TraceSettings};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::cell::{Cell, RefCell};
 use std::io::IsTerminal;
@@ -32,9 +33,37 @@ pub struct RunArgs {
     /// Ensemble seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Worker threads of an ensemble (default: the machine's cores).
+    /// Threads (default: the machine's cores): a single run's FE and ruin-stage solver
+    /// threads; an ensemble's members run this many at once, each on one thread. The
+    /// same bytes for any number.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Write the ruin stage's axial-row trace to FILE (sign changes of the connections'
+    /// axial offsets and the kicks after them; src/ruin/axial.rs).
+    #[arg(long, value_name = "FILE")]
+    pub trace_axial: Option<PathBuf>,
+    /// A kick in the axial trace: a body's centre velocity changing by more than this in
+    /// one substep, m/s.
+    #[arg(
+        long,
+        value_name = "MPS",
+        default_value_t = 0.1,
+        requires = "trace_axial"
+    )]
+    pub trace_axial_kick: f64,
+    /// Trace the substeps of the body NAME (`bodies.csv` name, e.g. Column:3:34) into
+    /// --trace-body-file (src/ruin/body_trace.rs).
+    #[arg(long, value_name = "NAME", requires = "trace_body_file")]
+    pub trace_body: Option<String>,
+    /// The file of --trace-body.
+    #[arg(long, value_name = "FILE", requires = "trace_body")]
+    pub trace_body_file: Option<PathBuf>,
+    /// The traces start at this time, s.
+    #[arg(long, value_name = "S", default_value_t = 0.0)]
+    pub trace_from: f64,
+    /// The body trace ends at this time, s (default: the end of the run).
+    #[arg(long, value_name = "S")]
+    pub trace_to: Option<f64>,
     /// Print the time and memory estimate of one run (docs/reliability.md) and exit
     /// without running.
     #[arg(long)]
@@ -70,7 +99,7 @@ impl Progress for Bars {
         if !self.visible {
             return;
         }
-        // Both stages: a bar over the simulated time span (the physics stage may stop
+        // Both stages: a bar over the simulated time span (the ruin stage may stop
         // earlier, when the debris is at rest).
         let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
         b.set_style(
@@ -85,7 +114,7 @@ impl Progress for Bars {
     fn plan(&self, fe_steps: u64, substeps: u64) {
         if self.visible {
             eprintln!(
-                "work: {fe_steps} FE steps, at most {substeps} physics substeps (bounds: docs/reliability.md)"
+                "work: {fe_steps} FE steps, at most {substeps} ruin-stage substeps (bounds: docs/reliability.md)"
             );
         }
     }
@@ -118,7 +147,7 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(DEFAULT_SCENARIO));
     let mut sc = Scenario::load(&path)?;
     if let Some(m) = args.mode {
-        sc.mode = m;
+        sc.set_mode(m);
     }
     if let Some(o) = &args.out {
         sc.output = o.clone();
@@ -142,6 +171,40 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
     if args.threads == Some(0) {
         bail!("--threads 0: give at least 1 thread");
     }
+    sc.threads = if args.ensemble.is_some() {
+        // The members are the parallel unit.
+        Some(1)
+    } else {
+        args.threads
+    };
+    for (option, t) in [
+        ("--trace-from", Some(args.trace_from)),
+        ("--trace-to", args.trace_to),
+    ] {
+        if t.is_some_and(|t| !t.is_finite()) {
+            bail!("{option}: give a time in s");
+        }
+    }
+    if !(args.trace_axial_kick.is_finite() && args.trace_axial_kick > 0.0) {
+        bail!("--trace-axial-kick: give a speed > 0 in m/s");
+    }
+    sc.traces = TraceSettings {
+        axial: args.trace_axial.clone().map(|path| AxialTraceSettings {
+            path,
+            from_s: args.trace_from,
+            kick_mps: args.trace_axial_kick,
+        }),
+        body: args
+            .trace_body
+            .clone()
+            .zip(args.trace_body_file.clone())
+            .map(|(body, path)| BodyTraceSettings {
+                path,
+                body,
+                from_s: args.trace_from,
+                to_s: args.trace_to.unwrap_or(f64::INFINITY),
+            }),
+    };
     // The output location and the work are checked before anything runs: the folder is
     // replaced as a whole, so it must hold none of the inputs and nothing but an earlier
     // output of the same kind.

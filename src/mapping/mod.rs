@@ -18,6 +18,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod error;
+pub mod foundation;
 pub mod from_model;
 pub mod geometry;
 pub mod handoff;

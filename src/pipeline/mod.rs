@@ -16,10 +16,8 @@
 //! * `fe`: the FE stage only (no collapse monitor stop).
 //!
 //! **Foundation.** The FE model's base nodes are fixed to the ground; the rigid-body
-//! model gets one passive (kinematic) foundation block under every column that stands on
-//! the base: plan 2·a × 2·a, depth a, a = the larger cross-section size of the column box,
-//! top at the base level. The bottom columns connect to it with ×2 thresholds (BCB's
-//! passive group rule).
+//! model gets passive foundation blocks under the base columns and walls
+//! ([`crate::mapping::foundation`]).
 //!
 //! **FE damage → connection start state.** With FE-derived connections (`[physics]
 //! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
@@ -38,11 +36,11 @@
 
 pub mod ensemble;
 pub mod error;
+pub mod preset;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
 
-use crate::body::BodyId;
 use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
 use crate::fe::build::{BuildOptions, BuiltDomain};
@@ -52,7 +50,7 @@ use crate::fe::capacity::{
 use crate::fe::domain::Domain;
 use crate::fe::run::{prepare, run_prepared, Prepared, RunOptions};
 use crate::mapping::handoff::{GroundState, Handoff, NodeState};
-use crate::mapping::{self, MapOptions, Role};
+use crate::mapping::{self, MapOptions};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::physics::{Pose, Velocity};
@@ -106,6 +104,9 @@ pub struct RunRecord {
     pub fe_frames: Vec<(f64, Vec<Pose>)>,
     /// The ruin stage's result.
     pub ruin: Option<RuinResult>,
+    /// The preset the ruin stage's settings started from (`summary.json` `preset`;
+    /// `None` when no ruin stage ran).
+    pub preset: Option<preset::Preset>,
     /// Final poses (ruin stage, else the FE's last state).
     pub final_poses: Vec<Pose>,
     /// Ground displacement history (for the glTF ground and the debris height).
@@ -130,10 +131,10 @@ pub trait Progress {
     /// Physics stage: frame at simulated time `t` of at most `t_end` s, with the
     /// connection counts (intact, plastic, broken) after it.
     fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
-    /// A stage begins (`"fe"`, `"physics"`), with its simulated time span.
+    /// A stage begins (`"fe"`, `"ruin"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
     /// The work ahead, once checked against the resource bounds ([`check_budget`]):
-    /// FE steps and physics substeps (at most; the physics stage may stop at rest).
+    /// FE steps and ruin-stage substeps (at most; the ruin stage may stop at rest).
     fn plan(&self, _fe_steps: u64, _physics_substeps: u64) {}
     /// A stage ends.
     fn done(&self) {}
@@ -184,107 +185,6 @@ pub fn ground_motion(sc: &Scenario) -> Result<GroundMotion> {
     Ok(gm)
 }
 
-/// The model's bodies: mapped boxes then foundation blocks (module docs).
-pub fn bodies_of(model: &Model, mapping: &mapping::Mapping) -> Vec<Body> {
-    let mut out: Vec<Body> = mapping
-        .bodies
-        .iter()
-        .map(|b| Body {
-            id: b.id.clone(),
-            kind: Some(b.kind),
-            half_extents: b.half_extents,
-            pose0: to_pose(&BodyGeom::pose(&geom_of_box(b))),
-            mass_kg: b.mass_kg,
-            passive: false,
-        })
-        .collect();
-    let zmin = model
-        .nodes
-        .iter()
-        .map(|n| n.xyz()[2])
-        .fold(f64::INFINITY, f64::min);
-    let mut feet = Vec::new();
-    for b in &mapping.bodies {
-        if b.kind == Role::Wall {
-            if let Some(f) = wall_foot(b, zmin) {
-                feet.push(f);
-            }
-            continue;
-        }
-        if b.kind != Role::Column {
-            continue;
-        }
-        let Some(base) = b.nodes.iter().find(|n| (n[2] - zmin).abs() < 1e-9) else {
-            continue;
-        };
-        let a = b.half_extents[1].max(b.half_extents[2]) * 2.0;
-        let tag = model
-            .nodes
-            .iter()
-            .find(|n| n.xyz() == *base)
-            .map_or(0, |n| n.tag);
-        feet.push(Body {
-            id: BodyId::Foundation { node: tag },
-            kind: None,
-            half_extents: [a, a, a / 2.0],
-            pose0: Pose::at([base[0], base[1], zmin - a / 2.0]),
-            mass_kg: 0.0,
-            passive: true,
-        });
-    }
-    out.extend(feet);
-    out
-}
-
-/// The passive foundation strip under a wall body whose element stands on the base
-/// (two nodes at the lowest level): as long as the wall body (its trimmed length), as
-/// wide as 2·a and a deep, a = the wall body's thickness, top at the base level, turned
-/// with the wall in plan. Named `Foundation:wall:<element>`.
-fn wall_foot(b: &mapping::RigidBox, zmin: f64) -> Option<Body> {
-    let base = b
-        .nodes
-        .iter()
-        .filter(|n| (n[2] - zmin).abs() < 1e-9)
-        .count();
-    if base < 2 {
-        return None;
-    }
-    let element = b.id.element_tag()?;
-    // The wall's horizontal in-plane axis (local x of the generator's walls; else the
-    // local axis with the smallest vertical component among x and y).
-    let m = b.rotation.to_rotation_matrix().into_inner();
-    let (ax, half_len) = if m[(2, 0)].abs() <= m[(2, 1)].abs() {
-        (0, b.half_extents[0])
-    } else {
-        (1, b.half_extents[1])
-    };
-    let yaw = m[(1, ax)].atan2(m[(0, ax)]);
-    let a = 2.0 * b.half_extents[2];
-    let q = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), yaw);
-    Some(Body {
-        id: BodyId::WallFoundation { element },
-        kind: None,
-        half_extents: [half_len, a, a / 2.0],
-        pose0: Pose {
-            position: [b.centre[0], b.centre[1], zmin - a / 2.0],
-            orientation: [q.w, q.i, q.j, q.k],
-        },
-        mass_kg: 0.0,
-        passive: true,
-    })
-}
-
-fn geom_of_box(b: &mapping::RigidBox) -> BodyGeom {
-    BodyGeom {
-        name: b.id.name(),
-        group: b.id.group().to_string(),
-        centre: b.centre,
-        rotation: b.rotation,
-        half_extents: b.half_extents,
-        passive: false,
-    }
-}
-
 /// The ruin stage's view of the bodies.
 pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
     bodies
@@ -303,9 +203,11 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
         .collect()
 }
 
-/// The ruin stage's settings from the scenario.
-pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
-    let mut s = StageSettings::default();
+/// The ruin stage's settings of a scenario: its resolved `[physics]` values
+/// ([`scenario::PhysicsTable::resolve`]) mapped onto the stage's settings, field by field
+/// (the ground damping, which needs the model, is set by the stage's builder).
+pub fn stage_settings(sc: &Scenario) -> StageSettings {
+    let mut s = StageSettings::bcb();
     let p = &sc.physics;
     s.ruin.steps_per_second = p.steps_per_second;
     s.ruin.solver_iterations = p.solver_iterations;
@@ -331,8 +233,8 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
     s.plastic.spring_cap_per_body = p.spring_cap_per_body;
     s.plastic.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
     s.monitor_every_substep = p.monitor_every_substep;
-    s.touch.pairs = p.pairs_touch_for(sc.mode);
-    s.touch.ground_under_connected_bases = p.ground_under_connected_bases_for(sc.mode);
+    s.touch.pairs = p.connected_pairs_touch;
+    s.touch.ground_under_connected_bases = p.ground_under_connected_bases;
     s.ruin.search.search_distance = p.search_distance_m;
     s.joints.rows = match p.joint_rows {
         scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
@@ -342,16 +244,21 @@ pub(crate) fn stage_settings(sc: &Scenario) -> StageSettings {
         },
     };
     s.body.disable_deactivation = !p.sleeping;
-    s.joints.warmstart = p.joint_warmstart_for(sc.mode);
+    s.joints.warmstart = p.joint_warmstart;
     s.joints.iterations = p.joint_iterations;
     s.joints.solve = match p.joint_solve {
         scenario::JointSolveSpec::Pgs => crate::physics::JointSolve::Pgs,
         scenario::JointSolveSpec::Direct => crate::physics::JointSolve::Direct,
     };
     s.joints.solve_regularisation = p.joint_solve_regularisation;
-    s.ruin.axial_rows = p.axial_rows_for(sc.mode);
+    s.ruin.axial_rows = p.axial_rows;
     s.ruin.hinge_end = p.hinge_end;
     s.ruin.search.joints = p.joints;
+    s.speed.sweep = p.sweep.sweep();
+    if let Some(n) = sc.threads {
+        s.speed.solver_threads = n;
+    }
+    s.traces = sc.traces.clone();
     s
 }
 
@@ -454,11 +361,11 @@ pub(crate) fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64
     } else {
         grid_count(
             format!(
-                "{p}: physics stage of up to {} s at physics.steps_per_second = {}",
+                "{p}: ruin stage of up to {} s at physics.steps_per_second = {}",
                 show_number(limit),
                 show_number(sc.physics.steps_per_second)
             ),
-            "physics substeps",
+            "ruin-stage substeps",
             limit,
             1.0 / sc.physics.steps_per_second,
             MAX_PHYSICS_SUBSTEPS,
@@ -485,7 +392,8 @@ pub struct Inputs {
     pub ground: GroundHistory,
     /// The mapping of the FE elements to boxes.
     pub mapping: mapping::Mapping,
-    /// The run's bodies: mapped boxes, then foundation blocks ([`bodies_of`]).
+    /// The run's bodies: mapped boxes, then foundation blocks
+    /// ([`mapping::foundation::bodies_of`]).
     pub bodies: Vec<Body>,
     /// BCB's Formula-Assistant strengths per group.
     pub groups: Vec<GroupStrength>,
@@ -527,11 +435,10 @@ pub(crate) fn load_inputs(
             path: sc.model.clone(),
             error: Box::new(error),
         })?;
-    let bodies = bodies_of(&model, &mapping);
+    let bodies = mapping::foundation::bodies_of(&model, &mapping);
     // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
     // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let groups =
         group_strengths_for(&model, fe_strengths).map_err(|error| PipelineError::Groups {
             path: sc.model.clone(),
@@ -580,6 +487,7 @@ fn fe_build(sc: &Scenario) -> BuildOptions {
     BuildOptions {
         variant: sc.variant,
         concrete_integration: sc.concrete_integration,
+        threads: sc.threads,
         ..Default::default()
     }
 }
@@ -867,7 +775,7 @@ pub fn ruin_stage(
         rest: sc.physics.stop_at_rest.then_some(sc.physics.rest),
     };
     let t0 = Instant::now();
-    progress.stage("physics", input.start_time_s, limit);
+    progress.stage("ruin", input.start_time_s, limit);
     let mut stage = build_stage(sc, inputs, input, &|_| ())?;
     let result = stage
         .run_with(&stop, &mut |f| {
@@ -930,8 +838,7 @@ fn build_stage(
 /// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be physics-only with
 /// `connections = "formula"` (the default of that mode).
 pub fn physics_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
-    if sc.mode != Mode::Physics || sc.physics.connection_model(sc.mode) != ConnectionModel::Formula
-    {
+    if sc.mode != Mode::Physics || sc.physics.connections != ConnectionModel::Formula {
         return Err(PipelineError::Scenario(ScenarioError::Invalid {
             file: sc.path.display().to_string(),
             message: "a physics-only stage needs mode = \"physics\" with connections = \"formula\""
@@ -965,6 +872,7 @@ pub(crate) fn run_perturbed(
         tc_reason: TcReason::PhysicsOnly,
         fe_frames: Vec::new(),
         ruin: None,
+        preset: None,
         final_poses: bodies.iter().map(|b| b.pose0).collect(),
         ground: inputs.ground.clone(),
         fe_wall: Duration::ZERO,
@@ -978,8 +886,7 @@ pub(crate) fn run_perturbed(
     let mut start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
     // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
     // the physics mode the undamaged capacities at them.
-    let fe_strengths =
-        sc.mode != Mode::Fe && sc.physics.connection_model(sc.mode) == ConnectionModel::Fe;
+    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let push = PushSettings::default();
     let domain = if sc.mode != Mode::Physics || fe_strengths {
         Some(fe_domain(sc, &inputs.model)?)
@@ -1084,6 +991,7 @@ pub(crate) fn run_perturbed(
     rec.ruin_in_bullet = result.wall.in_bullet;
     rec.final_poses = result.final_poses.clone();
     rec.ruin = Some(result);
+    rec.preset = Some(sc.physics.preset);
     Ok(rec)
 }
 
@@ -1126,7 +1034,7 @@ fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<(
                 scenario: sc.path.clone(),
                 message: format!(
                     "body {} has a non-finite pose at t = {:.4} s \
-                     (physics.steps_per_second = {}, spring_correction = {}, \
+                     (physics.steps_per_second = {}, physics.experimental.spring_correction = {}, \
                      spring_damping = {}; a higher substep rate or spring_limit = true \
                      may help)",
                     bodies[i].id,
@@ -1196,13 +1104,16 @@ mod tests {
         assert_eq!(erps(""), (0.2, 0.2));
         assert_eq!(erps("steps_per_second = 800"), (0.05, 0.05));
         assert_eq!(
-            erps("steps_per_second = 800\ncontact_erp = 0.4\njoint_erp = 0.1"),
+            erps("steps_per_second = 800\nexperimental.contact_erp = 0.4\nexperimental.joint_erp = 0.1"),
             (0.1, 0.025)
         );
         assert_eq!(
-            erps("steps_per_second = 800\nerp_steps_per_second = 0"),
+            erps("steps_per_second = 800\nexperimental.erp_steps_per_second = 0"),
             (0.2, 0.2)
         );
-        assert_eq!(erps("steps_per_second = 20\njoint_erp = 0.5"), (1.0, 1.0));
+        assert_eq!(
+            erps("steps_per_second = 20\nexperimental.joint_erp = 0.5"),
+            (1.0, 1.0)
+        );
     }
 }

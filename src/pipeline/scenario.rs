@@ -163,6 +163,45 @@ pub enum JointRowsSpec {
     Member,
 }
 
+/// How the solver sweeps its Gauss–Seidel iterations (`[physics.experimental] sweep`,
+/// [`crate::physics::Sweep`]): every choice gives the same bits; the others are for
+/// `bench_ruin`'s before/after (docs/performance.md, "Ruin stage").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepSpec {
+    /// The lean sweep over packed copies of the joint rows ([`crate::physics::Sweep::Packed`]).
+    Packed,
+    /// Bullet 3.24's own sweep ([`crate::physics::Sweep::Bullet`]).
+    Bullet,
+    /// Bullet's sweep without its empty per-iteration walk ([`crate::physics::Sweep::Lean`]).
+    Lean,
+    /// The packed sweep with the joints' set-up on the solver threads
+    /// ([`crate::physics::Sweep::PackedThreads`]).
+    Threads,
+}
+
+impl SweepSpec {
+    /// The solver's sweep.
+    pub fn sweep(self) -> crate::physics::Sweep {
+        match self {
+            SweepSpec::Packed => crate::physics::Sweep::Packed,
+            SweepSpec::Bullet => crate::physics::Sweep::Bullet,
+            SweepSpec::Lean => crate::physics::Sweep::Lean,
+            SweepSpec::Threads => crate::physics::Sweep::PackedThreads,
+        }
+    }
+
+    /// The choice of a sweep.
+    pub fn of(sweep: crate::physics::Sweep) -> SweepSpec {
+        match sweep {
+            crate::physics::Sweep::Packed => SweepSpec::Packed,
+            crate::physics::Sweep::Bullet => SweepSpec::Bullet,
+            crate::physics::Sweep::Lean => SweepSpec::Lean,
+            crate::physics::Sweep::PackedThreads => SweepSpec::Threads,
+        }
+    }
+}
+
 /// How the joints' bilateral rows are solved at each substep
 /// (`crate::physics::JointSolve`, docs/ruin-numerics.md, "A direct solve").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
@@ -175,10 +214,15 @@ pub enum JointSolveSpec {
     Direct,
 }
 
-/// Physics (Bullet) settings; defaults are BCB's.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+/// The ruin stage's settings of a run, every key resolved (`[physics]` in the file,
+/// [`PhysicsTable::resolve`]). Each field's default is its value in the run's preset
+/// ([`super::preset`]): the `bcb` preset takes the ruin stage's own defaults
+/// ([`crate::ruin::stage::StageSettings::bcb`], documented next to each type), the
+/// `fem2rbd` preset changes the keys listed there.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PhysicsSpec {
+    /// The preset the other values start from (`bcb` or `fem2rbd`).
+    pub preset: super::preset::Preset,
     /// Substeps per simulated second (BCB 200).
     pub steps_per_second: f64,
     /// Solver iterations (BCB 100).
@@ -255,10 +299,9 @@ pub struct PhysicsSpec {
     /// Damping ratio of the `"member"` rows (1).
     pub joint_damping_ratio: f64,
     /// Warm start of the connections' generic rows, 0..=1
-    /// (`crate::ruin::stage::JointSettings::warmstart`). Absent: 0.5 with FE-derived
-    /// connections (docs/handoff.md §4.1), 0 (Bullet/BCB) with BCB's
-    /// ([`PhysicsSpec::joint_warmstart_for`]).
-    pub joint_warmstart: Option<f64>,
+    /// (`crate::ruin::stage::JointSettings::warmstart`): 0 (Bullet/BCB) in `bcb`, 0.5 in
+    /// `fem2rbd` (docs/handoff.md §4.1); follows `connections` ([`PhysicsTable::resolve`]).
+    pub joint_warmstart: f64,
     /// Gauss–Seidel iterations of the connections' generic rows (≥ 1; absent = the world's
     /// `solver_iterations`): `crate::ruin::stage::JointSettings::iterations`.
     pub joint_iterations: Option<u32>,
@@ -272,9 +315,9 @@ pub struct PhysicsSpec {
     pub joint_solve_regularisation: f64,
     /// The connections' axial rows: `"bcb"` (BCB's one-way compression and tension rows)
     /// or `"two_way"` (one two-way row, broken in the sense it pushes):
-    /// `crate::ruin::axial::AxialRows`. Absent: `"two_way"` with FE-derived connections,
-    /// `"bcb"` with BCB's ([`PhysicsSpec::axial_rows_for`]).
-    pub axial_rows: Option<crate::ruin::axial::AxialRows>,
+    /// `crate::ruin::axial::AxialRows`: `"bcb"` in `bcb`, `"two_way"` in `fem2rbd`;
+    /// follows `connections` ([`PhysicsTable::resolve`]).
+    pub axial_rows: crate::ruin::axial::AxialRows,
     /// Cap the plastic springs for the explicit stability of each body they act on, all
     /// its springs together (true, the default: docs/ruin-numerics.md, "Plastic springs capped per body"), or only per
     /// spring as Bullet/BCB (false):
@@ -290,16 +333,20 @@ pub struct PhysicsSpec {
     /// When two pieces a connection holds together start touching: `"never"` (BCB:
     /// broken pieces pass through each other), `"once_broken"` or `"once_yielded"` (once
     /// only the plastic spring holds): `crate::ruin::separation::PairsTouch`
-    /// (docs/ruin-numerics.md, "Which bodies touch"). Absent: [`PhysicsSpec::pairs_touch_for`].
-    pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
+    /// (docs/ruin-numerics.md, "Which bodies touch"): `"never"` in `bcb`, `"once_yielded"`
+    /// in `fem2rbd`; follows `connections` ([`PhysicsTable::resolve`]).
+    pub connected_pairs_touch: crate::ruin::separation::PairsTouch,
     /// Pieces joined to a foundation block also rest on the ground box while joined (BCB,
     /// true), or touch it only once no foundation connection carries their compression
-    /// (false): `crate::ruin::stage::TouchSettings::ground_under_connected_bases`. Absent:
-    /// [`PhysicsSpec::ground_under_connected_bases_for`].
-    pub ground_under_connected_bases: Option<bool>,
+    /// (false): `crate::ruin::stage::TouchSettings::ground_under_connected_bases`; true in
+    /// `bcb`, false in `fem2rbd`; follows `connections` ([`PhysicsTable::resolve`]).
+    pub ground_under_connected_bases: bool,
     /// BCB's connection search distance, m (0.02: bodies whose boxes are at most this far
     /// apart are connected; docs/bcb.md §7.3): `crate::ruin::search::SearchSettings`.
     pub search_distance_m: f64,
+    /// The solver's sweep (`"packed"`, the default, `"bullet"`, `"lean"` or `"threads"`):
+    /// the same bits for each, [`SweepSpec`].
+    pub sweep: SweepSpec,
     /// Let Bullet put islands of bodies at rest to sleep (false, as BCB): a speed option,
     /// `crate::ruin::stage::BodySettings::disable_deactivation` (docs/performance.md).
     pub sleeping: bool,
@@ -311,9 +358,9 @@ pub struct PhysicsSpec {
     pub stop_at_rest: bool,
     /// The at-rest test (`crate::ruin::rest::RestTest`).
     pub rest: RestTest,
-    /// Connection strengths: `"formula"` (BCB) or `"fe"`; absent = `"fe"` in the hybrid
-    /// mode, `"formula"` in the physics mode ([`PhysicsSpec::connection_model`]).
-    pub connections: Option<ConnectionModel>,
+    /// Connection strengths: `"formula"` (BCB's Formula Assistant, the `bcb` preset) or
+    /// `"fe"` (from the FE model's sections, the `fem2rbd` preset).
+    pub connections: ConnectionModel,
     /// How the slab panels' connections are limited with FE-derived connections:
     /// `"group"` (the panels' group strengths, the default) or `"elastic"` (the FE's slab
     /// is elastic, so a panel never limits a connection; needs `connections = "fe"`).
@@ -358,54 +405,6 @@ pub enum PanelConnections {
 }
 
 impl PhysicsSpec {
-    /// The connection model of a run in `mode`: as given, else FE-derived for the hybrid
-    /// mode and BCB's Formula Assistant for the physics mode (the paper's baseline).
-    pub fn connection_model(&self, mode: Mode) -> ConnectionModel {
-        self.connections.unwrap_or(match mode {
-            Mode::Physics => ConnectionModel::Formula,
-            _ => ConnectionModel::Fe,
-        })
-    }
-}
-
-impl PhysicsSpec {
-    /// The axial rows of a run in `mode`: as given, else the two-way row with FE-derived
-    /// connections (docs/handoff.md §4.1) and BCB's two one-way rows with BCB's Formula
-    /// Assistant (the paper's baseline).
-    pub fn axial_rows_for(&self, mode: Mode) -> crate::ruin::axial::AxialRows {
-        use crate::ruin::axial::AxialRows;
-        self.axial_rows
-            .unwrap_or(match self.connection_model(mode) {
-                ConnectionModel::Fe => AxialRows::TwoWay,
-                ConnectionModel::Formula => AxialRows::Bcb,
-            })
-    }
-
-    /// When connected pieces touch in a run in `mode`: as given, else `once_yielded` with
-    /// FE-derived connections (no two pieces inside each other once only a plastic spring
-    /// holds them; docs/ruin-numerics.md, "Which bodies touch") and BCB's `never` with BCB's Formula
-    /// Assistant (the paper's baseline).
-    pub fn pairs_touch_for(&self, mode: Mode) -> crate::ruin::separation::PairsTouch {
-        use crate::ruin::separation::PairsTouch;
-        self.connected_pairs_touch
-            .unwrap_or(match self.connection_model(mode) {
-                ConnectionModel::Fe => PairsTouch::OnceYielded,
-                ConnectionModel::Formula => PairsTouch::Never,
-            })
-    }
-
-    /// Whether connected base pieces also rest on the ground in a run in `mode`: as given,
-    /// else not with FE-derived connections (the base section carries the column, as in
-    /// the FE; docs/ruin-numerics.md, "Which bodies touch") and, as BCB, yes with BCB's Formula
-    /// Assistant.
-    pub fn ground_under_connected_bases_for(&self, mode: Mode) -> bool {
-        self.ground_under_connected_bases
-            .unwrap_or(match self.connection_model(mode) {
-                ConnectionModel::Fe => false,
-                ConnectionModel::Formula => true,
-            })
-    }
-
     /// The factor on `contact_erp` and `joint_erp` at this substep rate:
     /// `erp_steps_per_second / steps_per_second` (1 when `erp_steps_per_second` is 0).
     /// Bullet's bias velocity of a row with error e is ERP·e/h (Baumgarte stabilisation;
@@ -421,71 +420,403 @@ impl PhysicsSpec {
             1.0
         }
     }
-
-    /// The joint warm start of a run in `mode`: as given, else 0.5 with FE-derived
-    /// connections (docs/handoff.md §4.1: with the two-way axial row the hybrid frame3 LC5
-    /// debris comes to rest in 6 of 8 ensemble members) and 0 (Bullet/BCB) with BCB's.
-    pub fn joint_warmstart_for(&self, mode: Mode) -> f64 {
-        self.joint_warmstart
-            .unwrap_or(match self.connection_model(mode) {
-                ConnectionModel::Fe => 0.5,
-                ConnectionModel::Formula => 0.0,
-            })
-    }
 }
 
-impl Default for PhysicsSpec {
-    fn default() -> Self {
-        // BCB's correction factors, as the ruin stage's own defaults.
-        let bcb = crate::ruin::connection::RuinSettings::default();
-        PhysicsSpec {
-            steps_per_second: 200.0,
-            solver_iterations: 100,
-            friction: 1.0,
-            restitution: 0.0,
-            linear_damping: 0.04,
-            angular_damping: 0.1,
-            spring_correction: bcb.spring_correction,
-            linear_correction: bcb.linear_correction,
-            bending_correction: bcb.bending_correction,
-            spring_damping: 20.0,
-            spring_limit: true,
-            angular_spring: crate::ruin::connection::AngularSpring::Lever,
-            split_impulse: false,
-            split_impulse_threshold_m: -0.04_f32 as f64,
-            contact_erp: 0.2,
-            joint_erp: 0.2,
-            erp_steps_per_second: 200.0,
-            margin_m: 0.04,
-            margin_max_share: 1.0,
-            spring_rest_at_plastic_onset: false,
-            hinge_keeps_rotation: true,
-            hinge_return_mapping: false,
-            joint_rows: JointRowsSpec::Locked,
-            joint_modulus_pa: 2.5e10,
-            joint_damping_ratio: 1.0,
-            joint_warmstart: None,
-            joint_iterations: None,
-            joint_solve: JointSolveSpec::Pgs,
-            joint_solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
-            axial_rows: None,
-            spring_cap_per_body: true,
-            spring_cap_steps_per_second: 0.0,
-            monitor_every_substep: false,
-            connected_pairs_touch: None,
-            ground_under_connected_bases: None,
-            search_distance_m: 0.02,
-            sleeping: false,
-            time_limit_s: None,
-            settle_s: 5.0,
-            stop_at_rest: true,
-            rest: RestTest::default(),
-            connections: None,
-            panel_connections: PanelConnections::Group,
-            hinge_end: crate::ruin::connection::HingeEnd::Spring,
-            joints: crate::ruin::search::JointContacts::Faces,
-            ground_damping: GroundDamping::None,
+/// The `[physics]` table as written: every key optional, absent = the preset's value
+/// ([`PhysicsTable::resolve`]; each key's meaning and default: [`PhysicsSpec`]).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PhysicsTable {
+    /// The preset the run starts from; absent = the mode's ([`super::preset::Preset::for_mode`]).
+    pub preset: Option<super::preset::Preset>,
+    /// [`PhysicsSpec::steps_per_second`].
+    pub steps_per_second: Option<f64>,
+    /// [`PhysicsSpec::solver_iterations`].
+    pub solver_iterations: Option<u32>,
+    /// [`PhysicsSpec::friction`].
+    pub friction: Option<f64>,
+    /// [`PhysicsSpec::restitution`].
+    pub restitution: Option<f64>,
+    /// [`PhysicsSpec::linear_damping`].
+    pub linear_damping: Option<f64>,
+    /// [`PhysicsSpec::angular_damping`].
+    pub angular_damping: Option<f64>,
+    #[serde(deserialize_with = "moved::spring_correction")]
+    #[doc(hidden)]
+    pub spring_correction: Option<moved::Moved>,
+    /// [`PhysicsSpec::linear_correction`].
+    pub linear_correction: Option<f64>,
+    /// [`PhysicsSpec::bending_correction`].
+    pub bending_correction: Option<f64>,
+    #[serde(deserialize_with = "moved::spring_damping")]
+    #[doc(hidden)]
+    pub spring_damping: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_limit")]
+    #[doc(hidden)]
+    pub spring_limit: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::angular_spring")]
+    #[doc(hidden)]
+    pub angular_spring: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::split_impulse")]
+    #[doc(hidden)]
+    pub split_impulse: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::split_impulse_threshold_m")]
+    #[doc(hidden)]
+    pub split_impulse_threshold_m: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::contact_erp")]
+    #[doc(hidden)]
+    pub contact_erp: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_erp")]
+    #[doc(hidden)]
+    pub joint_erp: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::erp_steps_per_second")]
+    #[doc(hidden)]
+    pub erp_steps_per_second: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::margin_m")]
+    #[doc(hidden)]
+    pub margin_m: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::margin_max_share")]
+    #[doc(hidden)]
+    pub margin_max_share: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_rest_at_plastic_onset")]
+    #[doc(hidden)]
+    pub spring_rest_at_plastic_onset: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::hinge_keeps_rotation")]
+    #[doc(hidden)]
+    pub hinge_keeps_rotation: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::hinge_return_mapping")]
+    #[doc(hidden)]
+    pub hinge_return_mapping: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_rows")]
+    #[doc(hidden)]
+    pub joint_rows: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_modulus_pa")]
+    #[doc(hidden)]
+    pub joint_modulus_pa: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_damping_ratio")]
+    #[doc(hidden)]
+    pub joint_damping_ratio: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_warmstart")]
+    #[doc(hidden)]
+    pub joint_warmstart: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_iterations")]
+    #[doc(hidden)]
+    pub joint_iterations: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_solve")]
+    #[doc(hidden)]
+    pub joint_solve: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::joint_solve_regularisation")]
+    #[doc(hidden)]
+    pub joint_solve_regularisation: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::axial_rows")]
+    #[doc(hidden)]
+    pub axial_rows: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_cap_per_body")]
+    #[doc(hidden)]
+    pub spring_cap_per_body: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::spring_cap_steps_per_second")]
+    #[doc(hidden)]
+    pub spring_cap_steps_per_second: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::monitor_every_substep")]
+    #[doc(hidden)]
+    pub monitor_every_substep: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::connected_pairs_touch")]
+    #[doc(hidden)]
+    pub connected_pairs_touch: Option<moved::Moved>,
+    #[serde(deserialize_with = "moved::ground_under_connected_bases")]
+    #[doc(hidden)]
+    pub ground_under_connected_bases: Option<moved::Moved>,
+    /// [`PhysicsSpec::search_distance_m`].
+    pub search_distance_m: Option<f64>,
+    /// [`PhysicsSpec::sleeping`].
+    pub sleeping: Option<bool>,
+    /// [`PhysicsSpec::time_limit_s`].
+    pub time_limit_s: Option<f64>,
+    /// [`PhysicsSpec::settle_s`].
+    pub settle_s: Option<f64>,
+    /// [`PhysicsSpec::stop_at_rest`].
+    pub stop_at_rest: Option<bool>,
+    /// [`PhysicsSpec::rest`].
+    pub rest: Option<RestTest>,
+    /// [`PhysicsSpec::connections`].
+    pub connections: Option<ConnectionModel>,
+    /// [`PhysicsSpec::panel_connections`].
+    pub panel_connections: Option<PanelConnections>,
+    /// [`PhysicsSpec::hinge_end`].
+    pub hinge_end: Option<crate::ruin::connection::HingeEnd>,
+    /// [`PhysicsSpec::joints`].
+    pub joints: Option<crate::ruin::search::JointContacts>,
+    /// [`PhysicsSpec::ground_damping`].
+    pub ground_damping: Option<GroundDamping>,
+    /// `[physics.experimental]`: research and numerical keys ([`ExperimentalTable`]).
+    pub experimental: ExperimentalTable,
+}
+
+/// `[physics.experimental]` as written: the keys a scenario does not need to describe a
+/// building and its earthquake — solver numerics, research toggles and the alternatives
+/// the measurements in docs/ruin-numerics.md and docs/handoff.md compare (each key's
+/// meaning and default: [`PhysicsSpec`]; absent = the preset's value).
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ExperimentalTable {
+    /// [`PhysicsSpec::sweep`].
+    pub sweep: Option<SweepSpec>,
+    /// [`PhysicsSpec::spring_correction`].
+    pub spring_correction: Option<f64>,
+    /// [`PhysicsSpec::spring_damping`].
+    pub spring_damping: Option<f64>,
+    /// [`PhysicsSpec::spring_limit`].
+    pub spring_limit: Option<bool>,
+    /// [`PhysicsSpec::angular_spring`].
+    pub angular_spring: Option<crate::ruin::connection::AngularSpring>,
+    /// [`PhysicsSpec::split_impulse`].
+    pub split_impulse: Option<bool>,
+    /// [`PhysicsSpec::split_impulse_threshold_m`].
+    pub split_impulse_threshold_m: Option<f64>,
+    /// [`PhysicsSpec::contact_erp`].
+    pub contact_erp: Option<f64>,
+    /// [`PhysicsSpec::joint_erp`].
+    pub joint_erp: Option<f64>,
+    /// [`PhysicsSpec::erp_steps_per_second`].
+    pub erp_steps_per_second: Option<f64>,
+    /// [`PhysicsSpec::margin_m`].
+    pub margin_m: Option<f64>,
+    /// [`PhysicsSpec::margin_max_share`].
+    pub margin_max_share: Option<f64>,
+    /// [`PhysicsSpec::spring_rest_at_plastic_onset`].
+    pub spring_rest_at_plastic_onset: Option<bool>,
+    /// [`PhysicsSpec::hinge_keeps_rotation`].
+    pub hinge_keeps_rotation: Option<bool>,
+    /// [`PhysicsSpec::hinge_return_mapping`].
+    pub hinge_return_mapping: Option<bool>,
+    /// [`PhysicsSpec::joint_rows`].
+    pub joint_rows: Option<JointRowsSpec>,
+    /// [`PhysicsSpec::joint_modulus_pa`].
+    pub joint_modulus_pa: Option<f64>,
+    /// [`PhysicsSpec::joint_damping_ratio`].
+    pub joint_damping_ratio: Option<f64>,
+    /// [`PhysicsSpec::joint_warmstart`].
+    pub joint_warmstart: Option<f64>,
+    /// [`PhysicsSpec::joint_iterations`].
+    pub joint_iterations: Option<u32>,
+    /// [`PhysicsSpec::joint_solve`].
+    pub joint_solve: Option<JointSolveSpec>,
+    /// [`PhysicsSpec::joint_solve_regularisation`].
+    pub joint_solve_regularisation: Option<f64>,
+    /// [`PhysicsSpec::axial_rows`].
+    pub axial_rows: Option<crate::ruin::axial::AxialRows>,
+    /// [`PhysicsSpec::spring_cap_per_body`].
+    pub spring_cap_per_body: Option<bool>,
+    /// [`PhysicsSpec::spring_cap_steps_per_second`].
+    pub spring_cap_steps_per_second: Option<f64>,
+    /// [`PhysicsSpec::monitor_every_substep`].
+    pub monitor_every_substep: Option<bool>,
+    /// [`PhysicsSpec::connected_pairs_touch`].
+    pub connected_pairs_touch: Option<crate::ruin::separation::PairsTouch>,
+    /// [`PhysicsSpec::ground_under_connected_bases`].
+    pub ground_under_connected_bases: Option<bool>,
+}
+
+/// The keys of `[physics.experimental]` written directly in `[physics]`: refused, naming
+/// the key and its table (the error carries the file's line from the `toml` crate).
+mod moved {
+    use serde::Deserializer;
+
+    /// Never built: a moved key's value is refused while it is read.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Moved {}
+
+    macro_rules! refuse {
+        ($($key:ident)*) => {$(
+            pub fn $key<'de, D: Deserializer<'de>>(_: D) -> Result<Option<Moved>, D::Error> {
+                Err(serde::de::Error::custom(concat!(
+                    "physics.", stringify!($key), " is an experimental key: write it in ",
+                    "[physics.experimental] (docs/scenario-format.md)"
+                )))
+            }
+        )*};
+    }
+
+    refuse!(spring_correction spring_damping spring_limit angular_spring split_impulse split_impulse_threshold_m contact_erp joint_erp erp_steps_per_second margin_m margin_max_share spring_rest_at_plastic_onset hinge_keeps_rotation hinge_return_mapping joint_rows joint_modulus_pa joint_damping_ratio joint_warmstart joint_iterations joint_solve joint_solve_regularisation axial_rows spring_cap_per_body spring_cap_steps_per_second monitor_every_substep connected_pairs_touch ground_under_connected_bases);
+}
+
+impl PhysicsTable {
+    /// The settings of a run in `mode`. Every default that depends on the mode or on
+    /// another key is resolved here, one rule each:
+    ///
+    /// 1. The preset: as named (`preset`), else `fem2rbd` for hybrid and fe runs and
+    ///    `bcb` for physics-only runs ([`super::preset::Preset::for_mode`]).
+    /// 2. `connections` given and not the preset's: the keys that follow the connection
+    ///    model (`axial_rows`, `connected_pairs_touch`, `ground_under_connected_bases`,
+    ///    `joint_warmstart`) take the values of the preset built on that model
+    ///    ([`super::preset::Preset::for_connections`]), so BCB's connections keep BCB's
+    ///    rows in any mode.
+    /// 3. Every key given in the file replaces the value of rules 1 and 2.
+    ///
+    /// Resolved later, where the value they depend on is known: `joint_iterations`
+    /// absent = the world's `solver_iterations` (`crate::ruin::stage::JointSettings::
+    /// iterations`); `time_limit_s` absent = the record's end + `settle_s`
+    /// (`crate::pipeline::time_limit`); `contact_erp` and `joint_erp` scaled by
+    /// `erp_steps_per_second`/`steps_per_second` ([`PhysicsSpec::erp_scale`]);
+    /// `rest.reference_length_m` absent = the building's height (`crate::ruin::rest`);
+    /// `[collapse] threshold_m` absent = 1 m × the model's scale ([`CriterionSpec::resolve`]).
+    pub fn resolve(&self, mode: Mode) -> PhysicsSpec {
+        use super::preset::Preset;
+        // Rule 1.
+        let mut p = self.preset.unwrap_or(Preset::for_mode(mode)).physics();
+        // Rule 2.
+        if let Some(c) = self.connections {
+            if c != p.connections {
+                let q = Preset::for_connections(c).physics();
+                p.axial_rows = q.axial_rows;
+                p.connected_pairs_touch = q.connected_pairs_touch;
+                p.ground_under_connected_bases = q.ground_under_connected_bases;
+                p.joint_warmstart = q.joint_warmstart;
+            }
         }
+        // Rule 3.
+        if let Some(v) = self.steps_per_second {
+            p.steps_per_second = v;
+        }
+        if let Some(v) = self.solver_iterations {
+            p.solver_iterations = v;
+        }
+        if let Some(v) = self.friction {
+            p.friction = v;
+        }
+        if let Some(v) = self.restitution {
+            p.restitution = v;
+        }
+        if let Some(v) = self.linear_damping {
+            p.linear_damping = v;
+        }
+        if let Some(v) = self.angular_damping {
+            p.angular_damping = v;
+        }
+        if let Some(v) = self.experimental.sweep {
+            p.sweep = v;
+        }
+        if let Some(v) = self.experimental.spring_correction {
+            p.spring_correction = v;
+        }
+        if let Some(v) = self.linear_correction {
+            p.linear_correction = v;
+        }
+        if let Some(v) = self.bending_correction {
+            p.bending_correction = v;
+        }
+        if let Some(v) = self.experimental.spring_damping {
+            p.spring_damping = v;
+        }
+        if let Some(v) = self.experimental.spring_limit {
+            p.spring_limit = v;
+        }
+        if let Some(v) = self.experimental.angular_spring {
+            p.angular_spring = v;
+        }
+        if let Some(v) = self.experimental.split_impulse {
+            p.split_impulse = v;
+        }
+        if let Some(v) = self.experimental.split_impulse_threshold_m {
+            p.split_impulse_threshold_m = v;
+        }
+        if let Some(v) = self.experimental.contact_erp {
+            p.contact_erp = v;
+        }
+        if let Some(v) = self.experimental.joint_erp {
+            p.joint_erp = v;
+        }
+        if let Some(v) = self.experimental.erp_steps_per_second {
+            p.erp_steps_per_second = v;
+        }
+        if let Some(v) = self.experimental.margin_m {
+            p.margin_m = v;
+        }
+        if let Some(v) = self.experimental.margin_max_share {
+            p.margin_max_share = v;
+        }
+        if let Some(v) = self.experimental.spring_rest_at_plastic_onset {
+            p.spring_rest_at_plastic_onset = v;
+        }
+        if let Some(v) = self.experimental.hinge_keeps_rotation {
+            p.hinge_keeps_rotation = v;
+        }
+        if let Some(v) = self.experimental.hinge_return_mapping {
+            p.hinge_return_mapping = v;
+        }
+        if let Some(v) = self.experimental.joint_rows {
+            p.joint_rows = v;
+        }
+        if let Some(v) = self.experimental.joint_modulus_pa {
+            p.joint_modulus_pa = v;
+        }
+        if let Some(v) = self.experimental.joint_damping_ratio {
+            p.joint_damping_ratio = v;
+        }
+        if let Some(v) = self.experimental.joint_warmstart {
+            p.joint_warmstart = v;
+        }
+        if let Some(v) = self.experimental.joint_iterations {
+            p.joint_iterations = Some(v);
+        }
+        if let Some(v) = self.experimental.joint_solve {
+            p.joint_solve = v;
+        }
+        if let Some(v) = self.experimental.joint_solve_regularisation {
+            p.joint_solve_regularisation = v;
+        }
+        if let Some(v) = self.experimental.axial_rows {
+            p.axial_rows = v;
+        }
+        if let Some(v) = self.experimental.spring_cap_per_body {
+            p.spring_cap_per_body = v;
+        }
+        if let Some(v) = self.experimental.spring_cap_steps_per_second {
+            p.spring_cap_steps_per_second = v;
+        }
+        if let Some(v) = self.experimental.monitor_every_substep {
+            p.monitor_every_substep = v;
+        }
+        if let Some(v) = self.experimental.connected_pairs_touch {
+            p.connected_pairs_touch = v;
+        }
+        if let Some(v) = self.experimental.ground_under_connected_bases {
+            p.ground_under_connected_bases = v;
+        }
+        if let Some(v) = self.search_distance_m {
+            p.search_distance_m = v;
+        }
+        if let Some(v) = self.sleeping {
+            p.sleeping = v;
+        }
+        if let Some(v) = self.time_limit_s {
+            p.time_limit_s = Some(v);
+        }
+        if let Some(v) = self.settle_s {
+            p.settle_s = v;
+        }
+        if let Some(v) = self.stop_at_rest {
+            p.stop_at_rest = v;
+        }
+        if let Some(v) = self.rest {
+            p.rest = v;
+        }
+        if let Some(v) = self.connections {
+            p.connections = v;
+        }
+        if let Some(v) = self.panel_connections {
+            p.panel_connections = v;
+        }
+        if let Some(v) = self.hinge_end {
+            p.hinge_end = v;
+        }
+        if let Some(v) = self.joints {
+            p.joints = v;
+        }
+        if let Some(v) = self.ground_damping {
+            p.ground_damping = v;
+        }
+        p
     }
 }
 
@@ -506,7 +837,7 @@ struct RawScenario {
     #[serde(default)]
     collapse: CollapseSpec,
     #[serde(default)]
-    physics: PhysicsSpec,
+    physics: PhysicsTable,
 }
 
 fn default_mode() -> Mode {
@@ -559,11 +890,33 @@ pub struct Scenario {
     pub concrete_integration: ConcreteIntegration,
     /// Collapse criterion.
     pub criterion: CriterionSpec,
-    /// Physics settings.
+    /// The ruin stage's settings, resolved for `mode` ([`PhysicsTable::resolve`]; after
+    /// changing the mode, [`Scenario::set_mode`] resolves them again).
     pub physics: PhysicsSpec,
+    /// The `[physics]` table as written.
+    physics_table: PhysicsTable,
+    /// Threads for the FE and the ruin stage's solver (`fem2rbd run --threads`; not read
+    /// from the file); `None` = the machine's cores. The same bytes for any number.
+    pub threads: Option<usize>,
+    /// The ruin stage's debug traces (`fem2rbd run --trace-axial`, `--trace-body`; not
+    /// read from the file): none by default.
+    pub traces: crate::ruin::stage::TraceSettings,
 }
 
 impl Scenario {
+    /// Runs the scenario in `mode` instead of the file's (`fem2rbd run --mode`, a study
+    /// entry's mode): the `[physics]` table is resolved again for it, so the settings are
+    /// those of a file that says `mode = "<mode>"`.
+    pub fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+        self.physics = self.physics_table.resolve(mode);
+    }
+
+    /// The `[physics]` table as written in the file.
+    pub fn physics_table(&self) -> &PhysicsTable {
+        &self.physics_table
+    }
+
     /// The files a run reads: the scenario, its model and its records.
     pub fn inputs(&self) -> Vec<&std::path::Path> {
         let mut v = vec![self.path.as_path(), self.model.as_path()];
@@ -639,7 +992,7 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.spring_correction",
+            "physics.experimental.spring_correction",
             self.spring_correction,
             0.0,
             false,
@@ -663,7 +1016,7 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.spring_damping",
+            "physics.experimental.spring_damping",
             self.spring_damping,
             0.0,
             false,
@@ -684,10 +1037,24 @@ impl PhysicsSpec {
         // Contact and joint error reduction (Bullet: a share of the error per substep),
         // the split-impulse penetration threshold (≤ 0 m: Bullet's convention, default
         // −0.04 m) and the collision margin.
-        r("physics.contact_erp", self.contact_erp, 0.0, true, 1.0, "")?;
-        r("physics.joint_erp", self.joint_erp, 0.0, true, 1.0, "")?;
         r(
-            "physics.spring_cap_steps_per_second",
+            "physics.experimental.contact_erp",
+            self.contact_erp,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.experimental.joint_erp",
+            self.joint_erp,
+            0.0,
+            true,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.experimental.spring_cap_steps_per_second",
             self.spring_cap_steps_per_second,
             0.0,
             false,
@@ -695,7 +1062,7 @@ impl PhysicsSpec {
             "1/s",
         )?;
         r(
-            "physics.erp_steps_per_second",
+            "physics.experimental.erp_steps_per_second",
             self.erp_steps_per_second,
             0.0,
             false,
@@ -703,18 +1070,23 @@ impl PhysicsSpec {
             "1/s",
         )?;
         r(
-            "physics.joint_modulus_pa",
+            "physics.experimental.joint_modulus_pa",
             self.joint_modulus_pa,
             0.0,
             true,
             1e13,
             "Pa",
         )?;
-        if let Some(f) = self.joint_warmstart {
-            r("physics.joint_warmstart", f, 0.0, false, 1.0, "")?;
-        }
         r(
-            "physics.joint_solve_regularisation",
+            "physics.experimental.joint_warmstart",
+            self.joint_warmstart,
+            0.0,
+            false,
+            1.0,
+            "",
+        )?;
+        r(
+            "physics.experimental.joint_solve_regularisation",
             self.joint_solve_regularisation,
             0.0,
             false,
@@ -723,7 +1095,7 @@ impl PhysicsSpec {
         )?;
         if let Some(n) = self.joint_iterations {
             r(
-                "physics.joint_iterations",
+                "physics.experimental.joint_iterations",
                 f64::from(n),
                 1.0,
                 false,
@@ -732,7 +1104,7 @@ impl PhysicsSpec {
             )?;
         }
         r(
-            "physics.joint_damping_ratio",
+            "physics.experimental.joint_damping_ratio",
             self.joint_damping_ratio,
             0.0,
             true,
@@ -740,14 +1112,21 @@ impl PhysicsSpec {
             "",
         )?;
         r(
-            "physics.split_impulse_threshold_m",
+            "physics.experimental.split_impulse_threshold_m",
             self.split_impulse_threshold_m,
             -1.0,
             false,
             0.0,
             "m",
         )?;
-        r("physics.margin_m", self.margin_m, 0.0, true, 1.0, "m")?;
+        r(
+            "physics.experimental.margin_m",
+            self.margin_m,
+            0.0,
+            true,
+            1.0,
+            "m",
+        )?;
         r(
             "physics.search_distance_m",
             self.search_distance_m,
@@ -757,7 +1136,7 @@ impl PhysicsSpec {
             "m",
         )?;
         r(
-            "physics.margin_max_share",
+            "physics.experimental.margin_max_share",
             self.margin_max_share,
             0.0,
             true,
@@ -922,12 +1301,13 @@ impl Scenario {
                 CriterionSpec::StoryDrift(r)
             }
         };
-        raw.physics.check().map_err(|error| ScenarioError::Range {
+        let physics = raw.physics.resolve(raw.mode);
+        physics.check().map_err(|error| ScenarioError::Range {
             file: p.to_string(),
             error,
         })?;
-        if raw.physics.panel_connections == PanelConnections::Elastic
-            && raw.physics.connection_model(raw.mode) == ConnectionModel::Formula
+        if physics.panel_connections == PanelConnections::Elastic
+            && physics.connections == ConnectionModel::Formula
         {
             return Err(invalid(
                 "physics.panel_connections = \"elastic\" needs FE-derived connections \
@@ -936,12 +1316,11 @@ impl Scenario {
                     .into(),
             ));
         }
-        if raw.physics.hinge_return_mapping
-            && !(raw.physics.hinge_keeps_rotation
-                && raw.physics.connection_model(raw.mode) == ConnectionModel::Fe)
+        if physics.hinge_return_mapping
+            && !(physics.hinge_keeps_rotation && physics.connections == ConnectionModel::Fe)
         {
             return Err(invalid(
-                "physics.hinge_return_mapping = true re-locks the ductile hinges of FE-derived \
+                "physics.experimental.hinge_return_mapping = true re-locks the ductile hinges of FE-derived \
                  connections: it needs connections = \"fe\" and hinge_keeps_rotation = true"
                     .into(),
             ));
@@ -975,7 +1354,10 @@ impl Scenario {
             duration: raw.fe.duration,
             concrete_integration: raw.fe.concrete_integration,
             criterion,
-            physics: raw.physics.clone(),
+            physics,
+            physics_table: raw.physics.clone(),
+            threads: None,
+            traces: Default::default(),
         })
     }
 }

@@ -90,7 +90,16 @@ pub fn contents(rec: &RunRecord, timing: bool) -> Result<Vec<(&'static str, Vec<
             .find(|f| f.0 == "summary.json")
             .expect("summary.json is written above");
         let text = std::str::from_utf8(&summary.1).expect("summary.json is UTF-8");
-        summary.1 = crate::rescue::report::with_summary_section(text, section)?.into_bytes();
+        let mut text = crate::rescue::report::with_summary_section(text, section)?;
+        if let Some(p) = rec.preset {
+            // The preset of the ruin stage's settings (`[physics] preset`, resolved).
+            let mut v: serde_json::Value = serde_json::from_str(&text)?;
+            if let Some(o) = v.as_object_mut() {
+                o.insert("preset".into(), p.name().into());
+            }
+            text = serde_json::to_string_pretty(&v)? + "\n";
+        }
+        summary.1 = text.into_bytes();
         out.extend(rescue);
     }
     // collapse.glb last: it holds the survivable voids of voids.json.

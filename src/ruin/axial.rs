@@ -44,11 +44,12 @@
 //! sense, docs/handoff.md §3) keeps BCB's two one-way rows: the row without strength starts
 //! broken and the other one holds as in BCB.
 //!
-//! **Trace** (debugging, off unless `FEM2RBD_AXIAL_TRACE=<file>` is set): after every
-//! substep from `FEM2RBD_AXIAL_TRACE_FROM` s on, the sign of every elastic connection's
+//! **Trace** (debugging, off unless `fem2rbd run --trace-axial FILE` asks for it,
+//! [`super::settings::AxialTraceSettings`]): after every substep from `--trace-from` s
+//! on, the sign of every elastic connection's
 //! axial offset x, its changes (in BCB's form: a hand-over between the compression and the
 //! tension row) and the **kicks** — a dynamic body whose centre velocity changes by more
-//! than `FEM2RBD_AXIAL_TRACE_KICK` m/s (default 0.1) in one substep — and whether a
+//! than `--trace-axial-kick` m/s (default 0.1) in one substep — and whether a
 //! connection of that body changed sign just before (the rows of the kicked substep were
 //! chosen on a new sign). Written by the pipeline after the ruin stage (`RuinStage::axial_trace_report`).
 
@@ -136,20 +137,18 @@ pub(crate) struct AxialTrace {
 }
 
 impl AxialTrace {
-    /// The trace if `FEM2RBD_AXIAL_TRACE` is set.
-    pub(crate) fn from_env(names: Vec<String>, connections: usize) -> Option<AxialTrace> {
-        let path = std::env::var_os("FEM2RBD_AXIAL_TRACE")?;
-        let num = |k: &str, d: f64| {
-            std::env::var(k)
-                .ok()
-                .and_then(|v| v.parse::<f64>().ok())
-                .unwrap_or(d)
-        };
+    /// The trace of `settings` over the input bodies `names` and `connections`
+    /// connections.
+    pub(crate) fn new(
+        settings: &super::settings::AxialTraceSettings,
+        names: Vec<String>,
+        connections: usize,
+    ) -> AxialTrace {
         let n = names.len();
-        Some(AxialTrace {
-            path: path.into(),
-            from_s: num("FEM2RBD_AXIAL_TRACE_FROM", 0.0),
-            kick_mps: num("FEM2RBD_AXIAL_TRACE_KICK", 0.1),
+        AxialTrace {
+            path: settings.path.clone(),
+            from_s: settings.from_s,
+            kick_mps: settings.kick_mps,
             names,
             prev_sign: vec![None; connections],
             prev_vel: None,
@@ -163,7 +162,7 @@ impl AxialTrace {
             body_substeps_after_switch: 0,
             kick_rows: Vec::new(),
             break_rows: Vec::new(),
-        })
+        }
     }
 
     /// After one substep ending at `t`: `axial[c]` the offset of connection c if its axial
@@ -224,7 +223,7 @@ impl AxialTrace {
     }
 
     /// A two-way row broke at `t` with impulse `lambda` (N·s) against the breaking
-    /// impulses `c_ns`, `t_ns` (any time, not only from `FEM2RBD_AXIAL_TRACE_FROM`).
+    /// impulses `c_ns`, `t_ns` (any time, not only from the trace's start).
     pub(crate) fn note_break(
         &mut self,
         t: f64,

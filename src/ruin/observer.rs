@@ -1,7 +1,7 @@
 //! Observers of the substeps: the debug traces (`super::axial`'s axial-row trace,
-//! `FEM2RBD_AXIAL_TRACE`, and `super::body_trace`'s trace of one body,
-//! `FEM2RBD_BODY_TRACE`). They read the world and change nothing in it; both are off
-//! unless their variable is set.
+//! `--trace-axial`, and `super::body_trace`'s trace of one body,
+//! `--trace-body`). They read the world and change nothing in it; both are off
+//! unless their option is given ([`super::settings::TraceSettings`]).
 
 use super::axial::{axial_offset, AxialTrace};
 use super::body_trace::BodyTrace;

@@ -100,6 +100,44 @@ pub struct StageSettings {
     pub touch: TouchSettings,
     /// The solver's threads and sweep ([`SpeedSettings`]): the same bits for any choice.
     pub speed: SpeedSettings,
+    /// Debug traces ([`TraceSettings`]; none by default).
+    pub traces: TraceSettings,
+}
+
+/// The stage's debug traces (part of [`StageSettings`]): observers that read the world
+/// and change nothing in it, each written to its own file by the pipeline after the stage
+/// (`fem2rbd run --trace-axial`, `--trace-body`). None by default.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TraceSettings {
+    /// The axial rows' sign changes and the kicks after them ([`super::axial`]).
+    pub axial: Option<AxialTraceSettings>,
+    /// One body's substeps ([`super::body_trace`]).
+    pub body: Option<BodyTraceSettings>,
+}
+
+/// The axial trace ([`super::axial`] module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxialTraceSettings {
+    /// The file it is written to.
+    pub path: std::path::PathBuf,
+    /// Substeps from this time on, s.
+    pub from_s: f64,
+    /// A kick: a body's centre velocity changing by more than this in one substep, m/s
+    /// (0.1 in `fem2rbd run`).
+    pub kick_mps: f64,
+}
+
+/// The trace of one body ([`super::body_trace`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyTraceSettings {
+    /// The file it is written to.
+    pub path: std::path::PathBuf,
+    /// The body's name (`bodies.csv`'s `name`, e.g. `Column:3:34`).
+    pub body: String,
+    /// Substeps ending in [`from_s`, `to_s`], s.
+    pub from_s: f64,
+    /// See `from_s`.
+    pub to_s: f64,
 }
 
 /// How the connections behave once they yield (part of [`StageSettings`]).
@@ -195,11 +233,11 @@ pub struct TouchSettings {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedSettings {
     /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
-    /// any number. Default `FEM2RBD_THREADS`, else the machine's cores (as the FE).
+    /// any number. Default the machine's cores (as the FE); `fem2rbd run --threads`.
     pub solver_threads: usize,
     /// The solver's sweep ([`crate::physics::World::set_sweep`]): every kind gives the same
-    /// bits. Default [`crate::physics::Sweep::Packed`]; `FEM2RBD_SWEEP=bullet`, `lean` or
-    /// `threads` selects another (for `bench_ruin`'s before/after).
+    /// bits. Default [`crate::physics::Sweep::Packed`]; `[physics.experimental] sweep`
+    /// selects another (for `bench_ruin`'s before/after).
     pub sweep: crate::physics::Sweep,
 }
 
@@ -253,12 +291,14 @@ pub fn member_row_erp_cfm(k: f64, inv_mass: f64, h: f64, zeta: f64) -> (f64, f64
     (x / (x + 2.0 * zeta), 1.0 / (x * (x + 2.0 * zeta)))
 }
 
-impl Default for StageSettings {
+impl StageSettings {
+    /// The paper's settings (BCB), the ruin stage's defaults and the scenario's `bcb`
+    /// preset (`crate::pipeline::preset`): each value is documented at its field's type.
     /// BCB's world (docs/bcb.md §11.1): sequential impulses, 100 iterations, split impulse
     /// off, gravity (0, 0, −9.81); Bullet's process-globals set to Bullet's own values
     /// (gDbvtMargin 0.05, gContactBreakingThreshold 0.02) so a stage never depends on
     /// what ran before it in the process.
-    fn default() -> Self {
+    pub fn bcb() -> Self {
         StageSettings {
             ruin: RuinSettings::default(),
             world: WorldSettings {
@@ -281,6 +321,7 @@ impl Default for StageSettings {
             monitor_every_substep: false,
             touch: TouchSettings::default(),
             speed: SpeedSettings::default(),
+            traces: TraceSettings::default(),
         }
     }
 }
@@ -323,17 +364,11 @@ impl Default for TouchSettings {
 }
 
 impl Default for SpeedSettings {
-    /// `FEM2RBD_THREADS` or the machine's cores; the packed sweep unless `FEM2RBD_SWEEP`
-    /// names another.
+    /// The machine's cores; the packed sweep.
     fn default() -> Self {
         SpeedSettings {
             solver_threads: crate::fe::domain::default_threads(),
-            sweep: match std::env::var("FEM2RBD_SWEEP").as_deref() {
-                Ok("bullet") => crate::physics::Sweep::Bullet,
-                Ok("lean") => crate::physics::Sweep::Lean,
-                Ok("threads") => crate::physics::Sweep::PackedThreads,
-                _ => crate::physics::Sweep::Packed,
-            },
+            sweep: crate::physics::Sweep::Packed,
         }
     }
 }

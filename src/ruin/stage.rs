@@ -32,8 +32,9 @@ pub use super::record::{
     ConnectionOutcome, Frame, LedgerSummary, RuinResult, RuinStop, StageError, WallTime,
 };
 pub use super::settings::{
-    member_row_erp_cfm, BodySettings, JointRows, JointSettings, PlasticSettings, SpeedSettings,
-    StageInput, StageSettings, StopRule, TouchSettings, MEMBER_ROW_MAX_CFM,
+    member_row_erp_cfm, AxialTraceSettings, BodySettings, BodyTraceSettings, JointRows,
+    JointSettings, PlasticSettings, SpeedSettings, StageInput, StageSettings, StopRule,
+    TouchSettings, TraceSettings, MEMBER_ROW_MAX_CFM,
 };
 pub use super::world::{to_isometry, to_pose};
 
@@ -228,13 +229,13 @@ impl RuinStage {
     }
 
     /// The debug trace of one body (`super::body_trace`, on only with
-    /// `FEM2RBD_BODY_TRACE=<file>`): its file and text, for the caller to write.
+    /// [`super::settings::TraceSettings::body`]): its file and text, for the caller to write.
     pub fn body_trace_report(&self) -> Option<(std::path::PathBuf, String)> {
         self.observers.body_report()
     }
 
     /// The debug trace of the axial rows (`super::axial`, on only with
-    /// `FEM2RBD_AXIAL_TRACE=<file>`): its file and text, for the caller to write.
+    /// [`super::settings::TraceSettings::axial`]): its file and text, for the caller to write.
     pub fn axial_trace_report(&self) -> Option<(std::path::PathBuf, String)> {
         let pairs: Vec<(usize, usize)> = self.connections().iter().map(|c| (c.a, c.b)).collect();
         self.observers.axial_report(&pairs)

@@ -37,7 +37,7 @@ pub fn scale_factor(study: &Study, entry: &Entry) -> f64 {
 pub(crate) fn scenario_for(study: &Study, entry: &Entry, out: &Path) -> Scenario {
     let mut sc = study.base.clone();
     sc.model = study.models[entry.model].file.clone();
-    sc.mode = entry.mode;
+    sc.set_mode(entry.mode);
     sc.output = out.to_path_buf();
     let rec = &study.records[entry.record];
     let f = scale_factor(study, entry);

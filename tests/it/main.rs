@@ -47,6 +47,7 @@ mod pipeline {
     mod handoff_continuity;
     mod library_slab;
     mod run_frame3;
+    mod settings;
     mod wall_building;
 }
 mod plot {
@@ -74,6 +75,7 @@ mod rescue {
 mod repo {
     mod anyhow_edge;
     mod docs;
+    mod no_env;
     mod no_unsafe;
     mod test_layout;
 }

@@ -102,10 +102,18 @@ pub(crate) fn build(
     };
     let passes = passes(&world, input, settings, monitor, separation, h);
     let names: Vec<String> = input.bodies.iter().map(|b| b.name.clone()).collect();
-    let body_trace =
-        super::body_trace::BodyTrace::from_env(&names).map_err(|(item, m)| bad(item, m))?;
+    let body_trace = match &settings.traces.body {
+        Some(t) => {
+            Some(super::body_trace::BodyTrace::new(t, &names).map_err(|m| bad("--trace-body", m))?)
+        }
+        None => None,
+    };
     let observers = Observers {
-        axial: super::axial::AxialTrace::from_env(names, world.connections.specs.len()),
+        axial: settings
+            .traces
+            .axial
+            .as_ref()
+            .map(|t| super::axial::AxialTrace::new(t, names, world.connections.specs.len())),
         body: body_trace,
     };
     let mut stage = RuinStage {

@@ -186,16 +186,16 @@ fn cases() -> Vec<Case> {
             "joint_warmstart 1.5",
             run,
             1,
-            &["s.toml", "physics.joint_warmstart = 1.5", "[0, 1]"],
+            &["s.toml", "physics.experimental.joint_warmstart = 1.5", "[0, 1]"],
         )
-        .with("s.toml", scenario("", "[physics]\njoint_warmstart = 1.5")),
+        .with("s.toml", scenario("", "[physics]\nexperimental.joint_warmstart = 1.5")),
         case(
             "joint_iterations 0",
             run,
             1,
-            &["s.toml", "physics.joint_iterations = 0"],
+            &["s.toml", "physics.experimental.joint_iterations = 0"],
         )
-        .with("s.toml", scenario("", "[physics]\njoint_iterations = 0")),
+        .with("s.toml", scenario("", "[physics]\nexperimental.joint_iterations = 0")),
         case(
             "linear_correction 0",
             run,
@@ -209,23 +209,44 @@ fn cases() -> Vec<Case> {
             1,
             &["s.toml:", "unknown variant `sideways`", "two_way"],
         )
-        .with("s.toml", scenario("", "[physics]\naxial_rows = \"sideways\"")),
+        .with("s.toml", scenario("", "[physics]\nexperimental.axial_rows = \"sideways\"")),
+        case(
+            "axial_rows in [physics]",
+            run,
+            1,
+            &["s.toml:", "physics.axial_rows", "[physics.experimental]"],
+        )
+        .with("s.toml", scenario("", "[physics]\naxial_rows = \"bcb\"")),
+        case(
+            "joint_warmstart in [physics]",
+            run,
+            1,
+            &["s.toml:", "physics.joint_warmstart", "[physics.experimental]"],
+        )
+        .with("s.toml", scenario("", "[physics]\njoint_warmstart = 0.5")),
+        case(
+            "preset unknown",
+            run,
+            1,
+            &["s.toml:", "unknown variant `paper`", "bcb", "fem2rbd"],
+        )
+        .with("s.toml", scenario("", "[physics]\npreset = \"paper\"")),
         case(
             "joint_solve cholesky",
             run,
             1,
             &["s.toml:", "unknown variant `cholesky`", "pgs", "direct"],
         )
-        .with("s.toml", scenario("", "[physics]\njoint_solve = \"cholesky\"")),
+        .with("s.toml", scenario("", "[physics]\nexperimental.joint_solve = \"cholesky\"")),
         case(
             "joint_solve_regularisation -1",
             run,
             1,
-            &["s.toml", "physics.joint_solve_regularisation"],
+            &["s.toml", "physics.experimental.joint_solve_regularisation"],
         )
         .with(
             "s.toml",
-            scenario("", "[physics]\njoint_solve_regularisation = -1.0"),
+            scenario("", "[physics]\nexperimental.joint_solve_regularisation = -1.0"),
         ),
         case(
             "panel_connections elastic with formula",
@@ -269,7 +290,7 @@ fn cases() -> Vec<Case> {
         )
         .with(
             "s.toml",
-            scenario("", "[physics]\nconnected_pairs_touch = \"sometimes\""),
+            scenario("", "[physics]\nexperimental.connected_pairs_touch = \"sometimes\""),
         ),
         case(
             "rest speed sampled",
@@ -285,13 +306,13 @@ fn cases() -> Vec<Case> {
             "hinge_return_mapping without re-locked hinges",
             run,
             1,
-            &["s.toml", "physics.hinge_return_mapping", "hinge_keeps_rotation = true"],
+            &["s.toml", "physics.experimental.hinge_return_mapping", "hinge_keeps_rotation = true"],
         )
         .with(
             "s.toml",
             scenario(
                 "",
-                "[physics]\nhinge_return_mapping = true\nhinge_keeps_rotation = false",
+                "[physics]\nexperimental.hinge_return_mapping = true\nexperimental.hinge_keeps_rotation = false",
             ),
         ),
         case(
@@ -319,21 +340,21 @@ fn cases() -> Vec<Case> {
             "erp_steps_per_second negative",
             run,
             1,
-            &["s.toml", "physics.erp_steps_per_second"],
+            &["s.toml", "physics.experimental.erp_steps_per_second"],
         )
         .with(
             "s.toml",
-            scenario("", "[physics]\nerp_steps_per_second = -200"),
+            scenario("", "[physics]\nexperimental.erp_steps_per_second = -200"),
         ),
         case(
             "spring_cap_steps_per_second negative",
             run,
             1,
-            &["s.toml", "physics.spring_cap_steps_per_second"],
+            &["s.toml", "physics.experimental.spring_cap_steps_per_second"],
         )
         .with(
             "s.toml",
-            scenario("", "[physics]\nspring_cap_steps_per_second = -1"),
+            scenario("", "[physics]\nexperimental.spring_cap_steps_per_second = -1"),
         ),
         case(
             "rest.hold_s negative",

@@ -166,7 +166,7 @@ fn debris_phase_agrees_with_pybullet() {
         },
         world: WorldSettings::pybullet(),
         connect: false,
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
     assert!(stage.connections().is_empty());

@@ -732,7 +732,7 @@ fn a_rigid_landing_passes_its_impulse_through_a_joint_in_one_substep() {
 /// off its joint with a fixed anchor; after n substeps its offset is 10 mm·(1 − ERP)ⁿ.
 /// With ERP 0.2 per substep at any rate (Bullet, BCB) the 0.05 s decay depends on the
 /// substep: 0.8¹⁰, 0.8²⁰, 0.8⁴⁰ at 200 / 400 / 800 substeps/s (10.7 %, 1.2 %, 0.01 % left).
-/// With the ERP given per time (`[physics] erp_steps_per_second = 200`, the default:
+/// With the ERP given per time (`[physics.experimental] erp_steps_per_second = 200`, the default:
 /// ERP = 0.2·200/rate) it is 0.8¹⁰, 0.9²⁰, 0.95⁴⁰ and converges, at first order in h, to
 /// exp(−0.2·200/s·0.05 s) = exp(−2) = 13.5 % (docs/ruin-numerics.md, "The error reduction per
 /// second").

@@ -57,7 +57,7 @@ fn lc5(mode: &str, collapse: &str, physics: &str) -> String {
 /// BCB's contacts (docs/handoff.md, "At the defaults"): connected pieces never touch, and
 /// connected column bases also rest on the ground. The tests that measure a setting
 /// with these contacts name them, so they keep measuring it.
-const BCB_CONTACTS: &str = "connected_pairs_touch = \"never\"\nground_under_connected_bases = true";
+const BCB_CONTACTS: &str = "experimental.connected_pairs_touch = \"never\"\nexperimental.ground_under_connected_bases = true";
 
 const FE_CAPACITIES: &str = "connections = \"fe\"\npanel_connections = \"elastic\"\n\
      hinge_end = \"rupture\"\nlinear_correction = 1.0\nbending_correction = 1.0";
@@ -205,8 +205,8 @@ fn rows_lost(rec: &pipeline::RunRecord) -> Vec<String> {
 fn gravity_alone_the_bullet_building_stands_like_the_fe() {
     let (sag, drift) = gravity_peaks(
         "fe connections, 800 substeps/s",
-        "connections = \"fe\"\nsteps_per_second = 800\naxial_rows = \"bcb\"\njoint_warmstart = 0.0\n\
-         erp_steps_per_second = 0",
+        "connections = \"fe\"\nsteps_per_second = 800\nexperimental.axial_rows = \"bcb\"\nexperimental.joint_warmstart = 0.0\n\
+         experimental.erp_steps_per_second = 0",
         1.0,
     );
     assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
@@ -255,8 +255,8 @@ fn gravity_alone_the_default_connections_with_400_iterations_meet_target_c() {
 fn gravity_alone_member_rows_at_200_substeps() {
     let (sag, drift) = gravity_peaks(
         "fe connections, member rows, 200 iterations",
-        "connections = \"fe\"\njoint_rows = \"member\"\nsolver_iterations = 200\n\
-         axial_rows = \"bcb\"\njoint_warmstart = 0.0",
+        "connections = \"fe\"\nexperimental.joint_rows = \"member\"\nsolver_iterations = 200\n\
+         experimental.axial_rows = \"bcb\"\nexperimental.joint_warmstart = 0.0",
         1.0,
     );
     assert!(sag <= 0.010, "sag {:.2} mm > 10 mm", sag * 1e3);
@@ -312,9 +312,9 @@ fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
     let (sag, drift, lost) = run(BCB_CONTACTS);
     let (sag_new, drift_new, lost_new) = run("");
     let (sag_bcb, drift_bcb, _) = run(&format!(
-        "axial_rows = \"bcb\"\njoint_warmstart = 0.0\n{BCB_CONTACTS}"
+        "experimental.axial_rows = \"bcb\"\nexperimental.joint_warmstart = 0.0\n{BCB_CONTACTS}"
     ));
-    let (sag_d, drift_d, lost_d) = run("joint_solve = \"direct\"");
+    let (sag_d, drift_d, lost_d) = run("experimental.joint_solve = \"direct\"");
     eprintln!(
         "gravity alone 1 s, 200 substeps/s: defaults sag {:.2} mm, drift {:.4} %; \
          BCB rows {:.2} mm, {:.4} %; direct {:.2} mm, {:.4} %",
@@ -369,9 +369,9 @@ fn gravity_alone_at_200_substeps_pgs_direct_and_bcb_rows() {
 /// 0.0135 % peak drift; FE 3.06 mm).
 #[test]
 fn elastic_panels_carry_the_slab_under_gravity() {
-    let (_, _, lost_g, rows_g) = gravity_peaks_and_rows_1s("joint_solve = \"direct\"");
+    let (_, _, lost_g, rows_g) = gravity_peaks_and_rows_1s("experimental.joint_solve = \"direct\"");
     let (sag, drift, lost, rows) = gravity_peaks_and_rows_1s(
-        "joint_solve = \"direct\"\npanel_connections = \"elastic\"\nhinge_end = \"rupture\"",
+        "experimental.joint_solve = \"direct\"\npanel_connections = \"elastic\"\nhinge_end = \"rupture\"",
     );
     eprintln!(
         "gravity alone 1 s, direct: group panels {} connections at a threshold {rows_g:?}; \
@@ -615,8 +615,8 @@ fn fastest_piece_3pct(monitor_every_substep: bool, erp_steps: f64) -> (f64, Stri
         "criterion = \"drift\"\nratio = 0.03",
         2.9,
         &format!(
-            "solver_iterations = 400\nsteps_per_second = 800\nerp_steps_per_second = {erp_steps}\n\
-             monitor_every_substep = {monitor_every_substep}"
+            "solver_iterations = 400\nsteps_per_second = 800\nexperimental.erp_steps_per_second = {erp_steps}\n\
+             experimental.monitor_every_substep = {monitor_every_substep}"
         ),
     );
     let rec = run_text("thrown.toml", &text);
@@ -639,7 +639,7 @@ fn fastest_piece_3pct(monitor_every_substep: bool, erp_steps: f64) -> (f64, Stri
 /// `erp_steps_per_second = 0`, as then). Checked after every substep, the
 /// connection breaks when it passes its tolerances and the fastest piece is a column
 /// piece pinched between a landing beam and the ground (12.2 m/s at 2.515 s, measured
-/// with `FEM2RBD_BODY_TRACE`).
+/// with `fem2rbd run --trace-body`).
 #[test]
 fn a_slider_connection_throws_its_piece_unless_the_monitor_checks_every_substep() {
     let (v_frame, body_frame, t_frame, inj_frame) = fastest_piece_3pct(false, 0.0);
@@ -887,11 +887,14 @@ fn under_a_slow_ramp_the_converged_bullet_frame_has_its_sections_strength() {
 #[test]
 fn on_its_connections_alone_the_bullet_frame_keeps_its_hinges_with_the_return_mapping() {
     let mech = story1_mechanism_g();
-    let alone = "solver_iterations = 400\nground_under_connected_bases = false\n\
-                 connected_pairs_touch = \"never\"";
+    let alone = "solver_iterations = 400\nexperimental.ground_under_connected_bases = false\n\
+                 experimental.connected_pairs_touch = \"never\"";
     let relock = ramp_capacity_g(&bullet_pushover(9.0, alone), 0.03);
     let mapped = ramp_capacity_g(
-        &bullet_pushover(9.0, &format!("{alone}\nhinge_return_mapping = true")),
+        &bullet_pushover(
+            9.0,
+            &format!("{alone}\nexperimental.hinge_return_mapping = true"),
+        ),
         0.03,
     );
     eprintln!(
@@ -1000,7 +1003,7 @@ fn the_fe_mesh_is_stronger_than_its_sections_and_the_force_formulation_is_not() 
 fn gravity_holds_with_the_direct_joint_solve() {
     let fe = gravity_only("fe", "", "duration = 0.5", 0.5);
     let fe_sag = fe.iter().map(|r| r.3).fold(0.0, f64::max);
-    let (sag, drift, lost) = gravity_peaks_1s("joint_solve = \"direct\"");
+    let (sag, drift, lost) = gravity_peaks_1s("experimental.joint_solve = \"direct\"");
     let (sag_200, drift_200, lost_200) = gravity_peaks_1s("solver_iterations = 200");
     eprintln!(
         "gravity alone: FE {:.2} mm; direct {:.2} mm ({:.2} × FE), {:.4} %; \

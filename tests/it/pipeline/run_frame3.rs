@@ -115,12 +115,18 @@ fn assert_debris_physical(summary: &RunSummary, rec: &pipeline::RunRecord) {
     assert!(v_body < v_bound, "a body moved at {v_body} m/s");
 }
 
-fn run_snapshot(sc: &Scenario) -> (serde_json::Value, String, pipeline::RunRecord) {
+/// The run's summary as written without its `preset` key (asserted by the caller: the
+/// snapshots hold the rest), its ruins table rounded, and its record.
+fn run_snapshot(sc: &Scenario, preset: &str) -> (serde_json::Value, String, pipeline::RunRecord) {
     let rec = pipeline::run(sc, &Silent).unwrap();
     let files = write::contents(&rec, false).unwrap();
-    // The summary as written, with its `rescue` section.
+    // The summary as written, with its `rescue` section and the run's preset.
     let written = files.iter().find(|f| f.0 == "summary.json").unwrap();
     let mut summary: serde_json::Value = serde_json::from_slice(&written.1).unwrap();
+    assert_eq!(
+        summary.as_object_mut().unwrap().remove("preset"),
+        Some(serde_json::Value::from(preset))
+    );
     assert_eq!(
         summary.as_object().unwrap().len(),
         serde_json::to_value(write::run_summary(&rec, false))
@@ -145,7 +151,7 @@ fn physics_mode_lc5_ruin_distribution() {
         &scenario_text("physics", "", "", "time_limit_s = 3.0"),
     );
     let sc = Scenario::load(&p).unwrap();
-    let (summary, ruins, rec) = run_snapshot(&sc);
+    let (summary, ruins, rec) = run_snapshot(&sc, "bcb");
     let r = rec.ruin.as_ref().unwrap();
     // BCB alone: the ruin stage runs from t = 0 under the whole record to the limit.
     assert_eq!(rec.tc_s, None);
@@ -177,7 +183,7 @@ fn hybrid_mode_lc5_ruin_distribution() {
         ),
     );
     let sc = Scenario::load(&p).unwrap();
-    let (summary, ruins, rec) = run_snapshot(&sc);
+    let (summary, ruins, rec) = run_snapshot(&sc, "fem2rbd");
     // Tc: the first converged step at which a story drift reaches 4 %.
     let tc = rec.tc_s.unwrap();
     assert!(matches!(rec.tc_reason, pipeline::TcReason::Criterion(ref s) if s.contains("drift")));

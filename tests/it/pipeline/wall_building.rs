@@ -54,7 +54,7 @@ fn write_model(dir: &Path, beams_over_walls: bool) -> PathBuf {
 fn connection_types(model: &fem2rbd::model::Model) -> BTreeMap<String, usize> {
     let map = mapping::map_to_boxes(&mapping::from_model(model).unwrap(), &MapOptions::default())
         .unwrap();
-    let bodies = pipeline::bodies_of(model, &map);
+    let bodies = fem2rbd::mapping::foundation::bodies_of(model, &map);
     let contacts = find_contacts(&pipeline::geoms(&bodies), &SearchSettings::default()).unwrap();
     let mut out = BTreeMap::new();
     for c in contacts {
@@ -90,7 +90,7 @@ fn wall_building_bodies_masses_and_connections() {
         &MapOptions::default(),
     )
     .unwrap();
-    let bodies = pipeline::bodies_of(&model, &map);
+    let bodies = fem2rbd::mapping::foundation::bodies_of(&model, &map);
     let count = |t: &str| bodies.iter().filter(|b| b.id.type_name() == t).count();
     assert_eq!(
         [

@@ -1,7 +1,8 @@
 //! The documentation says what is there: every repository path quoted in README.md,
 //! ARCHITECTURE.md and `docs/*.md` (in backticks, code blocks or as a link target)
 //! exists, every `fem2rbd <subcommand>` quoted names a subcommand the binary has (read
-//! from the binary's own `--help`), and no page dates itself by the round of work or the
+//! from the binary's own `--help`), the scenario reference `docs/scenario-format.md` lists
+//! exactly the keys the scenario parser accepts, and no page dates itself by the round of work or the
 //! issue that produced it ("session 7", "issue 12", "#12"): the history is in
 //! CHANGELOG.md and git.
 use crate::support::root;
@@ -355,4 +356,119 @@ fn docs_carry_no_work_log_labels() {
         found.len(),
         found.join("\n")
     );
+}
+
+/// The keys the scenario parser accepts in `table` (`""` = the top level), read from its
+/// error for an unknown key: serde names the fields it expected.
+fn parser_keys(table: &str) -> BTreeSet<String> {
+    let text = match table {
+        "" => "zzz_unknown = 1\n".to_string(),
+        "ground_motion" => "model = \"m.toml\"\n[[ground_motion]]\nzzz_unknown = 1\n".into(),
+        t => format!("model = \"m.toml\"\n[{t}]\nzzz_unknown = 1\n"),
+    };
+    let err = fem2rbd::pipeline::Scenario::parse(&text, Path::new("s.toml"))
+        .unwrap_err()
+        .to_string();
+    let expected = err
+        .split_once("expected")
+        .unwrap_or_else(|| panic!("[{table}]: no list of keys in {err:?}"))
+        .1;
+    expected
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
+}
+
+/// The scenario keys the reference `docs/scenario-format.md` documents, by table: the
+/// first cell of each row of its "Format" table (`` `[physics] friction`, `restitution` ``),
+/// and for `[[ground_motion]]` and `[physics.rest]` the keys their row names.
+fn documented_keys(text: &str) -> BTreeMap<String, BTreeSet<String>> {
+    let mut out: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let section = text
+        .split("## Format (TOML)")
+        .nth(1)
+        .expect("a Format section")
+        .split("\n## ")
+        .next()
+        .unwrap();
+    let is_key = |w: &str| !w.is_empty() && w.chars().all(|c| c.is_ascii_lowercase() || c == '_');
+    for row in section.lines().filter(|l| l.starts_with("| `")) {
+        let cells: Vec<&str> = row.split(" | ").collect();
+        let spans: Vec<&str> = cells[0].split('`').skip(1).step_by(2).collect();
+        let first = spans[0];
+        let (table, keys): (String, Vec<String>) = if let Some(t) = first
+            .strip_prefix("[[")
+            .and_then(|r| r.strip_suffix("]]"))
+            .or_else(|| first.strip_prefix('[').and_then(|r| r.strip_suffix(']')))
+        {
+            // A table whose keys are listed in the row's other cells.
+            let keys = cells[1..]
+                .iter()
+                .flat_map(|c| c.split('`').skip(1).step_by(2))
+                .filter_map(|s| s.split(' ').next())
+                .filter(|w| is_key(w))
+                .map(str::to_string)
+                .collect();
+            (t.to_string(), keys)
+        } else if let Some((t, k)) = first.strip_prefix('[').and_then(|r| r.split_once("] ")) {
+            let mut keys = vec![k.to_string()];
+            keys.extend(spans[1..].iter().map(|s| s.to_string()));
+            (t.to_string(), keys)
+        } else {
+            (String::new(), vec![first.to_string()])
+        };
+        out.entry(table).or_default().extend(keys);
+    }
+    out
+}
+
+/// Every scenario key in the reference is one the parser accepts, in the table the
+/// reference puts it, and every key the parser accepts is in the reference (the old
+/// spellings in `[physics]` of the keys that moved to `[physics.experimental]`, which
+/// the parser refuses by name, excepted).
+#[test]
+fn scenario_reference_lists_exactly_the_keys_the_parser_accepts() {
+    let text = std::fs::read_to_string(root().join("docs/scenario-format.md")).unwrap();
+    let documented = documented_keys(&text);
+    let tables = [
+        "",
+        "ground_motion",
+        "fe",
+        "collapse",
+        "physics",
+        "physics.experimental",
+        "physics.rest",
+    ];
+    assert_eq!(
+        documented
+            .keys()
+            .map(String::as_str)
+            .collect::<BTreeSet<_>>(),
+        tables.into_iter().collect::<BTreeSet<_>>(),
+        "the reference's tables"
+    );
+    let experimental = parser_keys("physics.experimental");
+    for table in tables {
+        let mut accepted = parser_keys(table);
+        match table {
+            // Sub-tables are documented as rows of their own.
+            "" => {
+                for t in ["ground_motion", "fe", "collapse", "physics"] {
+                    assert!(accepted.remove(t), "top level: {t}");
+                }
+            }
+            "physics" => {
+                accepted.retain(|k| !experimental.contains(k));
+                assert!(accepted.remove("rest") && accepted.remove("experimental"));
+            }
+            _ => {}
+        }
+        assert_eq!(
+            documented[table], accepted,
+            "[{table}]: keys in docs/scenario-format.md (left) against the parser's (right)"
+        );
+    }
+    assert!(experimental.contains("axial_rows") && experimental.len() > 20);
 }

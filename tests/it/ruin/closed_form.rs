@@ -79,7 +79,7 @@ fn run_block(
     let input = StageInput::physics_only(&bodies, &masses, &gr);
     let mut settings = StageSettings {
         connect: false,
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     settings.body.margin = margin;
     settings.body.friction = friction;

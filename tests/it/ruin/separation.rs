@@ -47,7 +47,7 @@ fn a_piece_whose_connection_is_broken_rests_on_the_piece_it_was_joined_to() {
                 pairs: touch,
                 ..TouchSettings::default()
             },
-            ..StageSettings::default()
+            ..StageSettings::bcb()
         };
         let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
         assert_eq!(stage.monitor().states(), vec![ConnectionState::Broken]);
@@ -102,7 +102,7 @@ fn a_base_joined_to_its_foundation_stands_on_the_connection_alone() {
                 ground_under_connected_bases: on_ground,
                 ..TouchSettings::default()
             },
-            ..StageSettings::default()
+            ..StageSettings::bcb()
         };
         let mut stage = RuinStage::build(&input, ground.clone(), &settings).unwrap();
         let (col, gnd) = (stage.body(0), stage.ground());
@@ -147,7 +147,7 @@ fn a_base_joined_to_its_foundation_stands_on_the_connection_alone() {
             ground_under_connected_bases: false,
             ..TouchSettings::default()
         },
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     let mut stage = RuinStage::build(&input, ground, &settings).unwrap();
     let (col, gnd) = (stage.body(0), stage.ground());

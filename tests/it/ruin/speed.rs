@@ -111,7 +111,7 @@ fn run_scene(
             solver_threads: threads,
             sweep,
         },
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     settings.world.solver.minimum_solver_batch_size = batch;
     let mut stage = RuinStage::build(&input, GroundSpec::moving(hist), &settings).unwrap();

@@ -66,7 +66,7 @@ fn kinematic_ground_follows_the_record_at_every_substep_from_tc() {
     let mut stage = RuinStage::build(
         &input,
         GroundSpec::moving(hist.clone()),
-        &StageSettings::default(),
+        &StageSettings::bcb(),
     )
     .unwrap();
     let ground = stage.ground();
@@ -168,7 +168,7 @@ fn box_on(ground: GroundSpec, mu: f64, v0: f64) -> RuinStage {
             angular_damping: 0.0,
             ..BodySettings::default()
         },
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     RuinStage::build(&input, ground, &settings).unwrap()
 }
@@ -224,7 +224,7 @@ fn a_dropped_box_is_at_rest_one_hold_time_after_it_lands() {
         top_z: Some(0.0),
         ..GroundSpec::default()
     };
-    let mut stage = RuinStage::build(&input, ground, &StageSettings::default()).unwrap();
+    let mut stage = RuinStage::build(&input, ground, &StageSettings::bcb()).unwrap();
     let rest = RestTest::default();
     let res = stage
         .run(&StopRule {
@@ -346,7 +346,7 @@ fn a_dropped_pile_stops_when_it_is_at_rest_and_stays_there() {
         top_z: Some(0.0),
         ..GroundSpec::default()
     };
-    let mut stage = RuinStage::build(&input, ground, &StageSettings::default()).unwrap();
+    let mut stage = RuinStage::build(&input, ground, &StageSettings::bcb()).unwrap();
     assert!(stage.connections().is_empty());
     let res = stage
         .run(&StopRule {
@@ -392,7 +392,7 @@ fn frame_run() -> (Vec<u64>, f64) {
     let input = StageInput::physics_only(&bodies, &masses, &gr);
     let settings = StageSettings {
         ruin: RuinSettings::default(),
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     let hist = sinusoid(6.0, 2.0, 2.0);
     let mut stage = RuinStage::build(&input, GroundSpec::moving(hist), &settings).unwrap();
@@ -469,7 +469,7 @@ fn ground_damping_is_relative_to_the_moving_ground() {
                 disable_deactivation: true,
                 ..BodySettings::default()
             },
-            ..StageSettings::default()
+            ..StageSettings::bcb()
         };
         let ground = GroundSpec {
             top_z: Some(0.0),

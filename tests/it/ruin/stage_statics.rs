@@ -39,7 +39,7 @@ fn column_carries_the_weight_above_each_joint_and_does_not_settle() {
     let masses = vec![m; n];
     let groups = [group("rc", 1.0, Some(1.3))];
     let input = StageInput::physics_only(&bodies, &masses, &groups);
-    let settings = StageSettings::default();
+    let settings = StageSettings::bcb();
     let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
     assert_eq!(stage.connections().len(), n - 1);
     let res = stage
@@ -127,7 +127,7 @@ fn cantilever(mass: f64) -> (RuinStage, f64) {
     let input = StageInput::physics_only(&bodies, &masses, &groups);
     let settings = StageSettings {
         warmup_s: WARMUP,
-        ..StageSettings::default()
+        ..StageSettings::bcb()
     };
     let stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
     (stage, m_limit_nm / (G * len / 2.0))
@@ -254,7 +254,7 @@ fn starting_states_set_the_enabled_constraints() {
     input.start_damage.insert((0, 1), FeDamage::Ruptured);
     input.start_damage.insert((1, 2), FeDamage::Yielded);
     input.start_velocities[2] = Velocity::default();
-    let stage = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default()).unwrap();
+    let stage = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb()).unwrap();
     let en = stage.world().constraints_enabled().unwrap();
     assert_eq!(en.len(), 14);
     assert!(
@@ -272,7 +272,7 @@ fn starting_states_set_the_enabled_constraints() {
     );
     // A bad pair is an error naming it.
     input.start_damage.insert((2, 1), FeDamage::Yielded);
-    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
@@ -288,14 +288,14 @@ fn bad_input_is_a_clear_error() {
     let groups = [group("rc", 1.0, Some(1.3))];
     let masses = [100.0, 0.0];
     let input = StageInput::physics_only(&bodies, &masses, &groups);
-    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
     assert!(err.contains("'c1'") && err.contains("mass"), "{err}");
     let masses = [100.0];
     let input = StageInput::physics_only(&bodies, &masses, &groups);
-    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
@@ -305,13 +305,13 @@ fn bad_input_is_a_clear_error() {
     );
     let masses = [100.0, 100.0];
     let input = StageInput::physics_only(&bodies, &masses, &[]);
-    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::default())
+    let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
     assert!(err.contains("'c0'") && err.contains("group 'rc'"), "{err}");
     let input = StageInput::physics_only(&bodies, &masses, &groups);
-    let mut settings = StageSettings::default();
+    let mut settings = StageSettings::bcb();
     settings.ruin.steps_per_second = 210.0;
     let err = RuinStage::build(&input, GroundSpec::default(), &settings)
         .err()
@@ -376,8 +376,7 @@ fn a_deformed_start_pose_does_not_fire_the_connections() {
         base = seg * Isometry3::translation(0.0, 0.0, 1.0);
     }
     input.start_time_s = 2.0;
-    let mut stage =
-        RuinStage::build(&input, GroundSpec::default(), &StageSettings::default()).unwrap();
+    let mut stage = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb()).unwrap();
     // The lowest corner just touches the ground; the kinked column starts to topple.
     let res = stage
         .run(&StopRule {

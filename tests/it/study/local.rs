@@ -285,7 +285,7 @@ fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
     fs::write(
         t.path().join("base.toml"),
         format!(
-            "model = \"{}\"\nmode = \"hybrid\"\n[[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n[fe]\ndt = 0.01\nduration = 2.0\n[collapse]\ncriterion = \"drift_4pct\"\n[physics]\ntime_limit_s = 2.5\naxial_rows = \"bcb\"\njoint_warmstart = 0.0\n",
+            "model = \"{}\"\nmode = \"hybrid\"\n[[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n[fe]\ndt = 0.01\nduration = 2.0\n[collapse]\ncriterion = \"drift_4pct\"\n[physics]\ntime_limit_s = 2.5\n[physics.experimental]\naxial_rows = \"bcb\"\njoint_warmstart = 0.0\n",
             repo("data/frame3/model.toml"),
             repo("data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2")
         ),

@@ -81,6 +81,10 @@ pub struct BuildOptions {
     /// OpenSees' implicit law (default) or IMPL-EX
     /// ([`crate::fe::shell::layers::ConcreteIntegration`]).
     pub concrete_integration: ConcreteIntegration,
+    /// Threads for element state determination ([`Domain::set_threads`]); `None` = the
+    /// machine's cores ([`crate::fe::domain::default_threads`]). The same bits for any
+    /// number.
+    pub threads: Option<usize>,
 }
 
 impl Default for BuildOptions {
@@ -93,6 +97,7 @@ impl Default for BuildOptions {
                 ..ForceBeamOptions::default()
             },
             concrete_integration: ConcreteIntegration::Implicit,
+            threads: None,
         }
     }
 }
@@ -312,6 +317,9 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
         )));
     }
     let mut domain = Domain::new();
+    if let Some(n) = options.threads {
+        domain.set_threads(n);
+    }
     let mut node_index = BTreeMap::new();
     for n in &model.nodes {
         let i = domain

@@ -34,14 +34,11 @@ const MIN_ELEMENTS_PER_THREAD: usize = 16;
 /// stays sequential; the 7-story frame, 2 646 elements, splits).
 const MIN_PREPARE_PER_THREAD: usize = 512;
 
-/// Threads for element state determination: `FEM2RBD_THREADS` when set to a whole number
-/// ≥ 1, else the machine's available parallelism. Results do not depend on it.
+/// Threads for element state determination when none are given: the machine's available
+/// parallelism (the binaries' `--threads` passes another number down as a value,
+/// [`Domain::set_threads`]). Results do not depend on it.
 pub fn default_threads() -> usize {
-    std::env::var("FEM2RBD_THREADS")
-        .ok()
-        .and_then(|v| v.trim().parse::<usize>().ok())
-        .filter(|&n| n >= 1)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from))
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 /// The first error of `results`, after consuming all of them (no short cut: every item's

@@ -356,15 +356,6 @@ impl Model {
                 u += &du;
                 du_last = du.clone();
                 // OpenSees `test NormDispIncr 1e-12`: 2-norm of the increment (m, rad).
-                let scale = u.norm();
-                if std::env::var("FE_DEBUG").is_ok() {
-                    eprintln!(
-                        "step {s} it {it} du {:e} u {:e} resid {:e}",
-                        du.norm(),
-                        scale,
-                        rf.norm()
-                    );
-                }
                 if du.norm() < 1e-12 {
                     // Final state determination at the converged displacements.
                     let zero = DVector::zeros(n);
