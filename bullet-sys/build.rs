@@ -1,6 +1,12 @@
 //! Builds the C++ shim against Debian's double-precision Bullet and generates its Rust
 //! declarations with bindgen (from the shim header only — never from Bullet's C++ headers).
 //!
+//! The shim is the C API (`shim/bullet_shim.cpp`) and the solver extensions, one file each
+//! ([`SHIM_SOURCES`]). The extensions hold altered copies of Bullet's
+//! `btSequentialImpulseConstraintSolver` code and were checked, bit for bit or against their
+//! validation, against the versions in [`CHECKED_BULLET_VERSIONS`] only: any other version
+//! is refused at build time.
+//!
 //! Override variables:
 //! - `BULLET_SYS_PKG_CONFIG_NAME`: the pkg-config package to probe (default `bullet-float64`).
 //!   Only a double-precision package works: the ABI self-check rejects anything else at run time.
@@ -9,13 +15,32 @@
 //! `DEP_BULLET_VERSION` / `DEP_BULLET_INCLUDE`.
 use std::{env, path::PathBuf};
 
+/// The shim's C++ sources: the C API, then one file per solver extension (`shim/solvers.h`
+/// is their private header).
+const SHIM_SOURCES: [&str; 7] = [
+    "shim/bullet_shim.cpp",
+    "shim/solver_lean.cpp",
+    "shim/solver_joint_setup.cpp",
+    "shim/solver_packed_sweep.cpp",
+    "shim/solver_warm_joint.cpp",
+    "shim/solver_direct_joint.cpp",
+    "shim/solver_parallel_island.cpp",
+];
+
+/// Bullet versions (pkg-config modversion) whose `btSequentialImpulseConstraintSolver` the
+/// solver extensions were checked against: Debian 12's libbullet-dev 3.24.
+const CHECKED_BULLET_VERSIONS: [&str; 1] = ["3.24"];
+
 const DEBIAN_HINT: &str = "install Debian's Bullet development files and pkg-config:\n    \
      apt-get install libbullet-dev pkg-config libclang-dev clang\n\
      (libbullet-dev ships bullet-float64.pc, the double-precision build this crate needs)";
 
 fn main() {
     println!("cargo:rerun-if-changed=shim/bullet_shim.h");
-    println!("cargo:rerun-if-changed=shim/bullet_shim.cpp");
+    println!("cargo:rerun-if-changed=shim/solvers.h");
+    for file in SHIM_SOURCES {
+        println!("cargo:rerun-if-changed={file}");
+    }
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=BULLET_SYS_PKG_CONFIG_NAME");
     println!("cargo:rerun-if-env-changed=PKG_CONFIG_PATH");
@@ -23,15 +48,28 @@ fn main() {
 
     let pc_name =
         env::var("BULLET_SYS_PKG_CONFIG_NAME").unwrap_or_else(|_| "bullet-float64".to_string());
-    let lib = match pkg_config::Config::new()
-        .atleast_version("3.24")
-        .probe(&pc_name)
-    {
+    let lib = match pkg_config::Config::new().probe(&pc_name) {
         Ok(lib) => lib,
         Err(e) => {
-            panic!("pkg-config could not find `{pc_name}` (Bullet 3.24+, double precision): {e}\n{DEBIAN_HINT}")
+            panic!("pkg-config could not find `{pc_name}` (Bullet 3.24, double precision): {e}\n{DEBIAN_HINT}")
         }
     };
+    if !CHECKED_BULLET_VERSIONS.contains(&lib.version.as_str()) {
+        panic!(
+            "pkg-config package `{pc_name}` is Bullet {}, but the shim's solver extensions \
+             (bullet-sys/shim/solver_*.cpp, altered copies of Bullet's \
+             btSequentialImpulseConstraintSolver code) were checked against Bullet {} only.\n\
+             Either install Debian 12's libbullet-dev 3.24 (apt-get install libbullet-dev on \
+             Debian 12 bookworm), \
+             or check every extension against the new version's \
+             btSequentialImpulseConstraintSolver (the tests named in each file's header: \
+             tests/it/physics/stock_bullet.rs, tests/it/ruin/speed.rs, \
+             tests/it/physics/jointsolve.rs) and add the version to CHECKED_BULLET_VERSIONS \
+             in bullet-sys/build.rs.",
+            lib.version,
+            CHECKED_BULLET_VERSIONS.join(", ")
+        );
+    }
     if !lib.defines.keys().any(|k| k == "BT_USE_DOUBLE_PRECISION") {
         panic!(
             "pkg-config package `{pc_name}` does not define BT_USE_DOUBLE_PRECISION: \
@@ -60,7 +98,7 @@ fn main() {
     let mut build = cc::Build::new();
     build
         .cpp(true)
-        .file("shim/bullet_shim.cpp")
+        .files(SHIM_SOURCES)
         .include("shim")
         .flag("-std=c++17")
         // The packed sweep repeats Bullet's row arithmetic operation for operation; no fused

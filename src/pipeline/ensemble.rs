@@ -107,7 +107,7 @@ pub fn run_ensemble(sc: &Scenario, n: usize, seed: u64, threads: usize) -> Resul
 pub(crate) fn distance_percentiles(rec: &RunRecord) -> [f64; 3] {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for b in rec.bodies.iter().filter(|b| !b.passive) {
-        for c in crate::output::summary::corners(&b.pose0, b.half_extents) {
+        for c in crate::plan_geometry::corners(&b.pose0, b.half_extents) {
             for k in 0..2 {
                 lo[k] = lo[k].min(c[k]);
                 hi[k] = hi[k].max(c[k]);

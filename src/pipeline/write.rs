@@ -7,6 +7,9 @@
 //! runs (left out with `timing = false`).
 use super::error::{PipelineError, Result};
 use super::{RunRecord, TcReason};
+use crate::measure::{
+    energy_summary, first_contact, floors_down, instantaneous_at_end, ruin_measures, unsettled,
+};
 use crate::output::csv_text::field;
 use crate::output::gltf::{encode_glb, run_scene};
 use crate::output::history::{bodies_csv, history_csv, BodyRow, EnergyRow, HistoryFrame};
@@ -18,8 +21,7 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::{
-    energy_summary, first_contact, floors_down, instantaneous_at_end, r6, ruin_measures, unsettled,
-    ConnectionCounts, FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary,
+    r6, ConnectionCounts, FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary,
     TcKind, WallTimes,
 };
 use crate::output::AnimationError;

@@ -7,7 +7,7 @@
 use super::style::{self, Swatch};
 use super::{font::FAMILY, Figure, RunFolder};
 use super::{PlotError, Result};
-use crate::output::summary::{corners, projection};
+use crate::plan_geometry::{bbox, corners, inside, projection};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -26,14 +26,6 @@ pub struct DensityFigure {
     pub footprint: ([f64; 2], [f64; 2]),
     /// Title label.
     pub label: String,
-}
-
-fn inside(poly: &[[f64; 2]], x: f64, y: f64) -> bool {
-    poly.len() >= 3
-        && (0..poly.len()).all(|i| {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) >= 0.0
-        })
 }
 
 /// A plan-view debris grid accumulated over runs of one model (an ensemble, or all runs
@@ -107,13 +99,7 @@ impl DensityGrid {
                 ))
                 .or_default() += 1;
             let poly = projection(p, b.half_extents);
-            let (mut a, mut z) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for q in &poly {
-                for k in 0..2 {
-                    a[k] = a[k].min(q[k]);
-                    z[k] = z[k].max(q[k]);
-                }
-            }
+            let (a, z) = bbox(&poly);
             for j in (a[1] / cell).floor() as i64..=(z[1] / cell).ceil() as i64 {
                 for i in (a[0] / cell).floor() as i64..=(z[0] / cell).ceil() as i64 {
                     let (x, y) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);

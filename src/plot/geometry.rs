@@ -2,7 +2,7 @@
 //! original footprint, the ground level and equal-aspect axis ranges.
 //!
 //! * A body's **projection** on a view plane is the convex hull of its 8 box corners
-//!   projected on that plane ([`crate::output::summary::corners`], `hull`).
+//!   projected on that plane ([`crate::plan_geometry::corners`], `hull`).
 //! * **Drawing order** (back to front, so nearer bodies cover farther ones): plan — by the
 //!   final centre height z, ascending (upper bodies drawn over lower ones); elevation x–z
 //!   (seen from −y) — by y descending; elevation y–z (seen from +x) — by x ascending.
@@ -17,8 +17,8 @@
 //! * **Ground level**: the top of the passive foundations (the base; else the lowest
 //!   active corner) plus the ground's final vertical displacement (`history.csv`).
 use super::{BodyInfo, RunFolder};
-use crate::output::summary::{corners, hull};
 use crate::physics::Pose;
+use crate::plan_geometry::{corners, hull};
 use std::collections::BTreeSet;
 
 /// A projection plane of the ruin figures.

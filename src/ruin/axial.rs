@@ -125,15 +125,28 @@ pub(crate) struct AxialTrace {
     prev_vel: Option<Vec<[f64; 3]>>,
     /// Bodies with a sign change after the previous substep.
     switched_prev: Vec<bool>,
-    substeps: u64,
-    switches: BTreeMap<usize, u64>,
-    kicks: u64,
-    kicks_after_switch: u64,
-    kicks_same_substep: u64,
-    body_substeps: u64,
-    body_substeps_after_switch: u64,
+    counts: AxialCounts,
     kick_rows: Vec<String>,
     break_rows: Vec<String>,
+}
+
+/// What [`AxialTrace`] counts from `FEM2RBD_AXIAL_TRACE_FROM` on.
+#[derive(Default)]
+struct AxialCounts {
+    /// Substeps traced.
+    substeps: u64,
+    /// Sign changes of each connection's axial offset.
+    switches: BTreeMap<usize, u64>,
+    /// Body velocity jumps over the kick threshold.
+    kicks: u64,
+    /// Kicks of a body one of whose connections changed sign in the substep before.
+    kicks_after_switch: u64,
+    /// Kicks of a body one of whose connections changed sign in the same substep.
+    kicks_same_substep: u64,
+    /// Dynamic bodies × substeps traced (the baseline).
+    body_substeps: u64,
+    /// Of those, the ones after a sign change of one of the body's connections.
+    body_substeps_after_switch: u64,
 }
 
 impl AxialTrace {
@@ -153,13 +166,7 @@ impl AxialTrace {
             prev_sign: vec![None; connections],
             prev_vel: None,
             switched_prev: vec![false; n],
-            substeps: 0,
-            switches: BTreeMap::new(),
-            kicks: 0,
-            kicks_after_switch: 0,
-            kicks_same_substep: 0,
-            body_substeps: 0,
-            body_substeps_after_switch: 0,
+            counts: AxialCounts::default(),
             kick_rows: Vec::new(),
             break_rows: Vec::new(),
         }
@@ -179,7 +186,7 @@ impl AxialTrace {
             let s = x.map(|x| if x < 0.0 { -1i8 } else { 1 });
             if let (Some(p), Some(s)) = (self.prev_sign[c], s) {
                 if p != s && t >= self.from_s {
-                    *self.switches.entry(c).or_default() += 1;
+                    *self.counts.switches.entry(c).or_default() += 1;
                     switched_now[pairs[c].0] = true;
                     switched_now[pairs[c].1] = true;
                 }
@@ -189,26 +196,26 @@ impl AxialTrace {
         let cur: Vec<[f64; 3]> = vels.iter().map(|v| v.unwrap_or([0.0; 3])).collect();
         if t >= self.from_s {
             if let Some(prev) = &self.prev_vel {
-                self.substeps += 1;
+                self.counts.substeps += 1;
                 for (i, v) in vels.iter().enumerate() {
                     if v.is_none() {
                         continue;
                     }
-                    self.body_substeps += 1;
+                    self.counts.body_substeps += 1;
                     if self.switched_prev[i] {
-                        self.body_substeps_after_switch += 1;
+                        self.counts.body_substeps_after_switch += 1;
                     }
                     let dv = (0..3)
                         .map(|k| (cur[i][k] - prev[i][k]).powi(2))
                         .sum::<f64>()
                         .sqrt();
                     if dv > self.kick_mps {
-                        self.kicks += 1;
+                        self.counts.kicks += 1;
                         if self.switched_prev[i] {
-                            self.kicks_after_switch += 1;
+                            self.counts.kicks_after_switch += 1;
                         }
                         if switched_now[i] {
-                            self.kicks_same_substep += 1;
+                            self.counts.kicks_same_substep += 1;
                         }
                         self.kick_rows.push(format!(
                             "{t:.4},{},{dv:.4},{},{}",
@@ -247,37 +254,40 @@ impl AxialTrace {
     }
 
     fn write_into(&self, f: &mut String, pairs: &[(usize, usize)]) -> std::fmt::Result {
-        let total: u64 = self.switches.values().sum();
+        let total: u64 = self.counts.switches.values().sum();
         let rate = |a: u64, b: u64| if b > 0 { a as f64 / b as f64 } else { f64::NAN };
         writeln!(
             f,
             "# axial trace from t = {} s, kick > {} m/s",
             self.from_s, self.kick_mps
         )?;
-        writeln!(f, "substeps {}", self.substeps)?;
+        writeln!(f, "substeps {}", self.counts.substeps)?;
         writeln!(f, "sign_changes {total}")?;
-        writeln!(f, "connections_changing {}", self.switches.len())?;
-        writeln!(f, "kicks {}", self.kicks)?;
+        writeln!(f, "connections_changing {}", self.counts.switches.len())?;
+        writeln!(f, "kicks {}", self.counts.kicks)?;
         writeln!(
             f,
             "kicks_after_change {} ({:.3})",
-            self.kicks_after_switch,
-            rate(self.kicks_after_switch, self.kicks)
+            self.counts.kicks_after_switch,
+            rate(self.counts.kicks_after_switch, self.counts.kicks)
         )?;
         writeln!(
             f,
             "kicks_same_substep_change {} ({:.3})",
-            self.kicks_same_substep,
-            rate(self.kicks_same_substep, self.kicks)
+            self.counts.kicks_same_substep,
+            rate(self.counts.kicks_same_substep, self.counts.kicks)
         )?;
         writeln!(
             f,
             "baseline body_substeps_after_change {} of {} ({:.4})",
-            self.body_substeps_after_switch,
-            self.body_substeps,
-            rate(self.body_substeps_after_switch, self.body_substeps)
+            self.counts.body_substeps_after_switch,
+            self.counts.body_substeps,
+            rate(
+                self.counts.body_substeps_after_switch,
+                self.counts.body_substeps
+            )
         )?;
-        let mut top: Vec<(&usize, &u64)> = self.switches.iter().collect();
+        let mut top: Vec<(&usize, &u64)> = self.counts.switches.iter().collect();
         top.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
         for (c, k) in top.iter().take(25) {
             let (a, b) = pairs[**c];

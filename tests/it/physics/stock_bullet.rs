@@ -4,7 +4,7 @@
 //! `btDiscreteDynamicsWorld` as Debian ships them, none of the shim's subclasses), gives the
 //! same bits.
 //!
-//! What the shim's subclasses change (bullet-sys/shim/bullet_shim.cpp) and what the compared
+//! What the shim's subclasses change (bullet-sys/shim/solver_*.cpp) and what the compared
 //! configuration therefore switches off:
 //!
 //! * the island-parallel solver (`ParallelIslandSolver`): with one solver thread it runs

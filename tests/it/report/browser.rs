@@ -27,7 +27,7 @@
 //! Fails (does not skip) when node, playwright-core or chromium is missing.
 use super::frame3::run_dir;
 use fem2rbd::output::run_folder::RunFolder;
-use fem2rbd::output::summary::corners;
+use fem2rbd::plan_geometry::corners;
 use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
