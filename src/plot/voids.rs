@@ -148,17 +148,7 @@ impl<'a> VoidsFigure<'a> {
     /// Where the rescuer's entry marker of `v` lies in the view.
     pub fn entry_point(&self, v: &PlotVoid) -> Option<(f64, f64)> {
         let e = v.rescuer_entry.as_deref()?;
-        let b = v.bounds;
-        let mut p = [0, 1, 2].map(|k| 0.5 * (b[0][k] + b[1][k]));
-        match e {
-            "x-" => p[0] = b[0][0],
-            "x+" => p[0] = b[1][0],
-            "y-" => p[1] = b[0][1],
-            "y+" => p[1] = b[1][1],
-            "top" => p[2] = b[1][2],
-            _ => {}
-        }
-        Some(self.point(p))
+        Some(self.point(entry_side_point(v.bounds, e)))
     }
 }
 
@@ -463,4 +453,20 @@ impl Figure for RescueMapFigure {
         style::draw_legend(&legend, &entries)?;
         Ok(())
     }
+}
+
+/// The middle of the side of a void's bounding box `b` (min, max corners, m) that the
+/// rescuer's route enters through: `x-` the −x side, `x+`, `y-`, `y+`, `top` the top; the
+/// box's centre for any other side. The rescuer's marker in the plots and the report.
+pub fn entry_side_point(b: [[f64; 3]; 2], entry: &str) -> [f64; 3] {
+    let mut p = [0, 1, 2].map(|k| 0.5 * (b[0][k] + b[1][k]));
+    match entry {
+        "x-" => p[0] = b[0][0],
+        "x+" => p[0] = b[1][0],
+        "y-" => p[1] = b[0][1],
+        "y+" => p[1] = b[1][1],
+        "top" => p[2] = b[1][2],
+        _ => {}
+    }
+    p
 }

@@ -214,17 +214,7 @@ pub fn load(dir: &Path) -> Result<RunVoids> {
 /// reaches it.
 pub fn entry_point(v: &ReportVoid) -> Option<[f64; 3]> {
     let e = v.rescuer.entry.as_deref().filter(|_| v.rescuer.reached)?;
-    let b = v.bounds_m;
-    let mut p = [0, 1, 2].map(|k| 0.5 * (b[0][k] + b[1][k]));
-    match e {
-        "x-" => p[0] = b[0][0],
-        "x+" => p[0] = b[1][0],
-        "y-" => p[1] = b[0][1],
-        "y+" => p[1] = b[1][1],
-        "top" => p[2] = b[1][2],
-        _ => {}
-    }
-    Some(p)
+    Some(crate::plot::voids::entry_side_point(v.bounds_m, e))
 }
 
 fn pattern_hex(p: &str) -> String {
