@@ -167,15 +167,7 @@ pub fn clean_up() -> Vec<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn names(dir: &Path) -> Vec<String> {
-        let mut v: Vec<String> = fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
+    use crate::output::location::tests::names;
 
     #[test]
     fn clean_up_removes_temporaries_and_keeps_what_was_committed() {

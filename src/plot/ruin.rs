@@ -21,6 +21,7 @@ use super::geometry::{self, Bounds, Stories, View};
 use super::style::{self, Swatch};
 use super::Result;
 use super::{font::FAMILY, run_label, Figure, RunFolder};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -239,21 +240,7 @@ impl<'a> RuinFigure<'a> {
         DB::ErrorType: 'static,
     {
         let b = self.plot_bounds(area, panel)?;
-        let (xd, yd) = self.view.axis_names();
-        let mut chart = chart_builder(area).build_cartesian_2d(b.x[0]..b.x[1], b.y[0]..b.y[1])?;
-        let fx = style::tick_format(b.x[1] - b.x[0]);
-        let fy = style::tick_format(b.y[1] - b.y[0]);
-        chart
-            .configure_mesh()
-            .x_desc(xd)
-            .y_desc(yd)
-            .x_label_formatter(&fx)
-            .y_label_formatter(&fy)
-            .label_style((FAMILY, style::TICK_PX))
-            .axis_desc_style((FAMILY, style::LABEL_PX))
-            .light_line_style(style::GRID_LIGHT)
-            .bold_line_style(style::GRID_BOLD)
-            .draw()?;
+        let mut chart = view_chart(area, self.view, &b)?;
 
         let closed = |p: &[[f64; 2]]| -> Vec<(f64, f64)> {
             let mut v: Vec<(f64, f64)> = p.iter().map(|q| (q[0], q[1])).collect();
@@ -419,6 +406,34 @@ fn chart_builder<'a, 'b, DB: DrawingBackend>(
     let mut cb = ChartBuilder::on(main);
     cb.margin(12).x_label_area_size(48).y_label_area_size(70);
     cb
+}
+
+/// The chart of a plan or elevation over `b` (m) on `main`: the axes named by `view`, ticks
+/// formatted for the range, the grid drawn. The ruin figures and the void figures share it.
+pub(super) fn view_chart<'a, DB: DrawingBackend>(
+    main: &'a DrawingArea<DB, Shift>,
+    view: View,
+    b: &Bounds,
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>>
+where
+    DB::ErrorType: 'static,
+{
+    let (xd, yd) = view.axis_names();
+    let mut chart = chart_builder(main).build_cartesian_2d(b.x[0]..b.x[1], b.y[0]..b.y[1])?;
+    let fx = style::tick_format(b.x[1] - b.x[0]);
+    let fy = style::tick_format(b.y[1] - b.y[0]);
+    chart
+        .configure_mesh()
+        .x_desc(xd)
+        .y_desc(yd)
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
+        .label_style((FAMILY, style::TICK_PX))
+        .axis_desc_style((FAMILY, style::LABEL_PX))
+        .light_line_style(style::GRID_LIGHT)
+        .bold_line_style(style::GRID_BOLD)
+        .draw()?;
+    Ok(chart)
 }
 
 /// The axis transform of a ruin figure: the axis ranges (m) and the plotting area's pixel

@@ -203,25 +203,7 @@ impl Figure for VoidsFigure<'_> {
             ph.saturating_sub(72),
             self.view != View::Plan,
         );
-        let (xd, yd) = self.view.axis_names();
-        let mut chart = ChartBuilder::on(&main)
-            .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(70)
-            .build_cartesian_2d(b.x[0]..b.x[1], b.y[0]..b.y[1])?;
-        let fx = style::tick_format(b.x[1] - b.x[0]);
-        let fy = style::tick_format(b.y[1] - b.y[0]);
-        chart
-            .configure_mesh()
-            .x_desc(xd)
-            .y_desc(yd)
-            .x_label_formatter(&fx)
-            .y_label_formatter(&fy)
-            .label_style((FAMILY, style::TICK_PX))
-            .axis_desc_style((FAMILY, style::LABEL_PX))
-            .light_line_style(style::GRID_LIGHT)
-            .bold_line_style(style::GRID_BOLD)
-            .draw()?;
+        let mut chart = super::ruin::view_chart(&main, self.view, &b)?;
         if let Some(ruin) = &ruin {
             chart.draw_series(ruin.active_order().into_iter().map(|i| {
                 let pts: Vec<(f64, f64)> =
