@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Convergence of the ruin measures of frame3 LC5 against the ensemble spread
 # (docs/ruin-numerics.md, "Convergence"). Per mode (hybrid, physics):
-#   1. an ensemble of N members at the default substep (200 substeps/s, 100 iterations;
+#   1. an ensemble of N members at BCB's setting (200 substeps/s, 100 iterations;
 #      `fem2rbd run --ensemble N --seed S`, member 0 = the unperturbed run),
 #   2. the same scenario at 400 and 800 substeps/s (100 iterations) and at 200 iterations,
 # then prints, with scripts/ruin-convergence-table.py, the ensemble spread of every ruin

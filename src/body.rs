@@ -268,13 +268,27 @@ impl FromStr for BodyId {
     }
 }
 
+/// What a body is, for the mapping's overlap rule (`mapping::overlap`): decided from
+/// geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Role {
+    /// Line element within 45° of vertical.
+    Column,
+    /// Quad whose normal is within 45° of horizontal.
+    Wall,
+    /// Other line element.
+    Beam,
+    /// Quad whose normal is within 45° of vertical.
+    Slab,
+}
+
 /// One rigid body of the run (the mapping's boxes, then the foundation blocks).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
     /// Identity, named e.g. `Column:1:4`, `Foundation:base:1`.
     pub id: BodyId,
     /// Geometric role (`None` for foundations).
-    pub kind: Option<crate::mapping::Role>,
+    pub kind: Option<Role>,
     /// Half extents, m.
     pub half_extents: [f64; 3],
     /// Undeformed pose.

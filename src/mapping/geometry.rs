@@ -23,21 +23,8 @@
 
 use super::error::{MappingError, Result};
 use super::input::{LineMember, Quad};
-use crate::body::BodyId;
+use crate::body::{BodyId, Role};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
-
-/// What a body is, for the overlap rule ([`super::overlap`]): decided from geometry.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Role {
-    /// Line element within 45° of vertical.
-    Column,
-    /// Quad whose normal is within 45° of horizontal.
-    Wall,
-    /// Other line element.
-    Beam,
-    /// Quad whose normal is within 45° of vertical.
-    Slab,
-}
 
 /// One rigid body: an oriented box.
 #[derive(Debug, Clone, PartialEq)]

@@ -19,8 +19,9 @@
 //! Inertia ([`super::RigidBox::principal_inertia_kgm2`]) treats each body as a uniform box.
 
 use super::error::{MappingError, Result};
-use super::geometry::{RigidBox, Role};
+use super::geometry::RigidBox;
 use super::input::PointMass;
+use crate::body::Role;
 use std::collections::BTreeMap;
 
 type Key = [i64; 3];

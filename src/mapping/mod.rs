@@ -28,9 +28,10 @@ pub mod overlap;
 pub mod polytope;
 pub mod table;
 
+pub use crate::body::Role;
 pub use error::MappingError;
 pub use from_model::from_model;
-pub use geometry::{RigidBox, Role};
+pub use geometry::RigidBox;
 pub use input::{LineMember, MappingInput, PointMass, Quad};
 pub use overlap::TrimReport;
 

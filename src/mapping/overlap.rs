@@ -35,8 +35,9 @@
 //! one straight member touch without overlapping and are not cut.
 
 use super::error::{MappingError, Result};
-use super::geometry::{RigidBox, Role};
+use super::geometry::RigidBox;
 use super::polytope::{intersect, overlap_volume as obb_overlap, Obb};
+use crate::body::Role;
 use nalgebra::Vector3;
 
 /// The oriented box of a body.

@@ -3,7 +3,7 @@
 //! the building ([`first_contact`]) and the floors' shape when the lowest floor has come
 //! most of the way down ([`floors_down`]).
 use crate::body::Body;
-use crate::mapping::Role;
+use crate::body::Role;
 use crate::output::summary::{r6, FloorsDown};
 use crate::physics::Pose;
 use crate::plan_geometry::corners;

@@ -76,6 +76,10 @@ impl Preset {
                 // With the two-way row the frame3 LC5 debris comes to rest in 6 of 8
                 // ensemble members (docs/handoff.md §4.1).
                 joint_warmstart: 0.5,
+                // Four times BCB's Gauss–Seidel sweeps per second: the cheapest setting
+                // whose frame3 LC5 ruin distribution is converged (docs/ruin-convergence.md
+                // §5.2, docs/ruin-numerics.md, "The default's solver iterations").
+                solver_iterations: 400,
                 ..bcb()
             },
         }

@@ -225,7 +225,7 @@ pub struct PhysicsSpec {
     pub preset: super::preset::Preset,
     /// Substeps per simulated second (BCB 200).
     pub steps_per_second: f64,
-    /// Solver iterations (BCB 100).
+    /// Solver iterations (100 in `bcb`, BCB's; 400 in `fem2rbd`, docs/ruin-numerics.md §13).
     pub solver_iterations: u32,
     /// Body friction (1).
     pub friction: f64,

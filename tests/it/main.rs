@@ -75,6 +75,7 @@ mod rescue {
 mod repo {
     mod anyhow_edge;
     mod docs;
+    mod module_graph;
     mod no_env;
     mod no_unsafe;
     mod test_layout;

@@ -7,15 +7,15 @@
 //!
 //! How the rounding is chosen: each measure has a fixed step ([`STEPS`]), the 1-2-5 value
 //! nearest to half the sample standard deviation this ensemble measured (the next finer
-//! one where a value lay within 1 % of a step of its rounding edge: floor 3's offset and
-//! the farthest piece's distance), so a quantile moves by a step when the distribution
+//! one where a value lay within 1 % of a step of its rounding edge: the overlap of slabs
+//! 1–2), so a quantile moves by a step when the distribution
 //! moves by about half its spread. The grid holds
 //! each cell's mean number of active bodies per member, rounded to whole bodies. The
 //! members are the same bits for any thread count, so a rounded value can only flip if
 //! round-off (about 1e-12 of a value) crosses its rounding edge: the test prints every
 //! value's distance from its edge and asserts at least 1 % of a step (micrometres, 1e6
 //! times the round-off). At 3 s, 1.5 s after the hand-off, the members are close (floor
-//! offsets 0.18–0.38 m with sd 7–8 mm): the snapshot resolves millimetres.
+//! offsets 0.13–0.23 m with sd 7–10 mm): the snapshot resolves millimetres.
 use fem2rbd::pipeline::ensemble::{member_measures, run_ensemble};
 use fem2rbd::pipeline::Scenario;
 use std::collections::BTreeMap;
@@ -33,17 +33,17 @@ const CELL_M: f64 = 1.0;
 const STEPS: &[(&str, f64)] = &[
     ("floors[0].horizontal_offset_m", 0.005),
     ("floors[1].horizontal_offset_m", 0.005),
-    ("floors[2].horizontal_offset_m", 0.002),
-    ("floors[0].centroid_displacement_m[2]", 0.001),
-    ("floors[1].centroid_displacement_m[2]", 0.001),
-    ("floors[2].centroid_displacement_m[2]", 0.001),
-    ("slab_overlap[0].overlap_ratio", 0.005),
-    ("slab_overlap[1].overlap_ratio", 0.002),
+    ("floors[2].horizontal_offset_m", 0.005),
+    ("floors[0].centroid_displacement_m[2]", 0.0005),
+    ("floors[1].centroid_displacement_m[2]", 0.0005),
+    ("floors[2].centroid_displacement_m[2]", 0.0005),
+    ("slab_overlap[0].overlap_ratio", 0.002),
+    ("slab_overlap[1].overlap_ratio", 0.01),
     ("debris_footprint_area_m2", 0.005),
     ("max_debris_height_m", 0.0005),
-    ("distance_beyond_footprint_m.p50", 0.002),
-    ("distance_beyond_footprint_m.p90", 0.002),
-    ("distance_beyond_footprint_m.p100", 0.002),
+    ("distance_beyond_footprint_m.p50", 0.0001),
+    ("distance_beyond_footprint_m.p90", 0.005),
+    ("distance_beyond_footprint_m.p100", 0.005),
 ];
 
 /// The nearest-rank quantile q of sorted values.

@@ -377,7 +377,8 @@ fn shipped_lc5_scenario_parses_as_the_paper_says() {
             ph.friction,
             ph.restitution
         ),
-        (200.0, 100, 1.0, 0.0)
+        // The hybrid default: 200 substeps/s × 400 iterations, BCB's contacts.
+        (200.0, 400, 1.0, 0.0)
     );
     assert_eq!((ph.linear_damping, ph.angular_damping), (0.04, 0.1));
 }

@@ -91,6 +91,7 @@ fn hybrid_default_is_bcb_with_the_fem2rbd_keys() {
         expected.touch.pairs = PairsTouch::OnceYielded;
         expected.touch.ground_under_connected_bases = false;
         expected.joints.warmstart = 0.5;
+        expected.ruin.solver_iterations = 400;
         assert_eq!(stage_settings(&sc), expected);
     }
 }
