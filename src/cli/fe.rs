@@ -17,6 +17,7 @@ use fem2rbd::fe::shell::layers::ConcreteIntegration;
 use fem2rbd::model::limits::{check_range, FE_DT, MAX_TIME_S};
 use fem2rbd::model::Model;
 use fem2rbd::motion::{Format, GroundMotion};
+use fem2rbd::output::csv_text::number;
 use fem2rbd::output::location::{
     check_holds_no_input, check_output_dir, check_replaceable, replace_dir, FolderKind,
 };
@@ -99,8 +100,9 @@ pub fn ground_motion(specs: &[GmSpec], time_scale: f64) -> Result<GroundMotion> 
     )?)
 }
 
-/// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times
-/// with 6 decimals (s), displacements with 9 decimals (m, rad).
+/// `nodes.csv`: `t,ux_<tag>,uy_<tag>,uz_<tag>,rx_<tag>,ry_<tag>,rz_<tag>,...`, times (s)
+/// and displacements (m, rad) with 17 significant digits
+/// ([`fem2rbd::output::csv_text::number`]).
 pub fn nodes_csv(result: &RunResult) -> String {
     let h = &result.transient.history;
     let mut s = String::from("t");
@@ -111,10 +113,10 @@ pub fn nodes_csv(result: &RunResult) -> String {
     }
     s.push('\n');
     for (k, t) in h.time.iter().enumerate() {
-        let _ = write!(s, "{t:.6}");
+        s.push_str(&number(*t));
         for d in &h.disp[k] {
             for v in d {
-                let _ = write!(s, ",{v:.9}");
+                let _ = write!(s, ",{}", number(*v));
             }
         }
         s.push('\n');
@@ -124,21 +126,21 @@ pub fn nodes_csv(result: &RunResult) -> String {
 
 /// `reactions.csv`: per recorded step after t = 0, `t` (s), the summed support reactions
 /// `rx_n, ry_n, rz_n, mx_nm, my_nm, mz_nm` and the base shear along x and y carried by the
-/// beam-columns and by the shells (`vx_frame_n, vx_wall_n, vy_frame_n, vy_wall_n`), with 17
-/// significant digits. Reactions are static (R = F_int − P at the fixed DOFs, OpenSees
+/// beam-columns and by the shells (`vx_frame_n, vx_wall_n, vy_frame_n, vy_wall_n`), times
+/// and forces with 17 significant digits ([`fem2rbd::output::csv_text::number`]). Reactions are static (R = F_int − P at the fixed DOFs, OpenSees
 /// `reactions` without `-dynamic`): they leave out the damping forces at the supports.
 pub fn reactions_csv(rows: &[(f64, ReactionSum)]) -> String {
     let mut s = String::from(
         "t,rx_n,ry_n,rz_n,mx_nm,my_nm,mz_nm,vx_frame_n,vx_wall_n,vy_frame_n,vy_wall_n\n",
     );
     for (t, r) in rows {
-        let _ = write!(s, "{t:.6}");
+        s.push_str(&number(*t));
         for v in r
             .total
             .iter()
             .chain(&[r.frame[0], r.wall[0], r.frame[1], r.wall[1]])
         {
-            let _ = write!(s, ",{v:.16e}");
+            let _ = write!(s, ",{}", number(*v));
         }
         s.push('\n');
     }

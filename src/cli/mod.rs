@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 pub mod export;
 pub mod fe;
 pub mod generate;
+pub mod import;
 pub mod interrupt;
 pub mod map;
 pub mod modal;
@@ -55,6 +56,9 @@ pub enum Command {
     /// Export a model (openseespy script) or a run folder (animated glTF, ParaView VTK).
     #[command(subcommand)]
     Export(export::ExportCommand),
+    /// Import a model from another program (OpenSees' `print -JSON`).
+    #[command(subcommand)]
+    Import(import::ImportCommand),
     /// Map a model's elements to rigid boxes and write the rigid-body table (CSV).
     Map(map::MapArgs),
     /// Eigen periods, effective masses and mode characters of a model.
@@ -120,6 +124,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(args) => scene::run(args, cli.quiet, cli.allow_unusual),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd, cli.allow_unusual),
+        Command::Import(cmd) => import::run(&cmd, cli.allow_unusual),
         Command::Map(args) => map::run(&args, cli.quiet, cli.allow_unusual),
         Command::Modal(args) => modal::run(&args, cli.allow_unusual),
         Command::Fe(args) => fe::run(&args, cli.quiet, cli.allow_unusual),

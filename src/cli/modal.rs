@@ -1,6 +1,13 @@
 //! `fem2rbd modal model.toml`: eigen periods of a model on its initial stiffness, with
 //! frequencies, effective modal mass ratios and each mode's character (by shape); with
 //! `--json`, the same at full precision (f64 round-trip) as one JSON document.
+//!
+//! Below the table, the building's modes among those computed: the effective mass ratio
+//! summed over them per direction, and the mode with the largest effective mass in X and
+//! in Y. When the sum in X or Y is under 90 % (the modal mass ASCE 7-16 §12.9.1.1 asks a
+//! response-spectrum analysis to include), it says that the building's modes in that
+//! direction may lie above the last mode computed: a model with many slab nodes has
+//! hundreds of local vertical slab modes below its first translation.
 use anyhow::{Context, Result};
 use clap::Args;
 use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings};
@@ -44,8 +51,17 @@ pub fn report(model: &Model, modes: usize, variant: Variant, json: bool) -> Resu
         },
     )
     .context("modal analysis")?;
+    let n = modal.periods.len();
+    let sum: [f64; 3] =
+        std::array::from_fn(|d| modal.effective_mass_ratio.iter().map(|r| r[d]).sum());
+    // The mode with the largest effective mass ratio in X (d = 0) and in Y (d = 1).
+    let dominant = |d: usize| {
+        (0..n).max_by(|&a, &b| {
+            modal.effective_mass_ratio[a][d].total_cmp(&modal.effective_mass_ratio[b][d])
+        })
+    };
     if json {
-        let list: Vec<serde_json::Value> = (0..modal.periods.len())
+        let list: Vec<serde_json::Value> = (0..n)
             .map(|k| {
                 serde_json::json!({
                     "mode": k + 1,
@@ -56,10 +72,18 @@ pub fn report(model: &Model, modes: usize, variant: Variant, json: bool) -> Resu
                 })
             })
             .collect();
-        return Ok(serde_json::to_string_pretty(&serde_json::json!({ "modes": list }))? + "\n");
+        let doc = serde_json::json!({
+            "modes": list,
+            "effective_mass_ratio_sum": sum,
+            "largest_effective_mass_mode": {
+                "X": dominant(0).map(|k| k + 1),
+                "Y": dominant(1).map(|k| k + 1),
+            },
+        });
+        return Ok(serde_json::to_string_pretty(&doc)? + "\n");
     }
     let mut out = String::from("mode  T (s)     f (Hz)    MX     MY     MZ     character\n");
-    for k in 0..modal.periods.len() {
+    for k in 0..n {
         let t = modal.periods[k];
         let r = modal.effective_mass_ratio[k];
         out.push_str(&format!(
@@ -72,6 +96,26 @@ pub fn report(model: &Model, modes: usize, variant: Variant, json: bool) -> Resu
             r[2],
             mode_character(&built.domain, &modal, k)
         ));
+    }
+    out.push_str(&format!(
+        "\neffective mass of the {n} modes: X {:.3}, Y {:.3}, Z {:.3}\n",
+        sum[0], sum[1], sum[2]
+    ));
+    for (d, name) in [(0, "X"), (1, "Y")] {
+        if let Some(k) = dominant(d).filter(|&k| modal.effective_mass_ratio[k][d] > 0.0) {
+            out.push_str(&format!(
+                "largest in {name}: mode {}, T = {:.5} s, effective mass {:.3}\n",
+                k + 1,
+                modal.periods[k],
+                modal.effective_mass_ratio[k][d]
+            ));
+        }
+        if sum[d] < 0.9 {
+            out.push_str(&format!(
+                "under 90 % in {name}: the building's modes in {name} may lie above mode {n} \
+                 (ask for more with --modes)\n"
+            ));
+        }
     }
     Ok(out)
 }

@@ -92,9 +92,9 @@ fn parse_direction(s: &str) -> Result<usize, String> {
     }
 }
 
-/// A number with 17 significant digits (f64 round-trip).
+/// A number of the tables: [`fem2rbd::output::csv_text::number`], 17 significant digits.
 fn num(x: f64) -> String {
-    format!("{x:.16e}")
+    fem2rbd::output::csv_text::number(x)
 }
 
 /// The step increment used when `--step` is not given, as a drift ratio.

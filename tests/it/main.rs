@@ -10,6 +10,7 @@ mod cli {
     mod export_opensees;
     mod fe;
     mod hostile_inputs;
+    mod import_opensees;
     mod interrupt;
     mod model;
     mod own_files;

@@ -33,6 +33,7 @@ fn modal_prints_frame3_periods_and_characters() {
     let rows: Vec<Vec<&str>> = text
         .lines()
         .skip(1)
+        .take_while(|l| !l.is_empty())
         .map(|l| l.split_whitespace().collect())
         .collect();
     assert_eq!(rows.len(), 4, "{text}");
@@ -47,6 +48,78 @@ fn modal_prints_frame3_periods_and_characters() {
     }
     // effective mass ratio of the X mode in X
     assert_eq!(rows[0][3], "0.873", "{text}");
+    // below the table: the sums, the X and Y modes, and the note that 87 % is under 90 %
+    let summary: Vec<&str> = text.lines().skip(6).collect();
+    assert!(
+        summary[0].starts_with("effective mass of the 4 modes: X 0.873, Y 0.873"),
+        "{text}"
+    );
+    assert!(
+        summary[1].starts_with("largest in X: mode 1, T = 0.31600 s"),
+        "{text}"
+    );
+    assert!(summary[2].starts_with("under 90 % in X"), "{text}");
+    assert!(
+        summary[3].starts_with("largest in Y: mode 2, T = 0.31599 s"),
+        "{text}"
+    );
+}
+
+/// A cantilever of length L = 3 m with m = 1000 kg at its tip and no other mass: its three
+/// modes are the tip's translations with k = 3EI/L³ sideways and EA/L along the axis
+/// (Euler–Bernoulli, exact for the elastic beam-column), T = 2π √(m/k); with every mode
+/// computed the effective masses add up to the whole mass in X, Y and Z.
+#[test]
+fn modal_lists_a_cantilevers_closed_form_modes_and_their_whole_mass() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("cantilever.toml");
+    let (e, a, iy, iz, l, m): (f64, f64, f64, f64, f64, f64) =
+        (3.0e10, 0.09, 6.75e-4, 3.0e-4, 3.0, 1000.0);
+    std::fs::write(
+        &model,
+        format!(
+            "name = \"cantilever\"\n\
+             [[section]]\ntag = 1\ntype = \"elastic\"\nE = {e:e}\nG = 1.25e10\nA = {a}\n\
+             Iy = {iy:e}\nIz = {iz:e}\nJ = 1.14e-3\n\
+             [[transformation]]\ntag = 1\ntype = \"linear\"\nvecxz = [1.0, 0.0, 0.0]\n\
+             [[node]]\ntag = 1\nx = 0.0\ny = 0.0\nz = 0.0\n\
+             [[node]]\ntag = 2\nx = 0.0\ny = 0.0\nz = {l:?}\n\
+             [[support]]\nnode = 1\ndofs = [1, 1, 1, 1, 1, 1]\n\
+             [[element]]\ntag = 1\ntype_name = \"Column\"\ngroup = 1\n\
+             type = \"elastic_beam_column\"\nnodes = [1, 2]\nsection = 1\ntransf = 1\n\
+             [[mass]]\nnode = 2\nm = {m:?}\n"
+        ),
+    )
+    .unwrap();
+    let out = bin()
+        .args(["modal", "--modes", "3", "--json"])
+        .arg(&model)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let t = |k: f64| 2.0 * std::f64::consts::PI * (m / k).sqrt();
+    // local z is global X (vecxz), so X bends about Iy and Y about Iz
+    let (tx, ty, tz) = (
+        t(3.0 * e * iy / l.powi(3)),
+        t(3.0 * e * iz / l.powi(3)),
+        t(e * a / l),
+    );
+    let modes = v["modes"].as_array().unwrap();
+    for (mode, want) in modes.iter().zip([ty, tx, tz]) {
+        let got = mode["period_s"].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-9 * want, "{got} vs {want}");
+    }
+    for d in 0..3 {
+        let sum = v["effective_mass_ratio_sum"][d].as_f64().unwrap();
+        assert!((sum - 1.0).abs() < 1e-12, "direction {d}: {sum}");
+    }
+    assert_eq!(v["largest_effective_mass_mode"]["X"], 2);
+    assert_eq!(v["largest_effective_mass_mode"]["Y"], 1);
 }
 
 #[test]

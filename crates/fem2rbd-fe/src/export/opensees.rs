@@ -5,7 +5,8 @@
 //! steps then `loadConst`, adds Rayleigh damping `a0·M + a1·K_initial`
 //! (`ops.rayleigh(a0, 0, a1, 0)`), uniform excitation from AT2 records scaled to their
 //! PGA, and integrates with Newmark (γ = 0.5, β = 0.25) + Newton and the fallbacks of the
-//! reference `run_frame3.py`. Commands: `eigen [N]`, `gravity`, `th [out.csv]`.
+//! reference `run_frame3.py`. Commands: `eigen [N]`, `gravity`, `pushover SPEC.json`,
+//! `print-json [out.json]` (OpenSees' `printModel -JSON`), `th [out.csv]`.
 //! openseespy 3.7.1 is imported after preloading its bundled BLAS/LAPACK.
 use crate::model::limits::{check_range, show_number, FE_DT, MAX_PGA_G, MAX_TIME_S, TIME_SCALE};
 use crate::model::{
@@ -228,7 +229,7 @@ pub fn opensees_script(model: &Model, source: &str, opts: &OpenSeesOptions) -> R
         s(&model.name),
         s(source)
     )?;
-    writeln!(w, "Usage:\n  python3 {{this file}} eigen [N]     periods and mode shares (JSON on the last line)\n  python3 {{this file}} gravity       gravity analysis; free-node displacements as JSON\n  python3 {{this file}} th [out.csv]  gravity + time history; node displacements to CSV\nUnits: SI (m, kg, s, N, Pa).\n\"\"\"")?;
+    writeln!(w, "Usage:\n  python3 {{this file}} eigen [N]     periods and mode shares (JSON on the last line)\n  python3 {{this file}} gravity       gravity analysis; free-node displacements as JSON\n  python3 {{this file}} th [out.csv]  gravity + time history; node displacements to CSV\n  python3 {{this file}} print-json [out.json]  the model as OpenSees' printModel -JSON writes it\nUnits: SI (m, kg, s, N, Pa).\n\"\"\"")?;
     writeln!(w, "import ctypes\nimport importlib.util\nimport json\nimport math\nimport os\nimport re\nimport sys")?;
     w.push_str(PRELOAD);
     let variant_name = match opts.variant {

@@ -245,11 +245,17 @@ def main(argv):
         print(json.dumps({"ok": ok == 0, "disp": disp}))
     elif cmd == "pushover":
         print(json.dumps(pushover(argv[2])))
+    elif cmd == "print-json":
+        out = argv[2] if len(argv) > 2 else os.path.splitext(argv[0])[0] + ".json"
+        # OpenSees' own JSON of the domain (`fem2rbd import opensees-json` reads it back).
+        # printModel overwrites the file.
+        ops.printModel("-JSON", "-file", out)
+        print(json.dumps({"file": out}))
     elif cmd == "th":
         out = argv[2] if len(argv) > 2 else os.path.splitext(argv[0])[0] + "_disp.csv"
         print(json.dumps(time_history(out)))
     else:
-        raise SystemExit(f"unknown command {cmd!r}: use eigen [N], gravity, pushover SPEC.json or th [out.csv]")
+        raise SystemExit(f"unknown command {cmd!r}: use eigen [N], gravity, pushover SPEC.json, print-json [out.json] or th [out.csv]")
 
 
 if __name__ == "__main__":

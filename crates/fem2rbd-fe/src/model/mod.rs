@@ -9,6 +9,7 @@ pub mod element;
 pub mod generate;
 pub mod limits;
 pub mod material;
+pub mod opensees_json;
 pub mod plausibility;
 pub mod reference_json;
 pub mod section;
@@ -20,6 +21,7 @@ pub use element::{
     Transformation,
 };
 pub use material::{Material, MaterialLaw};
+pub use opensees_json::{import_opensees_json, Supports};
 pub use reference_json::import_reference_json;
 pub use section::{Bar, ElasticEquivalent, Fiber, RcRect, Section, SectionKind, ShellLayer};
 pub use validate::{Location, ModelError};
@@ -192,7 +194,9 @@ pub struct Model {
 impl Model {
     /// Reads, parses and validates a model file (`.json` → JSON, anything else → TOML).
     /// A `.json` file in the reference layout of `frame3.json` (it has a top-level
-    /// `uniaxial_materials` key) goes through [`import_reference_json`].
+    /// `uniaxial_materials` key) goes through [`import_reference_json`]; OpenSees'
+    /// `print -JSON` output is refused with the command that imports it
+    /// ([`import_opensees_json`]).
     pub fn load(path: impl AsRef<Path>) -> Result<Model, ModelError> {
         let path = path.as_ref();
         let text = limits::read_input_file(path, "model file")?;
@@ -201,6 +205,19 @@ impl Model {
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
         if is_json && reference_json::is_reference_layout(&text) {
             return import_reference_json(path);
+        }
+        if is_json && opensees_json::is_print_layout(&text) {
+            return Err(ModelError::Import {
+                at: Location {
+                    file: path.display().to_string(),
+                    line: None,
+                    item: None,
+                },
+                message: "this is OpenSees' `print -JSON` output, which has no supports: \
+                          convert it with `fem2rbd import opensees-json FILE [--fix-lowest] \
+                          -o model.toml`"
+                    .into(),
+            });
         }
         Self::parse(&text, &path.display().to_string(), is_json)
     }

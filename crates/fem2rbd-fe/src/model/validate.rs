@@ -85,7 +85,8 @@ pub enum ModelError {
         /// The count and its ceiling.
         limit: super::limits::LimitError,
     },
-    /// A reference-layout JSON file (`frame3.json`) that cannot be imported.
+    /// An imported file (the reference layout of `frame3.json`, OpenSees' `print -JSON`)
+    /// that cannot be imported.
     #[error("{at}: {message}")]
     Import {
         /// Where.
