@@ -130,7 +130,7 @@ pub fn modal_analysis(
     let massed = m.iter().filter(|&&x| x > 0.0).count();
     if settings.modes == 0 || settings.modes > massed {
         return Err(AnalysisError::Input(format!(
-            "modal analysis: {} modes requested, model has {massed} DOFs with mass",
+            "{} modes requested, the model has {massed} DOFs with mass: ask for 1 to {massed}",
             settings.modes
         )));
     }
