@@ -64,14 +64,8 @@ fn run_folder_inputs(dir: &Path) -> Vec<PathBuf> {
 /// `collapse.glb` (with the survivable voids of its `voids.json`, when it has one).
 pub fn run_folder_glb(dir: &Path) -> Result<Vec<u8>> {
     let path = dir.join("voids.json");
-    let voids = if path.is_file() {
-        Some(
-            std::fs::read_to_string(&path)
-                .with_context(|| format!("cannot read {}", path.display()))?,
-        )
-    } else {
-        None
-    };
+    let voids = fem2rbd::model::limits::read_optional_regular_file(&path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     run_folder_glb_with(dir, voids.as_deref())
 }
 

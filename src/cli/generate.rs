@@ -79,6 +79,13 @@ impl BuildingArgs {
     }
 }
 
+/// frame3's concrete E per story (Pa), the default of `--ec`.
+const DEFAULT_EC: &str = "25e9,27e9,23e9";
+/// frame3's concrete f'c per story (Pa), the default of `--fc`.
+const DEFAULT_FC: &str = "22.5e6,23.9e6,15.6e6";
+/// frame3's added mass per floor (kg), the default of `--added-mass`.
+const DEFAULT_ADDED_MASS: &str = "2699.75";
+
 fn list(s: &str) -> Result<Vec<f64>> {
     s.split(',')
         .map(|x| {
@@ -169,10 +176,10 @@ pub struct FrameArgs {
     #[arg(long, default_value = "3")]
     pub beam_bars: String,
     /// Concrete E per story (Pa), one value or one per story.
-    #[arg(long, default_value = "25e9,27e9,23e9")]
+    #[arg(long, default_value = DEFAULT_EC)]
     pub ec: String,
     /// Concrete f'c per story (Pa, positive), one value or one per story.
-    #[arg(long, default_value = "22.5e6,23.9e6,15.6e6")]
+    #[arg(long, default_value = DEFAULT_FC)]
     pub fc: String,
     /// Core confinement factor.
     #[arg(long, default_value_t = 1.1)]
@@ -199,7 +206,7 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 0.0)]
     pub steel_density: f64,
     /// Added mass per floor (kg), one value or one per floor.
-    #[arg(long, default_value = "2699.75")]
+    #[arg(long, default_value = DEFAULT_ADDED_MASS)]
     pub added_mass: String,
     /// Share of the added mass put on the bay-centre nodes (0..1); the rest is spread
     /// like the slab.
@@ -240,11 +247,29 @@ pub struct FrameArgs {
 impl FrameArgs {
     /// Converts the options to generator parameters.
     pub fn params(&self) -> Result<FrameParams> {
+        let story_heights = list(&self.stories).context("--stories")?;
+        let per_story = |option: &str, text: &str, default: &str| -> Result<Vec<f64>> {
+            let v = list(text).with_context(|| option.to_string())?;
+            let n = story_heights.len();
+            if v.len() != 1 && v.len() != n {
+                let given = if text == default {
+                    format!("its default {default} has")
+                } else {
+                    "it has".to_string()
+                };
+                bail!(
+                    "{option}: {given} {} values for {n} stories (--stories): give one \
+                     value for every story, or one per story",
+                    v.len()
+                );
+            }
+            Ok(v)
+        };
         Ok(FrameParams {
             name: self.name.clone(),
             spans_x: list(&self.spans_x).context("--spans-x")?,
             spans_y: list(&self.spans_y).context("--spans-y")?,
-            story_heights: list(&self.stories).context("--stories")?,
+            story_heights: story_heights.clone(),
             column: pair(&self.column).context("--column")?,
             beam: pair(&self.beam).context("--beam")?,
             slab_thickness: self.slab_thickness,
@@ -254,8 +279,8 @@ impl FrameArgs {
             beam_bar_diameter: self.beam_bar_diameter.unwrap_or(self.bar_diameter),
             column_bars_per_face: self.column_bars_per_face,
             beam_bars: beam_bars(&self.beam_bars).context("--beam-bars")?,
-            ec: list(&self.ec).context("--ec")?,
-            fc: list(&self.fc).context("--fc")?,
+            ec: per_story("--ec", &self.ec, DEFAULT_EC)?,
+            fc: per_story("--fc", &self.fc, DEFAULT_FC)?,
             confinement: self.confinement,
             cover_epscu: self.cover_epscu,
             core_epscu: self.core_epscu,
@@ -265,7 +290,7 @@ impl FrameArgs {
             es: self.es,
             concrete_density: self.concrete_density,
             steel_density: self.steel_density,
-            added_mass: list(&self.added_mass).context("--added-mass")?,
+            added_mass: per_story("--added-mass", &self.added_mass, DEFAULT_ADDED_MASS)?,
             ballast_centre: self.ballast_centre,
             column_elements: self.column_elements,
             beam_elements: self.beam_elements,

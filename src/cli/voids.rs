@@ -49,7 +49,7 @@ pub fn run(args: &VoidsArgs, quiet: bool) -> Result<()> {
     // summary.json's `rescue` section follows the new analysis, so that it never
     // disagrees with voids.json.
     let summary_path = args.run_dir.join("summary.json");
-    let summary = std::fs::read_to_string(&summary_path)
+    let summary = fem2rbd::model::limits::read_regular_file(&summary_path)
         .with_context(|| format!("{}: cannot read", summary_path.display()))?;
     let summary = with_summary_section(&summary, analysis.summary())
         .with_context(|| format!("{}: not a JSON object", summary_path.display()))?;

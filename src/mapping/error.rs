@@ -18,6 +18,18 @@ pub enum MappingError {
         /// What is wrong.
         message: String,
     },
+    /// No element of the model becomes a rigid body: nothing to map.
+    #[error(
+        "no element becomes a rigid body ({elements} element(s), {fe_only} of them \
+         rigid_body = false, which stay FE-only): nothing to map; give the members \
+         rigid_body = true (the default)"
+    )]
+    NoBodies {
+        /// Elements of the model.
+        elements: usize,
+        /// Of them, elements with `rigid_body = false`.
+        fe_only: usize,
+    },
     /// A line element's local frame is undefined (zero length, `vecxz` along the axis).
     #[error("{0}")]
     Frame(String),

@@ -23,7 +23,8 @@ use super::error::{MappingError, Result};
 use super::input::{LineMember, MappingInput, PointMass, Quad};
 use crate::model::{ElementKind, Model};
 
-/// Builds the mapping input of a model (module docs). Errors name the element.
+/// Builds the mapping input of a model (module docs). Errors name the element; a model
+/// none of whose elements becomes a body is refused ([`MappingError::NoBodies`]).
 pub fn from_model(model: &Model) -> Result<MappingInput> {
     let nodes = model.node_map();
     let secs = model.section_map();
@@ -115,6 +116,12 @@ pub fn from_model(model: &Model) -> Result<MappingInput> {
             }
             ElementKind::Panel { thickness, .. } => input.quads.push(quad(*thickness)?),
         }
+    }
+    if input.members.is_empty() && input.quads.is_empty() {
+        return Err(MappingError::NoBodies {
+            elements: model.elements.len(),
+            fe_only: model.elements.iter().filter(|e| !e.rigid_body).count(),
+        });
     }
     for m in &model.masses {
         input.nodal_masses.push(PointMass {

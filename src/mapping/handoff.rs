@@ -159,6 +159,7 @@ impl Handoff {
         let elems: std::collections::BTreeMap<u32, &crate::model::Element> =
             model.elements.iter().map(|e| (e.tag, e)).collect();
         let x0: Vec<Vector3<f64>> = model.nodes.iter().map(|n| v3(n.xyz())).collect();
+        let (node_map, transfs) = (model.node_map(), model.transformation_map());
         let mut plans = Vec::with_capacity(mapping.bodies.len());
         for b in &mapping.bodies {
             let tag = b.id.element_tag();
@@ -177,7 +178,7 @@ impl Handoff {
             };
             let (plan, frame) = match e.nodes() {
                 [i, j] => {
-                    let axes = model.local_axes(e).ok_or_else(|| {
+                    let axes = Model::local_axes_in(&node_map, &transfs, e).ok_or_else(|| {
                         body_error(format!("element {} has no local axes", e.tag))
                     })?;
                     let y0 = v3(axes[1]);

@@ -1306,6 +1306,22 @@ impl Scenario {
             file: p.to_string(),
             error,
         })?;
+        // The ruin stage writes a keyframe every 1/frame_rate s and steps the world a
+        // whole number of substeps between two keyframes (`ruin::build::check_rates`).
+        let frame_rate = crate::ruin::connection::RuinSettings::default().frame_rate;
+        let per_frame = physics.steps_per_second / frame_rate;
+        if per_frame < 0.5 || (per_frame - per_frame.round()).abs() > 1e-9 * per_frame {
+            return Err(invalid(format!(
+                "physics.steps_per_second = {} substeps/s is not a whole multiple of the \
+                 frame rate {frame_rate} frames/s: a keyframe is written every {} s of \
+                 simulated time, and the world is stepped a whole number of substeps \
+                 between two keyframes, so that every keyframe is a state Bullet computed; \
+                 give a multiple of {frame_rate} substeps/s, e.g. {}",
+                crate::model::limits::show_number(physics.steps_per_second),
+                1.0 / frame_rate,
+                per_frame.ceil().max(1.0) * frame_rate
+            )));
+        }
         if physics.panel_connections == PanelConnections::Elastic
             && physics.connections == ConnectionModel::Formula
         {

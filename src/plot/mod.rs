@@ -183,7 +183,7 @@ fn render<F: Figure>(
 /// file ([`AtomicFile`]) before the first is renamed into place, so a failure while
 /// writing (a full disk, a target that is a folder) leaves no new figure and no
 /// temporary file.
-fn write_set(set: Vec<(PathBuf, Vec<u8>)>) -> Result<Vec<PathBuf>> {
+pub(crate) fn write_set(set: Vec<(PathBuf, Vec<u8>)>) -> Result<Vec<PathBuf>> {
     use std::io::Write;
     let mut pending = Vec::with_capacity(set.len());
     for (p, bytes) in &set {
@@ -210,25 +210,27 @@ fn write_set(set: Vec<(PathBuf, Vec<u8>)>) -> Result<Vec<PathBuf>> {
 /// rescue map into `out` (created).
 pub fn write_ensemble(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let fig = density::DensityFigure::load(dir)?;
-    std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
-        path: out.to_path_buf(),
-        error: OutputError::io("cannot create the plot folder", out)(e),
-    })?;
     let mut set = Vec::new();
     render(&fig, out, format, &mut set)?;
     if let Some(map) = voids::RescueMapFigure::load(dir)? {
         render(&map, out, format, &mut set)?;
     }
+    create_folder(out)?;
     write_set(set)
+}
+
+/// Creates the plot folder `out` once every figure is rendered (an input error leaves no
+/// empty folder behind).
+fn create_folder(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
+        path: out.to_path_buf(),
+        error: OutputError::io("cannot create the plot folder", out)(e),
+    })
 }
 
 /// Writes every figure of `run` into `out` (created), all or nothing ([`write_set`]), and
 /// returns the files written.
 pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out).map_err(|e| PlotError::Write {
-        path: out.to_path_buf(),
-        error: OutputError::io("cannot create the plot folder", out)(e),
-    })?;
     let mut set = Vec::new();
     for view in [
         geometry::View::Plan,
@@ -257,6 +259,7 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
             render(&fig, out, format, &mut set)?;
         }
     }
+    create_folder(out)?;
     write_set(set)
 }
 

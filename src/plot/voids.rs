@@ -71,11 +71,13 @@ fn input(e: impl std::fmt::Display) -> PlotError {
 /// The voids of `dir/voids.csv`, by column name; `None` without the file.
 pub fn read_voids(dir: &Path) -> Result<Option<Vec<PlotVoid>>> {
     let file = dir.join("voids.csv");
-    if !file.is_file() {
-        return Ok(None);
-    }
     let f = file.display();
-    let mut r = csv::Reader::from_path(&file).map_err(|e| input(format!("{f}: {e}")))?;
+    let text = crate::model::limits::read_optional_regular_file(&file)
+        .map_err(|e| input(format!("{f}: {e}")))?;
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    let mut r = csv::Reader::from_reader(text.as_bytes());
     let h = r
         .headers()
         .map_err(|e| input(format!("{f}:1: {e}")))?
@@ -305,15 +307,18 @@ impl RescueMapFigure {
     /// Reads `dir/rescue_map.csv` and `dir/rescue.json`; `None` without them.
     pub fn load(dir: &Path) -> Result<Option<Self>> {
         let (mf, jf) = (dir.join("rescue_map.csv"), dir.join("rescue.json"));
-        if !mf.is_file() || !jf.is_file() {
+        if !mf.exists() || !jf.exists() {
             return Ok(None);
         }
-        let js: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(&jf).map_err(|e| input(format!("{}: {e}", jf.display())))?,
-        )
-        .map_err(|e| input(format!("{}: {e}", jf.display())))?;
+        let read = |p: &Path| {
+            crate::model::limits::read_regular_file(p)
+                .map_err(|e| input(format!("{}: {e}", p.display())))
+        };
+        let js: serde_json::Value = serde_json::from_str(&read(&jf)?)
+            .map_err(|e| input(format!("{}: {e}", jf.display())))?;
         let f = mf.display();
-        let mut r = csv::Reader::from_path(&mf).map_err(|e| input(format!("{f}: {e}")))?;
+        let text = read(&mf)?;
+        let mut r = csv::Reader::from_reader(text.as_bytes());
         let mut cells = Vec::new();
         let mut pts = Vec::new();
         for rec in r.records() {

@@ -55,7 +55,7 @@ struct Cell {
 }
 
 fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|error| ReportError::Read {
+    crate::model::limits::read_regular_file(path).map_err(|error| ReportError::Read {
         path: path.to_path_buf(),
         error,
     })
@@ -167,7 +167,7 @@ fn num(v: &Value) -> String {
 /// sentence saying why there is none.
 pub fn section(dir: &Path) -> Result<String> {
     let (mp, jp) = (dir.join("rescue_map.csv"), dir.join("rescue.json"));
-    if !mp.is_file() || !jp.is_file() {
+    if !mp.exists() || !jp.exists() {
         return Ok(r#"<p class="note" id="rescue-none">No rescue map: the ensemble folder has no <code>rescue_map.csv</code> and <code>rescue.json</code> (<code>fem2rbd run --ensemble N</code> writes them when its members have a ruin stage).</p>"#.to_string());
     }
     let js: Value = serde_json::from_str(&read(&jp)?)

@@ -132,13 +132,14 @@ pub enum RunVoids {
 /// Reads `dir/voids.json` (and checks `dir/voids.csv` against it).
 pub fn load(dir: &Path) -> Result<RunVoids> {
     let path = dir.join("voids.json");
-    if !path.is_file() {
-        return Ok(RunVoids::Missing);
-    }
-    let text = std::fs::read_to_string(&path).map_err(|error| ReportError::Read {
+    let read = crate::model::limits::read_optional_regular_file(&path);
+    let Some(text) = read.map_err(|error| ReportError::Read {
         path: path.clone(),
         error,
-    })?;
+    })?
+    else {
+        return Ok(RunVoids::Missing);
+    };
     let value: Value =
         serde_json::from_str(&text).map_err(|e| inconsistent(&path, format!("not JSON: {e}")))?;
     if let Some(e) = value.get("error") {
@@ -188,7 +189,7 @@ pub fn load(dir: &Path) -> Result<RunVoids> {
         }
     }
     let csv = dir.join("voids.csv");
-    let rows = std::fs::read_to_string(&csv)
+    let rows = crate::model::limits::read_regular_file(&csv)
         .map_err(|error| ReportError::Read {
             path: csv.clone(),
             error,

@@ -131,9 +131,14 @@ pub enum Finding {
     },
 }
 
-/// |v|.
+/// |v|, scaled by the largest component so that it does not overflow: |(1e300, 0, 0)| is
+/// 1e300, not infinity.
 fn norm(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+    let m = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
 }
 
 /// Every finding of `scene` in file order (world, time, bodies, then overlaps by the
@@ -141,7 +146,9 @@ fn norm(v: [f64; 3]) -> f64 {
 pub fn unusual(scene: &Scene, body: &dyn Fn(usize) -> String) -> Vec<Finding> {
     let mut out = Vec::new();
     let mut check = |item: &dyn Fn() -> String, value: f64, range: Range| {
-        if value.is_finite() && !(value >= range.lo && value <= range.hi) {
+        // The scene's numbers are finite (`assemble`); a value outside the range, or
+        // one that is not a number, is a finding.
+        if !(value >= range.lo && value <= range.hi) {
             out.push(Finding::Value(Unusual {
                 item: item(),
                 value,

@@ -158,7 +158,8 @@ fn row(study: &Study, store: &Store, e: &super::plan::Entry, o: &Outcome) -> Res
     r.tc_reason = s.tc_reason.name().to_string();
     r.fe_end_s = s.fe_end_s;
     let hp = dir.join("history.csv");
-    let text = std::fs::read_to_string(&hp).at(|| format!("cannot read {}", hp.display()))?;
+    let text = crate::model::limits::read_regular_file(&hp)
+        .at(|| format!("cannot read {}", hp.display()))?;
     let hist = parse_history(&text, &hp.display().to_string())?;
     let until = r.tc_s.unwrap_or(f64::INFINITY) + 1e-9;
     r.peak_roof_drift = hist

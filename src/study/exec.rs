@@ -3,7 +3,8 @@
 //!
 //! **A run folder is written atomically**: every file goes into `runs/.tmp-<id>-<pid>/`,
 //! which is renamed to `runs/<id>/` at the end (a previous incomplete or failed folder of
-//! the same id is moved aside first and removed after). `status.json` says `ok` or
+//! the same id is moved aside first and removed after); a file that cannot be written (a
+//! full disk) removes the temporary folder. `status.json` says `ok` or
 //! `failed` (with the error) and the wall time; it is the only file of a run folder that
 //! differs between two executions of the same entry. The other files are the run's
 //! outputs (`docs/scenario-format.md`, written without `wall_time_s`) and `entry.json`
@@ -121,10 +122,16 @@ pub(crate) fn commit_folder(store: &Store, id: &str, files: &[(String, Vec<u8>)]
         std::fs::remove_dir_all(&tmp)?;
     }
     std::fs::create_dir(&tmp).at(|| format!("cannot create {}", tmp.display()))?;
-    for (name, bytes) in files {
+    let written = files.iter().try_for_each(|(name, bytes)| {
         let p = tmp.join(name);
-        std::fs::write(&p, bytes).at(|| format!("cannot write {}", p.display()))?;
-        std::fs::File::open(&p)?.sync_all()?;
+        std::fs::write(&p, bytes)
+            .and_then(|()| std::fs::File::open(&p)?.sync_all())
+            .at(|| format!("cannot write {}", p.display()))
+    });
+    if let Err(e) = written {
+        // A full disk or a failing device: the partial folder goes, the old one stays.
+        let _ = std::fs::remove_dir_all(&tmp);
+        return Err(e);
     }
     let dest = store.run_dir(id);
     let old = runs.join(format!(".old-{id}-{pid}"));

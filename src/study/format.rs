@@ -11,6 +11,7 @@
 //! Paths inside the file are relative to the study file; `output` is relative to the
 //! current directory (as a scenario's).
 use super::error::{bail, At, Result, StudyError};
+use crate::model::limits::MAX_PGA_G;
 use crate::motion::{read_record, Format, G};
 use crate::pipeline::{Mode, Scenario};
 use serde::Deserialize;
@@ -269,10 +270,15 @@ fn check_name(name: &str) -> Result<()> {
     Ok(())
 }
 
-/// Intensity in g → milli-g, which must be on the 0.001 g grid and positive.
+/// Intensity in g → milli-g, which must be on the 0.001 g grid and in (0,
+/// [`MAX_PGA_G`]] g, the range of a target PGA in every front end (docs/reliability.md).
 fn milli(v: f64) -> Result<u32> {
-    if !(v.is_finite() && v > 0.0 && v <= 100.0) {
-        bail!("{v} g must be positive and at most 100 g");
+    if !(v.is_finite() && v > 0.0 && v <= MAX_PGA_G) {
+        bail!(
+            "{} g is outside the target PGA range (0, {MAX_PGA_G}] g (above the largest \
+             recorded ground accelerations, about 4 g)",
+            crate::model::limits::show_number(v)
+        );
     }
     let m = (v / MILLI_G).round();
     if ((m * MILLI_G) - v).abs() > 1e-9 {

@@ -80,7 +80,7 @@ impl StudyLock {
                     });
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                    let text = std::fs::read_to_string(&path).unwrap_or_default();
+                    let text = crate::model::limits::read_regular_file(&path).unwrap_or_default();
                     match text.trim().parse::<u32>() {
                         Ok(pid) if pid != std::process::id() && runs(pid) => {
                             return Err(LockError::Held {
@@ -100,7 +100,7 @@ impl StudyLock {
                 Err(e) => return Err(io(e)),
             }
         }
-        let pid = std::fs::read_to_string(&path)
+        let pid = crate::model::limits::read_regular_file(&path)
             .ok()
             .and_then(|t| t.trim().parse().ok())
             .unwrap_or(0);

@@ -377,7 +377,8 @@ pub(crate) fn read_summary(path: &Path) -> Result<RunSummary> {
 
 /// Reads a JSON file; errors name it.
 pub(crate) fn read_json(path: &Path) -> Result<Value> {
-    let text = std::fs::read_to_string(path).at(|| format!("cannot read {}", path.display()))?;
+    let text = crate::model::limits::read_regular_file(path)
+        .at(|| format!("cannot read {}", path.display()))?;
     serde_json::from_str(&text).at(|| format!("{}: not valid JSON", path.display()))
 }
 

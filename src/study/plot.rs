@@ -9,9 +9,9 @@
 //!   records' collapse capacities (fraction of all records, censored ones included in the
 //!   count), for stripes the fraction of collapses per intensity.
 //!
-//! Text in the bundled DejaVu Sans; same folder, same bytes; written atomically.
+//! Text in the bundled DejaVu Sans; same folder, same bytes; the set written all or
+//! nothing.
 use super::error::{bail, At, Result, StudyError};
-use crate::output::write_atomic;
 use crate::plot::font::FAMILY;
 use crate::plot::style;
 use crate::plot::{png_bytes, svg_string, Figure, ImageFormat};
@@ -223,24 +223,25 @@ impl Figure for FragilityFigure {
     }
 }
 
-fn write_fig<F: Figure>(
+/// Renders `fig` as `out/<stem>.png` and / or `.svg` into `set` (written by
+/// [`crate::plot::write_set`], all or nothing).
+fn render<F: Figure>(
     fig: &F,
     stem: &str,
     out: &Path,
     format: ImageFormat,
-) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+    set: &mut Vec<(PathBuf, Vec<u8>)>,
+) -> Result<()> {
     if matches!(format, ImageFormat::Png | ImageFormat::Both) {
-        let p = out.join(format!("{stem}.png"));
-        write_atomic(&p, &png_bytes(fig)?)?;
-        files.push(p);
+        set.push((out.join(format!("{stem}.png")), png_bytes(fig)?));
     }
     if matches!(format, ImageFormat::Svg | ImageFormat::Both) {
-        let p = out.join(format!("{stem}.svg"));
-        write_atomic(&p, svg_string(fig)?.as_bytes())?;
-        files.push(p);
+        set.push((
+            out.join(format!("{stem}.svg")),
+            svg_string(fig)?.into_bytes(),
+        ));
     }
-    Ok(files)
+    Ok(())
 }
 
 /// A collected study folder: it has `results/study.json`.
@@ -248,13 +249,14 @@ pub fn is_study_folder(dir: &Path) -> bool {
     dir.join("results").join("study.json").is_file()
 }
 
-/// Writes the figures of the collected study `dir` into `out` (created).
+/// Writes the figures of the collected study `dir` into `out` (created), all or nothing:
+/// every figure is rendered before the first file is written ([`crate::plot::write_set`]).
 pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
     let results = dir.join("results");
     let sj = super::plan::read_json(&results.join("study.json"))?;
     let ida_path = results.join("ida.csv");
-    let text =
-        std::fs::read_to_string(&ida_path).at(|| format!("cannot read {}", ida_path.display()))?;
+    let text = crate::model::limits::read_regular_file(&ida_path)
+        .at(|| format!("cannot read {}", ida_path.display()))?;
     // model, mode → record → points
     let mut curves: BTreeMap<(String, String), BTreeMap<String, Vec<Point>>> = BTreeMap::new();
     let mut lines = text.lines();
@@ -284,21 +286,15 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             .or_default()
             .push(p);
     }
-    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
     let study = sj["study"].as_str().unwrap_or("study");
-    let mut files = Vec::new();
+    let mut set = Vec::new();
     for ((model, mode), recs) in &curves {
         let fig = IdaFigure {
             name: "ida",
             title: format!("{study}: IDA, {model}, mode {mode}"),
             curves: recs.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
         };
-        files.extend(write_fig(
-            &fig,
-            &format!("ida_{model}_{mode}"),
-            out,
-            format,
-        )?);
+        render(&fig, &format!("ida_{model}_{mode}"), out, format, &mut set)?;
     }
     let empty = Vec::new();
     for fr in sj["fragility"].as_array().unwrap_or(&empty) {
@@ -360,15 +356,17 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             ida,
             x_max: if x_max > 0.0 { x_max * 1.05 } else { 1.0 },
         };
-        files.extend(write_fig(
+        render(
             &fig,
             &format!("fragility_{model}_{mode}"),
             out,
             format,
-        )?);
+            &mut set,
+        )?;
     }
-    files.extend(write_density(dir, out, format)?);
-    Ok(files)
+    render_density(dir, out, format, &mut set)?;
+    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
+    Ok(crate::plot::write_set(set)?)
 }
 
 /// The debris-density figure of one `results/density/<stem>.json` ([`super::collect`]).
@@ -414,11 +412,17 @@ pub fn density_figure(path: &Path) -> Result<crate::plot::density::DensityFigure
     })
 }
 
-/// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order.
-fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
+/// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order,
+/// rendered into `set`.
+fn render_density(
+    dir: &Path,
+    out: &Path,
+    format: ImageFormat,
+    set: &mut Vec<(PathBuf, Vec<u8>)>,
+) -> Result<()> {
     let ddir = dir.join("results").join("density");
     if !ddir.is_dir() {
-        return Ok(Vec::new());
+        return Ok(());
     }
     let mut jsons: Vec<PathBuf> = std::fs::read_dir(&ddir)
         .at(|| format!("cannot read {}", ddir.display()))?
@@ -426,14 +430,13 @@ fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     jsons.sort();
-    let mut files = Vec::new();
     for p in jsons {
         let fig = density_figure(&p)?;
         let stem = p
             .file_stem()
             .map(|s| s.to_string_lossy().replace("__", "_"))
             .unwrap_or_default();
-        files.extend(write_fig(&fig, &format!("density_{stem}"), out, format)?);
+        render(&fig, &format!("density_{stem}"), out, format, set)?;
     }
-    Ok(files)
+    Ok(())
 }

@@ -9,6 +9,7 @@ mod support;
 mod cli {
     mod export_opensees;
     mod fe;
+    mod full_disk;
     mod hostile_inputs;
     mod import_opensees;
     mod interrupt;

@@ -113,6 +113,26 @@ fn drop_scene(from: &str, to: &str) -> String {
     s.replacen(from, to, 1)
 }
 
+/// A study of the El Centro record on the scenario `s.toml` ([`SCENARIO`]); `PGA` is the
+/// list of intensities (line 8).
+const STUDY: &str = "base = \"s.toml\"\n[records]\ntime_scale = 0.5\n[[records.list]]\n\
+                     name = \"e\"\nx = \"elc180.at2\"\n[intensity]\npga_g = [PGA]\n";
+
+/// frame3 with `rigid_body = false` on every element (FE-only: no rigid body).
+fn all_fe_only() -> String {
+    let m = model("", "");
+    let mut parts = m.split("[[element]]\n");
+    let mut out = parts.next().unwrap().to_string();
+    for p in parts {
+        out.push_str("[[element]]\n");
+        if !p.contains("rigid_body") {
+            out.push_str("rigid_body = false\n");
+        }
+        out.push_str(p);
+    }
+    out
+}
+
 fn at2(npts: &str, dt: &str, values: &str) -> String {
     format!(
         "PEER NGA STRONG MOTION DATABASE RECORD\nTEST\nACCELERATION TIME SERIES IN UNITS OF G\n\
@@ -557,12 +577,19 @@ fn cases() -> Vec<Case> {
             run,
             1,
             &[
-                "10 substeps/s is not a whole multiple of the frame rate 25 frames/s at time scale 1",
+                "s.toml: physics.steps_per_second = 10 substeps/s is not a whole multiple of the frame rate 25 frames/s",
                 "a keyframe is written every 0.04 s of simulated time",
                 "give a multiple of 25 substeps/s, e.g. 25",
             ],
         )
         .with("s.toml", scenario("", "[physics]\nsteps_per_second = 10")),
+        case(
+            "steps_per_second 110 refused before the estimate",
+            "run {w}/s.toml --quiet --estimate",
+            1,
+            &["s.toml: physics.steps_per_second = 110 substeps/s", "e.g. 125"],
+        )
+        .with("s.toml", scenario("", "[physics]\nsteps_per_second = 110")),
         // ---- no hang, no abort
         case(
             "200 001 nodes",
@@ -926,6 +953,24 @@ fn cases() -> Vec<Case> {
             &["spans_x[1] = 1e300 m"],
         ),
         case(
+            "generate 4 stories with the default per-story --ec",
+            &format!("{gen} --stories 1,1,1,1"),
+            1,
+            &["--ec: its default 25e9,27e9,23e9 has 3 values for 4 stories (--stories): give one value for every story, or one per story"],
+        ),
+        case(
+            "generate a column wider than the bay",
+            &format!("{gen} --column 2x2"),
+            1,
+            &["column section 2 m × 2 m is not smaller than the bay spans_x[1] = 1.5 m: neighbouring columns would overlap"],
+        ),
+        case(
+            "generate a beam narrower than its bars",
+            &format!("{gen} --beam 0.02x0.15"),
+            1,
+            &["beam section 0.02 m wide leaves no room for its bars", "must be wider than 0.026 m"],
+        ),
+        case(
             "generate -o a folder",
             "generate frame -o {w}/adir",
             1,
@@ -1010,6 +1055,64 @@ fn cases() -> Vec<Case> {
         .with(
             "sc.json",
             drop_scene("\"friction\": 0.5", "\"friction\": 0.5, \"linear_velocity\": [1e6, 0, 0]"),
+        ),
+        case(
+            "scene velocity 1e300 m/s (its square overflows)",
+            "scene {w}/sc.json --out {w}/o.csv",
+            1,
+            &["body 1 \"box\" (line 8): |linear_velocity| = 1e300 m/s is outside the plausible speed range [0 m/s, 1000 m/s]"],
+        )
+        .with(
+            "sc.json",
+            drop_scene("\"friction\": 0.5", "\"friction\": 0.5, \"linear_velocity\": [1e300, 0, 0]"),
+        ),
+        // ---- studies: the target PGA capped as everywhere else
+        case(
+            "study pga 100 g",
+            "study plan {w}/st.toml",
+            1,
+            &["st.toml:8: intensity.pga_g", "100 g is outside the target PGA range (0, 5] g"],
+        )
+        .with("s.toml", SCENARIO)
+        .with("st.toml", STUDY.replace("PGA", "0.5, 100.0")),
+        case(
+            "study ida max_g 6 g",
+            "study plan {w}/st.toml",
+            1,
+            &["intensity.ida.max_g", "6 g is outside the target PGA range (0, 5] g"],
+        )
+        .with("s.toml", SCENARIO)
+        .with(
+            "st.toml",
+            STUDY.replace(
+                "pga_g = [PGA]",
+                "[intensity.ida]\nstart_g = 1.0\nstep_g = 1.0\nmax_g = 6.0\ntolerance_g = 0.5",
+            ),
+        ),
+        // ---- models that give the ruin stage nothing, or a key twice
+        case(
+            "map of an empty model",
+            "map {w}/empty.toml -o {w}/b.csv",
+            1,
+            &["empty.toml", "no element becomes a rigid body (0 element(s)"],
+        )
+        .with("empty.toml", "name = \"empty\"\n"),
+        case(
+            "map when every element has rigid_body = false",
+            "map {w}/model.toml -o {w}/b.csv",
+            1,
+            &["model.toml", "no element becomes a rigid body (96 element(s), 96 of them rigid_body = false"],
+        )
+        .with("model.toml", all_fe_only()),
+        case(
+            "a key given twice in an element",
+            "modal {w}/model.toml",
+            1,
+            &["model.toml:", "duplicate key rigid_body: each key is given once per item"],
+        )
+        .with(
+            "model.toml",
+            model("rigid_body = false", "rigid_body = false\nrigid_body = false"),
         ),
         case(
             "scene restitution 2",
@@ -1554,5 +1657,63 @@ fn pipes_are_refused_at_once_everywhere() {
         assert!(
             !w.join("x.glb").exists() && !w.join("x.html").exists() && !w.join("figs").exists()
         );
+    }
+}
+
+/// A pipe in place of a file a reader can do without (a run folder's `voids.csv` and
+/// `voids.json`) is refused at once, naming it: never waited on (`report` used to block
+/// on `voids.csv`), never taken for a missing file (`plot`, `report` and `export gltf`
+/// used to leave the voids out without a word).
+#[test]
+fn pipes_in_place_of_optional_run_files_are_refused_naming_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let w = tmp.path();
+    setup(w);
+    std::fs::write(
+        w.join("s.toml"),
+        scenario("output = \"out\"", "output = \"run\"") + "[physics]\ntime_limit_s = 0.4\n",
+    )
+    .unwrap();
+    let out = Command::new(BIN)
+        .args(["run", "s.toml", "--quiet"])
+        .current_dir(w)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = w.join("run");
+    let cases: [(&str, &[&str]); 4] = [
+        ("voids.csv", &["plot", "run", "--out", "figs"]),
+        ("voids.csv", &["report", "run", "-o", "x.html"]),
+        ("voids.json", &["report", "run", "-o", "x.html"]),
+        ("voids.json", &["export", "gltf", "run", "-o", "x.glb"]),
+    ];
+    for (file, args) in cases {
+        let p = run.join(file);
+        let kept = std::fs::read(&p).unwrap();
+        std::fs::remove_file(&p).unwrap();
+        assert!(Command::new("mkfifo").arg(&p).status().unwrap().success());
+        // `timeout` ends a reader that blocks on the pipe (exit 124).
+        let out = Command::new("timeout")
+            .arg("20")
+            .arg(BIN)
+            .args(args)
+            .current_dir(w)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{file} {args:?}: {err}");
+        assert!(
+            err.contains(&format!("{file}: not a regular file")),
+            "{file} {args:?}: {err}"
+        );
+        assert!(
+            !w.join("figs").exists() && !w.join("x.html").exists() && !w.join("x.glb").exists()
+        );
+        std::fs::remove_file(&p).unwrap();
+        std::fs::write(&p, kept).unwrap();
     }
 }

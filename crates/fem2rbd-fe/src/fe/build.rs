@@ -420,8 +420,8 @@ pub fn build_domain(model: &Model, options: &BuildOptions) -> Result<BuiltDomain
             ))
         })?;
         let [ni, nj] = nodes;
-        let xi = Vector3::from(model.node_map()[&ni].xyz());
-        let xj = Vector3::from(model.node_map()[&nj].xyz());
+        let xi = Vector3::from(node_map[&ni].xyz());
+        let xj = Vector3::from(node_map[&nj].xyz());
         let (formulation, section) = match &e.kind {
             ElementKind::BeamColumn {
                 section,

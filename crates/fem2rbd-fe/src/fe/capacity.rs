@@ -490,6 +490,7 @@ fn capacities_impl(
     let sections = model.section_map();
     let materials = model.material_map();
     let nodes = model.node_map();
+    let transfs = model.transformation_map();
     let mut out = BTreeMap::new();
     for e in &model.elements {
         let ElementKind::BeamColumn {
@@ -521,8 +522,7 @@ fn capacities_impl(
                 format!("{} gravity loads for {} sections", n_g.len(), secs.len()),
             ));
         }
-        let axes = model
-            .local_axes(e)
+        let axes = Model::local_axes_in(&nodes, &transfs, e)
             .ok_or_else(|| cap(item(), "no local axes".into()))?;
         let fc = materials
             .get(&rc.cover_material)

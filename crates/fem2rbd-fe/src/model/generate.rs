@@ -223,8 +223,10 @@ fn check_reinforcement(p: &FrameParams) -> Result<(), FrameError> {
         let a = side / 2.0 - p.bar_offset;
         if a <= 0.0 {
             bail!(
-                "{what} section {side} m is too small for the bar offset {} m",
-                p.bar_offset
+                "{what} section {side} m wide leaves no room for its bars: they sit at the \
+                 bar offset {} m from each face, so the section must be wider than {} m",
+                p.bar_offset,
+                2.0 * p.bar_offset
             );
         }
         let clear = 2.0 * a / (n - 1) as f64 - d;
@@ -377,6 +379,19 @@ pub(crate) fn check_params(p: &FrameParams) -> Result<(), FrameError> {
     list("ec", &p.ec)?;
     list("fc", &p.fc)?;
     list("added_mass", &p.added_mass)?;
+    // A column at least as large as a bay would overlap its neighbour.
+    let size = p.column[0].max(p.column[1]);
+    for (name, spans) in [("spans_x", &p.spans_x), ("spans_y", &p.spans_y)] {
+        if let Some((k, span)) = spans.iter().enumerate().find(|(_, s)| size >= **s) {
+            bail!(
+                "column section {} m × {} m is not smaller than the bay {name}[{}] = {span} m: \
+                 neighbouring columns would overlap",
+                p.column[0],
+                p.column[1],
+                k + 1
+            );
+        }
+    }
     for (name, v) in [
         ("slab_thickness", p.slab_thickness),
         ("cover", p.cover),

@@ -198,6 +198,17 @@ pub fn read_regular_file(path: &std::path::Path) -> std::io::Result<String> {
     std::fs::read_to_string(path)
 }
 
+/// [`read_regular_file`] of a file a reader may do without: `None` when nothing is at
+/// `path`; anything else that is there must be a regular file (a pipe named like the file
+/// is refused, never waited on, and never taken for a missing file).
+pub fn read_optional_regular_file(path: &std::path::Path) -> std::io::Result<Option<String>> {
+    match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e),
+        Ok(_) => read_regular_file(path).map(Some),
+    }
+}
+
 /// A count for a message: integers in full up to 10¹², else in scientific notation
 /// (a count from a 300-digit input is not printed in full).
 pub(crate) fn show_count(c: f64) -> String {

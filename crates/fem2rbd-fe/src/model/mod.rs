@@ -273,10 +273,20 @@ impl Model {
     /// OpenSees `geomTransf` convention: x from node i to node j, y = vecxz × x / |…|,
     /// z = x × y. `None` for shells, unknown nodes/transformations or a degenerate axis.
     pub fn local_axes(&self, e: &Element) -> Option<[[f64; 3]; 3]> {
-        let nodes = self.node_map();
+        Self::local_axes_in(&self.node_map(), &self.transformation_map(), e)
+    }
+
+    /// [`Model::local_axes`] with the node and transformation lookups built once by the
+    /// caller ([`Model::node_map`], [`Model::transformation_map`]): for many elements,
+    /// building them per element would cost n² log n.
+    pub fn local_axes_in(
+        nodes: &BTreeMap<u32, &Node>,
+        transfs: &BTreeMap<u32, &Transformation>,
+        e: &Element,
+    ) -> Option<[[f64; 3]; 3]> {
         let [i, j] = e.nodes() else { return None };
         let (a, b) = (nodes.get(i)?.xyz(), nodes.get(j)?.xyz());
-        let v = self.transformation_map().get(&e.transf()?)?.vecxz;
+        let v = transfs.get(&e.transf()?)?.vecxz;
         let cross = |p: [f64; 3], q: [f64; 3]| {
             [
                 p[1] * q[2] - p[2] * q[1],

@@ -193,13 +193,30 @@ pub(super) fn parse_and_validate(
                     line,
                     item,
                 },
-                message: e.message().trim().to_string(),
+                message: toml_message(text, &e),
             }
         })?;
         (model, map)
     };
     validate(&model, file, &map)?;
     Ok(model)
+}
+
+/// The TOML parser's message, with the key named when it is given twice in one table
+/// (the parser says only "duplicate key").
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().trim();
+    let key = e
+        .span()
+        .and_then(|s| text.get(s))
+        .map(str::trim)
+        .filter(|k| !k.is_empty() && k.len() <= 100 && !k.contains('\n'));
+    match key {
+        Some(key) if message == "duplicate key" => {
+            format!("duplicate key {key}: each key is given once per item")
+        }
+        _ => message.to_string(),
+    }
 }
 
 /// The node and element bounds, checked on the items the source map counted, before the
