@@ -174,7 +174,7 @@
         el.append(row);
       }
       const mk = document.createElement("div");
-      mk.innerHTML = '<span class="swatch" style="background:#111"></span>rescuer\'s entry (post) <span class="swatch" style="background:#d01010"></span>breach';
+      mk.innerHTML = '<span class="swatch" style="background:#111"></span>rescuer\'s route and entry (post) <span class="swatch" style="background:#6e6e6e"></span>camera\'s route <span class="swatch" style="background:#d01010"></span>breach';
       el.append(mk);
     }
   }
@@ -188,6 +188,9 @@
   const V = data.voids;
   const voidMeshes = [];
   const markers = [];
+  // Route lines (`route-N` the rescuer's, `camera-route-N` the camera's): the route of
+  // voids.json from where it leaves open air to the void, simplified to within a cell.
+  const routeLines = [];
   const voidOpacity = (v) => (v.survivable ? V.opacity.survivable : V.opacity.other);
   if (V) {
     const h = V.cell;
@@ -231,6 +234,18 @@
         markers.push(mk);
       };
       if (v.entry) mark(h, h, 6 * h, [v.entry[0], v.entry[1], v.entry[2] + 3 * h], 0x111111, "entry-" + v.void);
+      if (v.route) {
+        const g = new THREE.BufferGeometry();
+        g.setAttribute("position", new THREE.Float32BufferAttribute(v.route.points, 3));
+        const rescuer = v.route.who === "rescuer";
+        const line = new THREE.Line(g, new THREE.LineBasicMaterial({
+          color: rescuer ? 0x111111 : 0x6e6e6e, depthTest: false,
+        }));
+        line.name = (rescuer ? "route-" : "camera-route-") + v.void;
+        line.renderOrder = 4;
+        scene.add(line);
+        routeLines.push(line);
+      }
       if (v.breach) mark(2 * h, 2 * h, 2 * h, v.breach, 0xd01010, "breach-" + v.void);
     }
   }
@@ -246,6 +261,7 @@
     const on = voidsShown();
     for (const m of voidMeshes) m.visible = on;
     for (const m of markers) m.visible = on;
+    for (const l of routeLines) l.visible = on;
     mesh.material.transparent = on;
     mesh.material.opacity = on ? 0.3 : 1;
     mesh.material.depthWrite = !on;
@@ -514,7 +530,7 @@
   window.fem2rbdReport = {
     times, bodies: nBodies, mesh, camera, scene, renderer, state,
     setTime, setColour, setView, select, pickAt, render,
-    voidMeshes, markers, selectVoid, pickVoidAt, showVoids, voidsShown,
+    voidMeshes, markers, routeLines, selectVoid, pickVoidAt, showVoids, voidsShown,
   };
   document.documentElement.dataset.reportReady = "1";
 })();

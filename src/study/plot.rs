@@ -41,14 +41,14 @@ struct Point {
 }
 
 /// IDA curves of one (model, mode).
-struct IdaFigure {
+pub struct IdaFigure {
     name: &'static str,
     title: String,
     curves: Vec<(String, Vec<Point>)>,
 }
 
 /// Fragility of one (model, mode).
-struct FragilityFigure {
+pub struct FragilityFigure {
     title: String,
     fit: Option<(f64, f64)>,
     /// Data points (x g, fraction), drawn as markers (stripes) or a step line (IDA).
@@ -248,8 +248,58 @@ pub fn is_study_folder(dir: &Path) -> bool {
     dir.join("results").join("study.json").is_file()
 }
 
+/// One figure of a study: IDA curves, a fragility, or an intensity's debris density.
+pub enum StudyFigure {
+    /// IDA curves of one (model, mode).
+    Ida(IdaFigure),
+    /// The collapse fragility of one (model, mode).
+    Fragility(FragilityFigure),
+    /// The debris density of one (model, mode, intensity).
+    Density(crate::plot::density::DensityFigure),
+}
+
+impl Figure for StudyFigure {
+    fn name(&self) -> &'static str {
+        match self {
+            StudyFigure::Ida(f) => f.name(),
+            StudyFigure::Fragility(f) => f.name(),
+            StudyFigure::Density(f) => f.name(),
+        }
+    }
+    fn size(&self) -> (u32, u32) {
+        match self {
+            StudyFigure::Ida(f) => f.size(),
+            StudyFigure::Fragility(f) => f.size(),
+            StudyFigure::Density(f) => f.size(),
+        }
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> crate::plot::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        match self {
+            StudyFigure::Ida(f) => f.draw(root),
+            StudyFigure::Fragility(f) => f.draw(root),
+            StudyFigure::Density(f) => f.draw(root),
+        }
+    }
+}
+
 /// Writes the figures of the collected study `dir` into `out` (created).
 pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
+    let figs = figures(dir)?;
+    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
+    let mut files = Vec::new();
+    for (stem, fig) in &figs {
+        files.extend(write_fig(fig, stem, out, format)?);
+    }
+    Ok(files)
+}
+
+/// The figures of the collected study `dir` with their file stems, in writing order:
+/// `ida_<model>_<mode>` per (model, mode) of `ida.csv`, `fragility_<model>_<mode>` per
+/// fragility of `study.json`, `density_<model>_<mode>_<pga>g` per `results/density/*.json`.
+pub fn figures(dir: &Path) -> Result<Vec<(String, StudyFigure)>> {
     let results = dir.join("results");
     let sj = super::plan::read_json(&results.join("study.json"))?;
     let ida_path = results.join("ida.csv");
@@ -284,7 +334,6 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             .or_default()
             .push(p);
     }
-    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
     let study = sj["study"].as_str().unwrap_or("study");
     let mut files = Vec::new();
     for ((model, mode), recs) in &curves {
@@ -293,12 +342,7 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             title: format!("{study}: IDA, {model}, mode {mode}"),
             curves: recs.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
         };
-        files.extend(write_fig(
-            &fig,
-            &format!("ida_{model}_{mode}"),
-            out,
-            format,
-        )?);
+        files.push((format!("ida_{model}_{mode}"), StudyFigure::Ida(fig)));
     }
     let empty = Vec::new();
     for fr in sj["fragility"].as_array().unwrap_or(&empty) {
@@ -360,14 +404,12 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             ida,
             x_max: if x_max > 0.0 { x_max * 1.05 } else { 1.0 },
         };
-        files.extend(write_fig(
-            &fig,
-            &format!("fragility_{model}_{mode}"),
-            out,
-            format,
-        )?);
+        files.push((
+            format!("fragility_{model}_{mode}"),
+            StudyFigure::Fragility(fig),
+        ));
     }
-    files.extend(write_density(dir, out, format)?);
+    files.extend(density_figures(dir)?);
     Ok(files)
 }
 
@@ -415,7 +457,7 @@ pub fn density_figure(path: &Path) -> Result<crate::plot::density::DensityFigure
 }
 
 /// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order.
-fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
+fn density_figures(dir: &Path) -> Result<Vec<(String, StudyFigure)>> {
     let ddir = dir.join("results").join("density");
     if !ddir.is_dir() {
         return Ok(Vec::new());
@@ -433,7 +475,7 @@ fn write_density(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             .file_stem()
             .map(|s| s.to_string_lossy().replace("__", "_"))
             .unwrap_or_default();
-        files.extend(write_fig(&fig, &format!("density_{stem}"), out, format)?);
+        files.push((format!("density_{stem}"), StudyFigure::Density(fig)));
     }
     Ok(files)
 }

@@ -230,6 +230,7 @@ try {
       meshes,
       in_scene: r.scene.children.filter((c) => /^void-[0-9]+$/.test(c.name)).length,
       markers: r.markers.map((m) => m.name),
+      routes: r.routeLines.map((l) => ({ name: l.name, visible: l.visible, points: Array.from(l.geometry.attributes.position.array) })),
       rows: Array.from(document.querySelectorAll("#void-table tbody tr")).map((tr) => Number(tr.dataset.void)),
       none: none ? none.textContent : null,
       key_voids_count: cell("rescue.voids_count"),
