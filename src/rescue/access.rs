@@ -109,7 +109,12 @@ fn search(
         Vec::new()
     };
     let mark = |q: usize| mark.is_some_and(|m| m(q));
-    let mut deque: VecDeque<usize> = VecDeque::new();
+    // Two first-in-first-out queues, one per cost level (Dial's buckets for costs 0 and
+    // 1): the cells of the level being settled, and those of the next. Within a level the
+    // cells are settled breadth first, so a route through free cells (cost 0) takes the
+    // fewest steps from where the level was entered, not a meander.
+    let mut level: VecDeque<usize> = VecDeque::new();
+    let mut next: VecDeque<usize> = VecDeque::new();
     for idx in 0..g.len() {
         if !g.on_open_boundary(idx) {
             continue;
@@ -123,15 +128,22 @@ fn search(
             first[idx] = idx as u32;
         }
         if c == 0 {
-            deque.push_front(idx);
+            level.push_back(idx);
         } else {
-            deque.push_back(idx);
+            next.push_back(idx);
         }
     }
     // Cells are settled in order of cost; a cell may be queued more than once and the
     // stale entries are skipped by the cost test.
     let mut done = vec![false; g.len()];
-    while let Some(c) = deque.pop_front() {
+    loop {
+        let Some(c) = level.pop_front() else {
+            if next.is_empty() {
+                break;
+            }
+            std::mem::swap(&mut level, &mut next);
+            continue;
+        };
         if done[c] {
             continue;
         }
@@ -160,9 +172,9 @@ fn search(
                     from[q] = step_code(axis, sign);
                 }
                 if step == 0 {
-                    deque.push_front(q);
+                    level.push_back(q);
                 } else {
-                    deque.push_back(q);
+                    next.push_back(q);
                 }
             }
         }
