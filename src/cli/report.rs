@@ -1,7 +1,9 @@
 //! `fem2rbd report RUN_DIR [-o report.html]`: the self-contained HTML report of a run
 //! folder ([`fem2rbd::report`]): the collapse and the ruin in 3-D over the whole timeline,
 //! the key figures of `summary.json` and the run's figures; of an ensemble folder, the
-//! members' ruins overlaid and the debris-density map. Written atomically, by default
+//! members' ruins overlaid, the debris-density and rescue maps; of a collected study
+//! folder, the fragilities, IDA and fragility figures and per intensity the debris-density
+//! and rescue maps. Written atomically, by default
 //! to `RUN_DIR/report.html`; the file written is printed on stdout (nothing with
 //! `--quiet`).
 use anyhow::Result;
@@ -14,7 +16,8 @@ use std::path::{Path, PathBuf};
 pub struct ReportArgs {
     /// Run folder written by `fem2rbd run` (bodies.csv, keyframes.csv, history.csv,
     /// ruins.csv, summary.json; connections.csv and plots/*.svg when present), or an
-    /// ensemble folder (`fem2rbd run --ensemble N`: ensemble.json and member-NNN/).
+    /// ensemble folder (`fem2rbd run --ensemble N`: ensemble.json and member-NNN/), or a
+    /// study folder collected by `fem2rbd study collect` (results/study.json).
     pub run_dir: PathBuf,
     /// Output file. Default: RUN_DIR/report.html.
     #[arg(short, long)]

@@ -106,9 +106,53 @@ pub fn write_atomic(target: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
     f.commit()
 }
 
+/// Writes every `(target, bytes)` of `files` all or nothing: each is written to its
+/// temporary file before the first is renamed into place, so a failure while writing (a
+/// full disk, a target that is a folder) leaves none of them new and no temporary file.
+/// Parent folders must exist.
+pub fn write_all_atomic(files: &[(PathBuf, Vec<u8>)]) -> Result<()> {
+    let mut pending = Vec::with_capacity(files.len());
+    for (p, bytes) in files {
+        let mut f = AtomicFile::create(p)?;
+        f.write_all(bytes)
+            .map_err(OutputError::io("cannot write", p))?;
+        pending.push(f);
+    }
+    for f in pending {
+        f.commit()?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_set_with_one_bad_target_writes_none_of_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.csv");
+        fs::write(&a, b"old").unwrap();
+        let folder = dir.path().join("folder");
+        fs::create_dir(&folder).unwrap();
+        let files = vec![
+            (a.clone(), b"new".to_vec()),
+            (folder.join("no/b.csv"), b"x".to_vec()),
+        ];
+        assert!(write_all_atomic(&files).is_err());
+        assert_eq!(fs::read(&a).unwrap(), b"old");
+        let mut names: Vec<_> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        assert_eq!(
+            names,
+            vec![std::ffi::OsString::from("a.csv"), "folder".into()]
+        );
+        write_all_atomic(&files[..1]).unwrap();
+        assert_eq!(fs::read(&a).unwrap(), b"new");
+    }
 
     #[test]
     fn committed_file_appears_and_uncommitted_leaves_nothing() {

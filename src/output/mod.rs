@@ -14,5 +14,5 @@ pub mod run_folder;
 pub mod summary;
 pub mod vtk;
 
-pub use atomic::{write_atomic, AtomicFile};
+pub use atomic::{write_all_atomic, write_atomic, AtomicFile};
 pub use error::{AnimationError, OutputError};

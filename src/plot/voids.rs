@@ -4,11 +4,16 @@
 //!   `voids.csv` over the ruin (every active body's final projection in light grey): each
 //!   void's bounding box in its pattern's colour ([`pattern_colour`]), filled when the void
 //!   is survivable and outlined only when it is not; the survivable ones labelled `void N` with
-//!   their number in `voids.csv`. Access: a survivable void the rescuer reaches has a filled black triangle at the
-//!   middle of the side its route enters from (`x-`: the box's −x side, …; `top`: its
-//!   centre); a survivable void it does not reach has a black × at the first debris cell
-//!   to breach (`breach_x/y/z`). The per-ruin files give each void's box, entry side and
-//!   breach cell, not its cells or the route's cells: the figures draw those.
+//!   their number in `voids.csv`. Access: the rescuer's route to a survivable void it
+//!   reaches is drawn as a black line (`voids.json` `rescuer.path_m`: from where the route
+//!   leaves open air to the void's reached cell, simplified to within a cell,
+//!   [`crate::rescue::route`]) with a filled black triangle where it leaves open air; the
+//!   camera's route to a survivable void only the camera reaches as a grey line; a
+//!   survivable void neither reaches has a black × at the first debris cell to breach
+//!   (`breach_x/y/z`). A run folder whose `voids.json` has no routes (or no `voids.json`)
+//!   gets the triangle at the middle of the side of the void's box the route enters from
+//!   (`x-`: the box's −x side, …; `top`: its centre) and no lines. The void is drawn as its
+//!   bounding box.
 //! * `rescue_map` — an ensemble's `rescue_map.csv`: each plan cell with a survivable void
 //!   beneath in some member, shaded by that share (white → dark blue), and the places of
 //!   `rescue.json` that recur (two or more members) outlined with their share.
@@ -62,13 +67,59 @@ pub struct PlotVoid {
     pub rescuer_entry: Option<String>,
     /// The first debris cell to breach, m, when not reached.
     pub breach: Option<[f64; 3]>,
+    /// The rescuer's route as a line, m, when reached and `voids.json` holds it.
+    pub rescuer_route: Option<Vec<[f64; 3]>>,
+    /// The camera's route as a line, m, when the camera reaches it and `voids.json` holds it.
+    pub camera_route: Option<Vec<[f64; 3]>>,
 }
+
+/// Grey of a camera's route.
+pub const CAMERA_GREY: RGBColor = RGBColor(110, 110, 110);
+
+/// The routes of `voids.json` in `dir` by void number: (rescuer, camera) lines, each
+/// `None` when not reached or not recorded; empty without the file.
+fn read_routes(dir: &Path) -> Result<RouteMap> {
+    let file = dir.join("voids.json");
+    if !file.is_file() {
+        return Ok(RouteMap::new());
+    }
+    let f = file.display();
+    let text = std::fs::read_to_string(&file).map_err(|e| input(format!("{f}: {e}")))?;
+    let js: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| input(format!("{f}: {e}")))?;
+    let line = |v: &serde_json::Value| -> Result<Option<Vec<[f64; 3]>>> {
+        let Some(a) = v.get("path_m").and_then(|p| p.as_array()) else {
+            return Ok(None);
+        };
+        a.iter()
+            .map(|p| {
+                let c = |k: usize| p.get(k).and_then(|x| x.as_f64());
+                match (c(0), c(1), c(2)) {
+                    (Some(x), Some(y), Some(z)) => Ok([x, y, z]),
+                    _ => Err(input(format!("{f}: a route point {p} is not [x, y, z]"))),
+                }
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(Some)
+    };
+    let mut out = RouteMap::new();
+    for v in js["voids"].as_array().into_iter().flatten() {
+        let Some(n) = v["void"].as_u64() else {
+            return Err(input(format!("{f}: a void without its number")));
+        };
+        out.insert(n as u32, (line(&v["rescuer"])?, line(&v["camera"])?));
+    }
+    Ok(out)
+}
+
+type RouteMap = std::collections::BTreeMap<u32, (Option<Vec<[f64; 3]>>, Option<Vec<[f64; 3]>>)>;
 
 fn input(e: impl std::fmt::Display) -> PlotError {
     PlotError::Input(e.to_string())
 }
 
-/// The voids of `dir/voids.csv`, by column name; `None` without the file.
+/// The voids of `dir/voids.csv`, by column name, with their routes from `voids.json`
+/// when it holds them; `None` without `voids.csv`.
 pub fn read_voids(dir: &Path) -> Result<Option<Vec<PlotVoid>>> {
     let file = dir.join("voids.csv");
     let f = file.display();
@@ -77,6 +128,7 @@ pub fn read_voids(dir: &Path) -> Result<Option<Vec<PlotVoid>>> {
     let Some(text) = text else {
         return Ok(None);
     };
+    let mut routes = read_routes(dir)?;
     let mut r = csv::Reader::from_reader(text.as_bytes());
     let h = r
         .headers()
@@ -105,10 +157,12 @@ pub fn read_voids(dir: &Path) -> Result<Option<Vec<PlotVoid>>> {
         } else {
             None
         };
+        let number: u32 = text("void")?
+            .parse()
+            .map_err(|_| input(format!("{f}:{line}: `void`: not a number")))?;
+        let (rescuer_route, camera_route) = routes.remove(&number).unwrap_or((None, None));
         out.push(PlotVoid {
-            number: text("void")?
-                .parse()
-                .map_err(|_| input(format!("{f}:{line}: `void`: not a number")))?,
+            number,
             survivable: text("survivable")? == "1",
             pattern: text("pattern")?.to_string(),
             bounds: [
@@ -117,6 +171,8 @@ pub fn read_voids(dir: &Path) -> Result<Option<Vec<PlotVoid>>> {
             ],
             rescuer_entry: reached.then(|| text("rescuer_entry").unwrap_or("").to_string()),
             breach,
+            rescuer_route: rescuer_route.filter(|_| reached),
+            camera_route: camera_route.filter(|_| text("camera_access").unwrap_or("") == "1"),
         });
     }
     Ok(Some(out))
@@ -147,10 +203,19 @@ impl<'a> VoidsFigure<'a> {
         (p[h], p[v])
     }
 
-    /// Where the rescuer's entry marker of `v` lies in the view.
+    /// Where the rescuer's entry marker of `v` lies in the view: the start of its route,
+    /// or without a route the middle of the box's side it enters through.
     pub fn entry_point(&self, v: &PlotVoid) -> Option<(f64, f64)> {
         let e = v.rescuer_entry.as_deref()?;
+        if let Some(p) = v.rescuer_route.as_ref().and_then(|r| r.first()) {
+            return Some(self.point(*p));
+        }
         Some(self.point(entry_side_point(v.bounds, e)))
+    }
+
+    /// A route line in the view.
+    pub fn line(&self, route: &[[f64; 3]]) -> Vec<(f64, f64)> {
+        route.iter().map(|p| self.point(*p)).collect()
     }
 }
 
@@ -237,6 +302,21 @@ impl Figure for VoidsFigure<'_> {
                 (FAMILY, style::LABEL_PX).into_font().color(&BLACK),
             )))?;
         }
+        // Routes: the camera's where only the camera reaches, then the rescuer's.
+        chart.draw_series(
+            self.voids
+                .iter()
+                .filter(|v| v.survivable && v.rescuer_route.is_none())
+                .filter_map(|v| v.camera_route.as_ref())
+                .map(|r| PathElement::new(self.line(r), CAMERA_GREY.stroke_width(2))),
+        )?;
+        chart.draw_series(
+            self.voids
+                .iter()
+                .filter(|v| v.survivable)
+                .filter_map(|v| v.rescuer_route.as_ref())
+                .map(|r| PathElement::new(self.line(r), BLACK.stroke_width(2))),
+        )?;
         chart.draw_series(
             self.voids
                 .iter()
@@ -264,7 +344,8 @@ impl Figure for VoidsFigure<'_> {
             entries.push((Swatch::Outline(pattern_colour(p)), (*p).to_string()));
         }
         entries.push((Swatch::Heading, "Rescuer".to_string()));
-        entries.push((Swatch::Fill(BLACK), "▲ entry side".to_string()));
+        entries.push((Swatch::Line(BLACK), "route, ▲ entry".to_string()));
+        entries.push((Swatch::Line(CAMERA_GREY), "camera's route".to_string()));
         entries.push((Swatch::Line(BLACK), "× cut here".to_string()));
         entries.push((Swatch::Fill(BODY_GREY), "ruin bodies".to_string()));
         style::draw_legend(&legend, &entries)?;
@@ -314,11 +395,17 @@ impl RescueMapFigure {
             crate::model::limits::read_regular_file(p)
                 .map_err(|e| input(format!("{}: {e}", p.display())))
         };
-        let js: serde_json::Value = serde_json::from_str(&read(&jf)?)
+        Self::from_texts(dir, &read(&mf)?, &read(&jf)?).map(Some)
+    }
+
+    /// The figure of the texts of `rescue_map.csv` and `rescue.json` of the ensemble folder
+    /// `dir` (as they are, or are about to be, there; the messages name the files).
+    pub fn from_texts(dir: &Path, map_csv: &str, rescue_json: &str) -> Result<Self> {
+        let (mf, jf) = (dir.join("rescue_map.csv"), dir.join("rescue.json"));
+        let js: serde_json::Value = serde_json::from_str(rescue_json)
             .map_err(|e| input(format!("{}: {e}", jf.display())))?;
         let f = mf.display();
-        let text = read(&mf)?;
-        let mut r = csv::Reader::from_reader(text.as_bytes());
+        let mut r = csv::Reader::from_reader(map_csv.as_bytes());
         let mut cells = Vec::new();
         let mut pts = Vec::new();
         for rec in r.records() {
@@ -361,13 +448,13 @@ impl RescueMapFigure {
                     .collect()
             })
             .unwrap_or_default();
-        Ok(Some(RescueMapFigure {
+        Ok(RescueMapFigure {
             cell_m,
             cells,
             extent,
             places,
             members: js["members_analysed"].as_u64().unwrap_or(0),
-        }))
+        })
     }
 }
 

@@ -26,7 +26,9 @@
 //!
 //! An ensemble folder (`ensemble.json` + `member-NNN/`) gets its own page: the members'
 //! final ruins overlaid, their key figures, the debris-density map and the rescue map
-//! ([`ensemble`], [`rescue_map`]).
+//! ([`ensemble`], [`rescue_map`]). A collected study folder (`results/study.json`) gets
+//! one too: its fragilities, IDA and fragility figures and per intensity the
+//! debris-density and rescue maps ([`study`]).
 //!
 //! The page is laid out in sections (`<section id=...>`: view, figures, voids, bodies, plots) so
 //! that further sections of a run folder's results can be added beside them.
@@ -41,6 +43,7 @@ pub mod page;
 pub mod plots;
 pub mod rescue_map;
 pub mod script;
+pub mod study;
 pub mod voids;
 
 use crate::output::run_folder::{RunFolder, RunFolderError};
@@ -103,10 +106,14 @@ pub(crate) fn inconsistent(file: impl Into<PathBuf>, message: impl Into<String>)
 }
 
 /// The report page of the run folder `dir` (of the ensemble folder `dir` when it holds
-/// `ensemble.json`: [`ensemble`]), as HTML text.
+/// `ensemble.json`: [`ensemble`]; of the collected study folder `dir` when it holds
+/// `results/study.json`: [`study`]), as HTML text.
 pub fn report_html(dir: &Path) -> Result<String> {
     if ensemble::is_ensemble(dir) {
         return ensemble::report_html(dir);
+    }
+    if study::is_study(dir) {
+        return study::report_html(dir);
     }
     let run = RunFolder::load(dir)?;
     let connections = connections::load(dir, &run)?;

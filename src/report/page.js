@@ -174,7 +174,7 @@
         el.append(row);
       }
       const mk = document.createElement("div");
-      mk.innerHTML = '<span class="swatch" style="background:#111"></span>rescuer\'s entry (post) <span class="swatch" style="background:#d01010"></span>breach';
+      mk.innerHTML = '<span class="swatch" style="background:#111"></span>rescuer\'s route and entry (post) <span class="swatch" style="background:#6e6e6e"></span>camera\'s route <span class="swatch" style="background:#d01010"></span>breach';
       el.append(mk);
     }
   }
@@ -188,6 +188,10 @@
   const V = data.voids;
   const voidMeshes = [];
   const markers = [];
+  // Route lines (`route-N` the rescuer's, `camera-route-N` the camera's): the route of
+  // voids.json from where it leaves open air to the void, simplified to within a cell;
+  // each {name, points, segments}, a segment a mesh.
+  const routeLines = [];
   const voidOpacity = (v) => (v.survivable ? V.opacity.survivable : V.opacity.other);
   if (V) {
     const h = V.cell;
@@ -231,6 +235,35 @@
         markers.push(mk);
       };
       if (v.entry) mark(h, h, 6 * h, [v.entry[0], v.entry[1], v.entry[2] + 3 * h], 0x111111, "entry-" + v.void);
+      if (v.route) {
+        // Each segment a thin opaque box along it (h/3 across): the inlined three.js
+        // bundle draws meshes, and a box is seen at any zoom.
+        const rescuer = v.route.who === "rescuer";
+        const name = (rescuer ? "route-" : "camera-route-") + v.void;
+        const mat = new THREE.MeshLambertMaterial({ color: rescuer ? 0x111111 : 0x6e6e6e });
+        const p = v.route.points;
+        const segments = [];
+        const a = new THREE.Vector3();
+        const b = new THREE.Vector3();
+        const d = new THREE.Vector3();
+        const xAxis = new THREE.Vector3(1, 0, 0);
+        for (let k = 0; k + 5 < p.length; k += 3) {
+          a.set(p[k], p[k + 1], p[k + 2]);
+          b.set(p[k + 3], p[k + 4], p[k + 5]);
+          d.subVectors(b, a);
+          const len = d.length();
+          if (len === 0) continue;
+          const seg = new THREE.Mesh(unit, mat);
+          seg.scale.set(len, h / 3, h / 3);
+          seg.quaternion.setFromUnitVectors(xAxis, d.normalize());
+          seg.position.set((a.x + b.x) / 2, (a.y + b.y) / 2, (a.z + b.z) / 2);
+          seg.name = name;
+          seg.renderOrder = 4;
+          scene.add(seg);
+          segments.push(seg);
+        }
+        routeLines.push({ name, points: p, segments });
+      }
       if (v.breach) mark(2 * h, 2 * h, 2 * h, v.breach, 0xd01010, "breach-" + v.void);
     }
   }
@@ -246,6 +279,7 @@
     const on = voidsShown();
     for (const m of voidMeshes) m.visible = on;
     for (const m of markers) m.visible = on;
+    for (const l of routeLines) for (const seg of l.segments) seg.visible = on;
     mesh.material.transparent = on;
     mesh.material.opacity = on ? 0.3 : 1;
     mesh.material.depthWrite = !on;
@@ -514,7 +548,7 @@
   window.fem2rbdReport = {
     times, bodies: nBodies, mesh, camera, scene, renderer, state,
     setTime, setColour, setView, select, pickAt, render,
-    voidMeshes, markers, selectVoid, pickVoidAt, showVoids, voidsShown,
+    voidMeshes, markers, routeLines, selectVoid, pickVoidAt, showVoids, voidsShown,
   };
   document.documentElement.dataset.reportReady = "1";
 })();

@@ -168,8 +168,16 @@ fn num(v: &Value) -> String {
 pub fn section(dir: &Path) -> Result<String> {
     let (mp, jp) = (dir.join("rescue_map.csv"), dir.join("rescue.json"));
     if !mp.exists() || !jp.exists() {
-        return Ok(r#"<p class="note" id="rescue-none">No rescue map: the ensemble folder has no <code>rescue_map.csv</code> and <code>rescue.json</code> (<code>fem2rbd run --ensemble N</code> writes them when its members have a ruin stage).</p>"#.to_string());
+        return Ok(r#"<p class="note" id="rescue-none">No rescue map: the ensemble folder has no <code>rescue_map.csv</code> and <code>rescue.json</code> (<code>fem2rbd run --ensemble N</code> or <code>fem2rbd voids ENSEMBLE_DIR</code> writes them when its members have a ruin stage).</p>"#.to_string());
     }
+    section_of(&mp, &jp, "")
+}
+
+/// The rescue maps, distributions and places of the map `mp` and its `rescue.json` `jp`
+/// (an ensemble's, or a study intensity's `results/rescue/<stem>.csv` and `.json`); the
+/// element ids end in `suffix`, so that one page can hold several.
+pub fn section_of(mp: &Path, jp: &Path, suffix: &str) -> Result<String> {
+    let (mp, jp) = (mp.to_path_buf(), jp.to_path_buf());
     let js: Value = serde_json::from_str(&read(&jp)?)
         .map_err(|e| inconsistent(&jp, format!("not JSON: {e}")))?;
     let cells = load_map(&mp)?;
@@ -203,7 +211,7 @@ pub fn section(dir: &Path) -> Result<String> {
                     .fold(f64::NEG_INFINITY, f64::max)
                     + 0.5 * cell
             });
-            s.push_str(r#"<div id="rescue-maps">"#);
+            let _ = write!(s, r#"<div id="rescue-maps{suffix}" class="rescue-maps">"#);
             for (k, (col, caption)) in MAPS.iter().enumerate() {
                 let _ = write!(
                     s,
@@ -225,7 +233,11 @@ pub fn section(dir: &Path) -> Result<String> {
             r#"<p class="note">The map is empty: no member has debris above the ground.</p>"#,
         ),
     }
-    s.push_str(r#"<h3>Over the members</h3><table id="rescue-distributions"><thead><tr><th>measure</th><th>min</th><th>p25</th><th>median</th><th>p75</th><th>mean</th><th>max</th></tr></thead><tbody>"#);
+    let _ = write!(
+        s,
+        r#"<h3>Over the members</h3><table id="rescue-distributions{suffix}" class="rescue-distributions">"#
+    );
+    s.push_str(r#"<thead><tr><th>measure</th><th>min</th><th>p25</th><th>median</th><th>p75</th><th>mean</th><th>max</th></tr></thead><tbody>"#);
     for (key, label) in DISTRIBUTIONS {
         let d = &js["distributions"][key];
         let _ = write!(
@@ -243,7 +255,7 @@ pub fn section(dir: &Path) -> Result<String> {
     let places = js["places"].as_array().cloned().unwrap_or_default();
     let _ = write!(
         s,
-        r#"<h3>Where survivable voids recur</h3><p class="note">{} places (survivable voids of the members matched by their 3-D bounding boxes, intersection over union at least {}), most members first.</p><table id="rescue-places"><thead><tr><th>place</th><th>members</th><th>frequency</th><th>volume mean (min … max) m³</th><th>centroid (m)</th><th>patterns</th><th>rescuer reaches</th><th>camera reaches</th></tr></thead><tbody>"#,
+        r#"<h3>Where survivable voids recur</h3><p class="note">{} places (survivable voids of the members matched by their 3-D bounding boxes, intersection over union at least {}), most members first.</p><table id="rescue-places{suffix}" class="rescue-places"><thead><tr><th>place</th><th>members</th><th>frequency</th><th>volume mean (min … max) m³</th><th>centroid (m)</th><th>patterns</th><th>rescuer reaches</th><th>camera reaches</th></tr></thead><tbody>"#,
         places.len(),
         js["match"]["iou_at_least"]
     );

@@ -6,10 +6,13 @@
 //! `voids.json` (`boxes`, [`crate::rescue::boxes`]), one translucent instanced mesh per
 //! void (an instance per box) in its pattern's colour (the colours of the void figures,
 //! [`crate::output::palette::pattern_srgb`]), opaque to [`VOID_OPACITY`] when survivable and
-//! to [`OTHER_OPACITY`] when not. A survivable void the rescuer reaches has a post standing
-//! on the middle of the side of its bounding box its route enters through (as in the
-//! figures); a survivable void the rescuer reaches only through debris has a cube on the
-//! first debris cell to breach.
+//! to [`OTHER_OPACITY`] when not. A survivable void the rescuer reaches has its route drawn
+//! as a black line (`voids.json` `rescuer.path_m`, [`crate::rescue::route`]) and a post
+//! standing where the route leaves open air (as in the figures; without a route in
+//! `voids.json`, on the middle of the side of its bounding box the route enters through);
+//! a survivable void only the camera reaches has the camera's route as a grey line; a
+//! survivable void the rescuer reaches only through debris has a cube on the first debris
+//! cell to breach.
 //!
 //! A run folder without `voids.json` (no ruin stage, or written before the analysis
 //! existed) or whose `voids.json` records an error gets a page that says so. When
@@ -40,6 +43,9 @@ pub struct Reach {
     /// Entry side.
     #[serde(default)]
     pub entry: Option<String>,
+    /// The route as a line, m (`None`: not reached, or a `voids.json` without routes).
+    #[serde(default)]
+    pub path_m: Option<Vec<[f64; 3]>>,
 }
 
 /// The breach of a void in `voids.json`.
@@ -210,12 +216,33 @@ pub fn load(dir: &Path) -> Result<RunVoids> {
     Ok(RunVoids::Analysed(Box::new(a)))
 }
 
-/// The point of `v`'s rescuer marker: the middle of the side of its bounding box the
-/// route enters through (`x-`: the −x side, …, `top`: the top), when the rescuer
-/// reaches it.
+/// The point of `v`'s rescuer marker, when the rescuer reaches it: where its route leaves
+/// open air (the route's first point), or without a route the middle of the side of its
+/// bounding box the route enters through (`x-`: the −x side, …, `top`: the top).
 pub fn entry_point(v: &ReportVoid) -> Option<[f64; 3]> {
     let e = v.rescuer.entry.as_deref().filter(|_| v.rescuer.reached)?;
+    if let Some(p) = v.rescuer.path_m.as_ref().and_then(|p| p.first()) {
+        return Some(*p);
+    }
     Some(crate::plot::voids::entry_side_point(v.bounds_m, e))
+}
+
+/// The route line the page draws for `v` (flat x, y, z triples), with whose it is: the
+/// rescuer's to a survivable void it reaches, else the camera's to a survivable void the
+/// camera reaches; `None` otherwise or without a route in `voids.json`.
+pub fn route_line(v: &ReportVoid) -> Option<(&'static str, Vec<f64>)> {
+    if !v.survivable {
+        return None;
+    }
+    let (who, reach) = if v.rescuer.reached {
+        ("rescuer", &v.rescuer)
+    } else if v.camera.reached {
+        ("camera", &v.camera)
+    } else {
+        return None;
+    };
+    let p = reach.path_m.as_ref()?;
+    Some((who, p.iter().flatten().copied().collect()))
 }
 
 fn pattern_hex(p: &str) -> String {
@@ -255,6 +282,7 @@ pub fn page_data(voids: &RunVoids) -> Value {
             "survivable": v.survivable,
             "boxes": v.boxes.iter().flatten().collect::<Vec<_>>(),
             "entry": if v.survivable { entry_point(v) } else { None },
+            "route": route_line(v).map(|(who, points)| json!({"who": who, "points": points})),
             "breach": if v.survivable && !v.rescuer.reached && v.breach.thickness_m > 0.0 {
                 v.breach.at_m
             } else {
@@ -291,7 +319,7 @@ pub fn section(voids: &RunVoids) -> String {
         return r#"<p class="note" id="voids-none">The rescue analysis found no void: no free space under debris (<code>voids.json</code>).</p>"#.to_string();
     }
     let mut s = format!(
-        r#"<p class="note">{} voids (free space under one roof each), {} survivable (a lying or sitting adult fits), from <code>voids.json</code> and <code>voids.csv</code>. Each is drawn at the final ruin as its cells (boxes of whole {:.3} m cells), in its pattern's colour, fainter when no adult fits; a black post stands where the rescuer's route enters a survivable void, a red cube on the first debris to breach where it reaches one only through debris. Click a row or a void to pick it.</p>
+        r#"<p class="note">{} voids (free space under one roof each), {} survivable (a lying or sitting adult fits), from <code>voids.json</code> and <code>voids.csv</code>. Each is drawn at the final ruin as its cells (boxes of whole {:.3} m cells), in its pattern's colour, fainter when no adult fits; the rescuer's route to a survivable void is a black line from a black post where it leaves open air (the camera's, where only the camera gets in, a grey line), a red cube marks the first debris to breach where neither reaches one. Click a row or a void to pick it.</p>
 <details open><summary>voids, largest first</summary>
 <table id="void-table"><thead><tr><th>void</th><th>pattern</th><th>volume (m³)</th><th>clear height (m)</th><th>inscribed radius (m)</th><th>survivable</th><th>rescuer</th><th>camera</th><th>breach (m)</th><th>roof</th></tr></thead><tbody>"#,
         a.voids_count,

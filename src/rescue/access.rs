@@ -12,6 +12,8 @@
 //! * A void is **reached** when the search gets to one of its cells; the route is the one
 //!   to its reached cell with the largest clearance (the most room; ties by the shorter
 //!   route, then by cell order).
+//! * The route itself, as a line, is traced back along the steps the search took
+//!   ([`super::route`]).
 //! * **Breach**: a 0/1 search from the grid's sides and top where entering a solid cell
 //!   costs 1 and a free cell 0 gives the least number of solid cells between open air and
 //!   each void (× h: the least debris thickness along a 6-connected path; 0 for a void
@@ -44,7 +46,7 @@ fn step_code(axis: usize, sign: i8) -> u8 {
 
 /// The step code of entering the grid at boundary cell `idx` from outside (the side it
 /// lies on; the top before the sides).
-fn boundary_code(field: &Field, idx: usize) -> u8 {
+pub(crate) fn boundary_code(field: &Field, idx: usize) -> u8 {
     let g = &field.grid;
     let [i, j, k] = g.ijk(idx);
     if k + 1 == g.n[2] {
@@ -61,28 +63,58 @@ fn boundary_code(field: &Field, idx: usize) -> u8 {
 }
 
 /// Routes of a body of diameter `width` (m, at the model's scale): per cell the crawl
-/// length in covered cells and the entry side.
+/// length in covered cells, the entry side and the step that reached it.
 #[derive(Debug, Clone)]
 pub struct Routes {
     /// Covered cells along the best route ([`UNREACHED`] if none).
     pub cost: Vec<u32>,
     /// Entry side code per cell.
     pub side: Vec<u8>,
+    /// The step code (`axis · 2 + (sign > 0)`) of the step into each cell along its best
+    /// route ([`NO_SIDE`]: a route starts there); [`super::route`] follows them back.
+    pub from: Vec<u8>,
+}
+
+/// What a search found: per cell its cost, entry side, the step into it (empty unless
+/// traced) and the first marked cell of its route (empty unless marking).
+struct Found {
+    cost: Vec<u32>,
+    side: Vec<u8>,
+    from: Vec<u8>,
+    first: Vec<u32>,
 }
 
 /// 0/1 breadth-first search: `cost_of(q)` the cost of entering cell `q` (`None`: not
-/// passable), `sources` the cells on the grid's sides and top that may start a route.
+/// passable), starting from the cells on the grid's sides and top; `mark` (breach: the
+/// solid cells) names the cells whose first one along each route is kept; `trace` keeps the
+/// step into each cell.
 fn search(
     field: &Field,
     cost_of: impl Fn(usize) -> Option<u32>,
-    mark: impl Fn(usize) -> bool,
-) -> (Vec<u32>, Vec<u8>, Vec<u32>) {
+    mark: Option<&dyn Fn(usize) -> bool>,
+    trace: bool,
+) -> Found {
     let g = &field.grid;
     let mut cost = vec![UNREACHED; g.len()];
     let mut side = vec![NO_SIDE; g.len()];
+    let mut from = if trace {
+        vec![NO_SIDE; g.len()]
+    } else {
+        Vec::new()
+    };
     // The first marked cell of the route (breach: the first solid cell).
-    let mut first = vec![u32::MAX; g.len()];
-    let mut deque: VecDeque<usize> = VecDeque::new();
+    let mut first = if mark.is_some() {
+        vec![u32::MAX; g.len()]
+    } else {
+        Vec::new()
+    };
+    let mark = |q: usize| mark.is_some_and(|m| m(q));
+    // Two first-in-first-out queues, one per cost level (Dial's buckets for costs 0 and
+    // 1): the cells of the level being settled, and those of the next. Within a level the
+    // cells are settled breadth first, so a route through free cells (cost 0) takes the
+    // fewest steps from where the level was entered, not a meander.
+    let mut level: VecDeque<usize> = VecDeque::new();
+    let mut next: VecDeque<usize> = VecDeque::new();
     for idx in 0..g.len() {
         if !g.on_open_boundary(idx) {
             continue;
@@ -96,15 +128,22 @@ fn search(
             first[idx] = idx as u32;
         }
         if c == 0 {
-            deque.push_front(idx);
+            level.push_back(idx);
         } else {
-            deque.push_back(idx);
+            next.push_back(idx);
         }
     }
     // Cells are settled in order of cost; a cell may be queued more than once and the
     // stale entries are skipped by the cost test.
     let mut done = vec![false; g.len()];
-    while let Some(c) = deque.pop_front() {
+    loop {
+        let Some(c) = level.pop_front() else {
+            if next.is_empty() {
+                break;
+            }
+            std::mem::swap(&mut level, &mut next);
+            continue;
+        };
         if done[c] {
             continue;
         }
@@ -122,34 +161,49 @@ fn search(
                 } else {
                     side[c]
                 };
-                first[q] = if first[c] == u32::MAX && mark(q) {
-                    q as u32
-                } else {
-                    first[c]
-                };
+                if !first.is_empty() {
+                    first[q] = if first[c] == u32::MAX && mark(q) {
+                        q as u32
+                    } else {
+                        first[c]
+                    };
+                }
+                if trace {
+                    from[q] = step_code(axis, sign);
+                }
                 if step == 0 {
-                    deque.push_front(q);
+                    level.push_back(q);
                 } else {
-                    deque.push_back(q);
+                    next.push_back(q);
                 }
             }
         }
     }
-    (cost, side, first)
+    Found {
+        cost,
+        side,
+        from,
+        first,
+    }
 }
 
 /// The routes of a body of diameter `width`, m.
 pub fn routes(field: &Field, width: f64) -> Routes {
     let r = 0.5 * width;
-    let (cost, side, _) = search(
+    let found = search(
         field,
         |q| {
             let free = !field.solid[q] && field.clearance[q] as f64 >= r;
             free.then(|| u32::from(field.covered(q)))
         },
-        |_| false,
+        None,
+        true,
     );
-    Routes { cost, side }
+    Routes {
+        cost: found.cost,
+        side: found.side,
+        from: found.from,
+    }
 }
 
 /// A void's access for one body size.
@@ -162,6 +216,9 @@ pub struct Access {
     pub entry: &'static str,
     /// The cell reached.
     pub cell: usize,
+    /// The route as a line from where it leaves open air to the reached cell's centre, m
+    /// ([`super::route::polyline`]).
+    pub path_m: Vec<[f64; 3]>,
 }
 
 /// The access to `void` along `routes` (`None`: not reached).
@@ -185,6 +242,7 @@ pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
         route_m: cost as f64 * field.grid.h,
         entry: side_name(routes.side[c]),
         cell: c,
+        path_m: super::route::polyline(field, routes, c),
     })
 }
 
@@ -202,12 +260,18 @@ pub struct BreachField {
 
 /// The breach field of `field`.
 pub fn breach_field(field: &Field) -> BreachField {
-    let (cost, side, first) = search(
+    let solid = |q: usize| field.solid[q];
+    let found = search(
         field,
         |q| Some(u32::from(field.solid[q])),
-        |q| field.solid[q],
+        Some(&solid),
+        false,
     );
-    BreachField { cost, side, first }
+    BreachField {
+        cost: found.cost,
+        side: found.side,
+        first: found.first,
+    }
 }
 
 /// The least breach into a void.

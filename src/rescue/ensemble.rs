@@ -205,9 +205,27 @@ pub fn parse_voids_csv(text: &str, file: &Path) -> Result<Vec<MemberVoid>> {
 
 /// Reads one member's rescue files from its folder `dir`.
 pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, String>> {
+    let jt = read(&dir.join("voids.json"))?;
+    member_with(dir, &jt, &|| read(&dir.join("voids.csv")))
+}
+
+/// One member's rescue from the texts of its `voids.json` and `voids.csv` (as they are, or
+/// are about to be, in its folder `dir`, which the messages name).
+pub fn member_from_texts(
+    dir: &Path,
+    voids_json: &str,
+    voids_csv: &str,
+) -> Result<std::result::Result<MemberRescue, String>> {
+    member_with(dir, voids_json, &|| Ok(voids_csv.to_string()))
+}
+
+fn member_with(
+    dir: &Path,
+    jt: &str,
+    csv_text: &dyn Fn() -> Result<String>,
+) -> Result<std::result::Result<MemberRescue, String>> {
     let jf = dir.join("voids.json");
-    let jt = read(&jf)?;
-    let js: Value = serde_json::from_str(&jt)
+    let js: Value = serde_json::from_str(jt)
         .map_err(|e| inconsistent(&jf, e.line(), format!("not JSON: {e}")))?;
     if let Some(e) = js.get("error") {
         return Ok(Err(e.as_str().unwrap_or("").to_string()));
@@ -247,7 +265,7 @@ pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, Strin
         ),
     };
     let cf = dir.join("voids.csv");
-    let mut voids = parse_voids_csv(&read(&cf)?, &cf)?;
+    let mut voids = parse_voids_csv(&csv_text()?, &cf)?;
     let listed = js
         .get("voids")
         .and_then(Value::as_array)
@@ -313,6 +331,20 @@ pub fn read_member(dir: &Path) -> Result<std::result::Result<MemberRescue, Strin
 
 /// The member folders `member-NNN` of the ensemble folder `dir`, in member order, read.
 pub fn read_members(dir: &Path) -> Result<Vec<Member>> {
+    member_dirs(dir)?
+        .into_iter()
+        .map(|(name, path)| {
+            Ok(Member {
+                rescue: read_member(&path)?,
+                name,
+            })
+        })
+        .collect()
+}
+
+/// The member folders `member-NNN` of the ensemble folder `dir` (name, path), in member
+/// order.
+pub fn member_dirs(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
     let entries = std::fs::read_dir(dir).map_err(|error| RunFolderError::Read {
         path: dir.to_path_buf(),
         error,
@@ -330,15 +362,13 @@ pub fn read_members(dir: &Path) -> Result<Vec<Member>> {
         }
     }
     found.sort();
-    found
+    Ok(found
         .into_iter()
         .map(|(_, name)| {
-            Ok(Member {
-                rescue: read_member(&dir.join(&name))?,
-                name,
-            })
+            let p = dir.join(&name);
+            (name, p)
         })
-        .collect()
+        .collect())
 }
 
 /// Min, quartiles (type 7), mean and max of `v` (empty: all 0).

@@ -18,6 +18,8 @@
 //! * [`pattern`]: the collapse pattern of each void from its roof bodies;
 //! * [`access`]: routes from open air for a rescuer and a camera, else the least debris
 //!   to breach;
+//! * [`route`]: the route of an access as a line (traced back along the search's steps,
+//!   simplified to within a cell);
 //! * [`rubble`]: height map, pile height, debris extent against the building height,
 //!   porosity;
 //! * [`stories`]: each story's volume loss (the free space under its ceiling, standing
@@ -40,6 +42,7 @@ pub mod occupancy;
 pub mod pattern;
 pub mod person;
 pub mod report;
+pub mod route;
 pub mod rubble;
 pub mod stories;
 pub mod voids;

@@ -4,7 +4,8 @@
 //! * `voids.json`: the sizes used, the grid, the counts, the rubble measures and the
 //!   same voids, each with its cells as disjoint boxes of whole cells (`boxes`:
 //!   `[i0, j0, k0, i1, j1, k1]`, cell indices of the grid, upper bounds excluded;
-//!   [`super::boxes`]);
+//!   [`super::boxes`]) and the rescuer's and the camera's routes as lines (`path_m`,
+//!   simplified to within `route_tolerance_m`; [`super::route`]);
 //! * `rubble_height.csv`: the height map, one row per grid column (`x,y,height_m`: the
 //!   column's centre and the pile surface above the ground).
 //!
@@ -283,7 +284,12 @@ impl Analysis {
     fn void_json(&self, n: usize, r: &VoidReport) -> Value {
         let v = &r.void;
         let acc = |a: &Option<Access>| match a {
-            Some(a) => json!({"reached": true, "route_m": r6(a.route_m), "entry": a.entry}),
+            Some(a) => json!({
+                "reached": true,
+                "route_m": r6(a.route_m),
+                "entry": a.entry,
+                "path_m": a.path_m.iter().map(|p| p.map(r6)).collect::<Vec<_>>(),
+            }),
             None => json!({"reached": false}),
         };
         let w = self.widest(v);
@@ -362,6 +368,7 @@ impl Analysis {
                 "cell_m": r6(g.h),
                 "cells": g.n,
             })),
+            "route_tolerance_m": self.grid().map(|g| r6(super::route::TOLERANCE_CELLS * g.h)),
             "voids_count": self.voids.len(),
             "regions_count": self.voids.iter().map(|r| r.void.region + 1).max().unwrap_or(0),
             "survivable_count": survivable.len(),

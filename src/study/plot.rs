@@ -41,14 +41,14 @@ struct Point {
 }
 
 /// IDA curves of one (model, mode).
-struct IdaFigure {
+pub struct IdaFigure {
     name: &'static str,
     title: String,
     curves: Vec<(String, Vec<Point>)>,
 }
 
 /// Fragility of one (model, mode).
-struct FragilityFigure {
+pub struct FragilityFigure {
     title: String,
     fit: Option<(f64, f64)>,
     /// Data points (x g, fraction), drawn as markers (stripes) or a step line (IDA).
@@ -249,9 +249,59 @@ pub fn is_study_folder(dir: &Path) -> bool {
     dir.join("results").join("study.json").is_file()
 }
 
+/// One figure of a study: IDA curves, a fragility, or an intensity's debris density.
+pub enum StudyFigure {
+    /// IDA curves of one (model, mode).
+    Ida(IdaFigure),
+    /// The collapse fragility of one (model, mode).
+    Fragility(FragilityFigure),
+    /// The debris density of one (model, mode, intensity).
+    Density(crate::plot::density::DensityFigure),
+}
+
+impl Figure for StudyFigure {
+    fn name(&self) -> &'static str {
+        match self {
+            StudyFigure::Ida(f) => f.name(),
+            StudyFigure::Fragility(f) => f.name(),
+            StudyFigure::Density(f) => f.name(),
+        }
+    }
+    fn size(&self) -> (u32, u32) {
+        match self {
+            StudyFigure::Ida(f) => f.size(),
+            StudyFigure::Fragility(f) => f.size(),
+            StudyFigure::Density(f) => f.size(),
+        }
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> crate::plot::Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        match self {
+            StudyFigure::Ida(f) => f.draw(root),
+            StudyFigure::Fragility(f) => f.draw(root),
+            StudyFigure::Density(f) => f.draw(root),
+        }
+    }
+}
+
 /// Writes the figures of the collected study `dir` into `out` (created), all or nothing:
 /// every figure is rendered before the first file is written ([`crate::plot::write_set`]).
 pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<PathBuf>> {
+    let figs = figures(dir)?;
+    let mut set = Vec::new();
+    for (stem, fig) in &figs {
+        render(fig, stem, out, format, &mut set)?;
+    }
+    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
+    Ok(crate::plot::write_set(set)?)
+}
+
+/// The figures of the collected study `dir` with their file stems, in writing order:
+/// `ida_<model>_<mode>` per (model, mode) of `ida.csv`, `fragility_<model>_<mode>` per
+/// fragility of `study.json`, `density_<model>_<mode>_<pga>g` per `results/density/*.json`.
+pub fn figures(dir: &Path) -> Result<Vec<(String, StudyFigure)>> {
     let results = dir.join("results");
     let sj = super::plan::read_json(&results.join("study.json"))?;
     let ida_path = results.join("ida.csv");
@@ -287,14 +337,14 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             .push(p);
     }
     let study = sj["study"].as_str().unwrap_or("study");
-    let mut set = Vec::new();
+    let mut files = Vec::new();
     for ((model, mode), recs) in &curves {
         let fig = IdaFigure {
             name: "ida",
             title: format!("{study}: IDA, {model}, mode {mode}"),
             curves: recs.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
         };
-        render(&fig, &format!("ida_{model}_{mode}"), out, format, &mut set)?;
+        files.push((format!("ida_{model}_{mode}"), StudyFigure::Ida(fig)));
     }
     let empty = Vec::new();
     for fr in sj["fragility"].as_array().unwrap_or(&empty) {
@@ -356,17 +406,13 @@ pub fn write_all(dir: &Path, out: &Path, format: ImageFormat) -> Result<Vec<Path
             ida,
             x_max: if x_max > 0.0 { x_max * 1.05 } else { 1.0 },
         };
-        render(
-            &fig,
-            &format!("fragility_{model}_{mode}"),
-            out,
-            format,
-            &mut set,
-        )?;
+        files.push((
+            format!("fragility_{model}_{mode}"),
+            StudyFigure::Fragility(fig),
+        ));
     }
-    render_density(dir, out, format, &mut set)?;
-    std::fs::create_dir_all(out).at(|| format!("cannot create {}", out.display()))?;
-    Ok(crate::plot::write_set(set)?)
+    files.extend(density_figures(dir)?);
+    Ok(files)
 }
 
 /// The debris-density figure of one `results/density/<stem>.json` ([`super::collect`]).
@@ -412,17 +458,11 @@ pub fn density_figure(path: &Path) -> Result<crate::plot::density::DensityFigure
     })
 }
 
-/// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order,
-/// rendered into `set`.
-fn render_density(
-    dir: &Path,
-    out: &Path,
-    format: ImageFormat,
-    set: &mut Vec<(PathBuf, Vec<u8>)>,
-) -> Result<()> {
+/// `density_<model>_<mode>_<pga>g` for every `results/density/*.json`, in name order.
+fn density_figures(dir: &Path) -> Result<Vec<(String, StudyFigure)>> {
     let ddir = dir.join("results").join("density");
     if !ddir.is_dir() {
-        return Ok(());
+        return Ok(Vec::new());
     }
     let mut jsons: Vec<PathBuf> = std::fs::read_dir(&ddir)
         .at(|| format!("cannot read {}", ddir.display()))?
@@ -430,13 +470,14 @@ fn render_density(
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     jsons.sort();
+    let mut files = Vec::new();
     for p in jsons {
         let fig = density_figure(&p)?;
         let stem = p
             .file_stem()
             .map(|s| s.to_string_lossy().replace("__", "_"))
             .unwrap_or_default();
-        render(&fig, &format!("density_{stem}"), out, format, set)?;
+        files.push((format!("density_{stem}"), StudyFigure::Density(fig)));
     }
-    Ok(())
+    Ok(files)
 }

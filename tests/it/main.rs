@@ -62,6 +62,7 @@ mod report {
     mod ensemble;
     mod frame3;
     mod gltf_voids;
+    pub(crate) mod study;
 }
 mod rescue {
     mod chambers;
@@ -70,6 +71,8 @@ mod rescue {
     mod footprint;
     mod occupancy;
     mod plots;
+    mod rebuild;
+    mod routes;
     mod scene;
     mod stories;
     mod voids;

@@ -230,6 +230,22 @@ try {
       meshes,
       in_scene: r.scene.children.filter((c) => /^void-[0-9]+$/.test(c.name)).length,
       markers: r.markers.map((m) => m.name),
+      // Each route's drawn points: its segments' ends, each the unit box's ±x face centre
+      // through the segment's world matrix.
+      routes: r.routeLines.map((l) => {
+        const pts = [];
+        const v = new window.THREE.Vector3();
+        l.segments.forEach((s, k) => {
+          s.updateMatrixWorld();
+          if (k === 0) {
+            v.set(-0.5, 0, 0).applyMatrix4(s.matrixWorld);
+            pts.push(v.x, v.y, v.z);
+          }
+          v.set(0.5, 0, 0).applyMatrix4(s.matrixWorld);
+          pts.push(v.x, v.y, v.z);
+        });
+        return { name: l.name, visible: l.segments.length > 0 && l.segments.every((s) => s.visible), points: pts };
+      }),
       rows: Array.from(document.querySelectorAll("#void-table tbody tr")).map((tr) => Number(tr.dataset.void)),
       none: none ? none.textContent : null,
       key_voids_count: cell("rescue.voids_count"),

@@ -21,7 +21,9 @@
 //! * at the final ruin, one void mesh per void of `voids.json`, named `void-N`, each
 //!   drawn as the boxes of `voids.json` whose volumes (each instance's matrix
 //!   determinant) add up to its volume in `voids.csv`, one voids-table row per row of `voids.csv`, an entry or breach marker per
-//!   survivable void as `voids.csv` says, the rescue key figures of `voids.json`; clicking
+//!   survivable void as `voids.csv` says, a route line per survivable void the rescuer (or
+//!   else the camera) reaches through the points of its route in `voids.json`, the rescue
+//!   key figures of `voids.json`; clicking
 //!   a row highlights its mesh and clicking a void in the view highlights its row.
 //!
 //! Fails (does not skip) when node, playwright-core or chromium is missing.
@@ -323,6 +325,46 @@ fn check_voids(dir: &Path, r: &Value) {
         }
     }
     assert_eq!(v["markers"], serde_json::json!(markers));
+    // Route lines: the rescuer's route of voids.json to each survivable void it reaches
+    // (`route-N`), else the camera's to one the camera reaches (`camera-route-N`), drawn
+    // as segments whose ends are the route's points (float32 matrices: to 10 µm) and shown
+    // with the voids.
+    let mut want_routes = Vec::new();
+    for (n, vv) in vj["voids"].as_array().unwrap().iter().enumerate() {
+        if vv["survivable"] != true {
+            continue;
+        }
+        let (name, path) = if vv["rescuer"]["reached"] == true {
+            (format!("route-{}", n + 1), &vv["rescuer"]["path_m"])
+        } else if vv["camera"]["reached"] == true {
+            (format!("camera-route-{}", n + 1), &vv["camera"]["path_m"])
+        } else {
+            continue;
+        };
+        let flat: Vec<f64> = path
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|p| p.as_array().unwrap().iter().map(f))
+            .collect();
+        assert!(flat.len() >= 6, "{name}: a route has two points at least");
+        want_routes.push((name, flat));
+    }
+    let drawn = v["routes"].as_array().unwrap();
+    assert!(
+        !want_routes.is_empty(),
+        "the CI ruin has reached survivable voids"
+    );
+    assert_eq!(drawn.len(), want_routes.len(), "{drawn:?}");
+    for (d, (name, flat)) in drawn.iter().zip(&want_routes) {
+        assert_eq!(d["name"], name.as_str());
+        assert_eq!(d["visible"], true, "{name}");
+        let pts: Vec<f64> = d["points"].as_array().unwrap().iter().map(f).collect();
+        assert_eq!(pts.len(), flat.len(), "{name}");
+        for (a, b) in pts.iter().zip(flat) {
+            assert!((a - b).abs() <= 1e-5, "{name}: {a} vs {b}");
+        }
+    }
     // The rescue key figures are voids.json's.
     assert_eq!(f(&v["key_voids_count"]), count as f64);
     assert_eq!(f(&v["key_survivable_count"]), f(&vj["survivable_count"]));

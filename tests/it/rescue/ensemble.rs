@@ -64,7 +64,7 @@ fn empty_site() -> Vec<SceneBox> {
 /// Rows of `rescue_map.csv`: (i, j, x, y, [p_void, p_survivable, p_rescuer, p_camera]).
 pub type Row = (usize, usize, f64, f64, [f64; 4]);
 
-fn map_rows(dir: &Path) -> Vec<Row> {
+pub fn map_rows(dir: &Path) -> Vec<Row> {
     read_map(&dir.join("rescue_map.csv"))
 }
 
@@ -93,7 +93,7 @@ pub fn read_map(file: &Path) -> Vec<Row> {
 }
 
 /// The member folders `member-NNN` of an ensemble folder, in order.
-fn member_dirs(dir: &Path) -> Vec<PathBuf> {
+pub fn member_dirs(dir: &Path) -> Vec<PathBuf> {
     let mut names: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -154,7 +154,7 @@ fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<PlanVoid>> {
 /// Every map cell's probabilities counted again, member by member, from the members'
 /// `voids.csv` and `voids.json`: a void lies beneath a cell whose centre is in the plan
 /// square of one of its cells.
-fn assert_map_agrees_with_members(dir: &Path) {
+pub fn assert_map_agrees_with_members(dir: &Path) {
     assert_map_agrees(&dir.join("rescue_map.csv"), &member_dirs(dir));
 }
 
@@ -192,7 +192,7 @@ pub fn assert_map_agrees(file: &Path, members: &[PathBuf]) {
 }
 
 /// The row whose cell holds (x, y).
-fn at(rows: &[Row], x: f64, y: f64, h: f64) -> [f64; 4] {
+pub fn at(rows: &[Row], x: f64, y: f64, h: f64) -> [f64; 4] {
     let r = rows
         .iter()
         .find(|r| (r.2 - x).abs() <= h / 2.0 && (r.3 - y).abs() <= h / 2.0)

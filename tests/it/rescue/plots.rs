@@ -148,3 +148,106 @@ fn the_rescue_map_shades_each_cell_by_its_share() {
         "only the legend: the far table does not recur"
     );
 }
+
+/// The points of every black `<polyline>` (the routes, and the legend's short strokes).
+fn black_polylines(svg: &str) -> Vec<Vec<[f64; 2]>> {
+    svg.lines()
+        .filter(|l| l.starts_with("<polyline") && attr(l, "stroke").as_deref() == Some("#000000"))
+        .map(|l| {
+            attr(l, "points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
+                    [xy.next().unwrap(), xy.next().unwrap()]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The room down a corridor (`routes.rs`): the plan draws the rescuer's route of
+/// `voids.json` as one black line of two points, 2.9 m long along x (to 1.5 px at the
+/// figure's scale, read from the room's box), starting 2.05 m to the left of the room's
+/// box (its left edge at the door's x = −1.0, the route at x = −3.05 m), with an entry
+/// triangle at its start.
+#[test]
+fn the_voids_plan_draws_the_rescuers_route() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    write_run(dir, &room_down_a_corridor(), &[], 1.0);
+    let out = Command::new(env!("CARGO_BIN_EXE_fem2rbd"))
+        .args(["--quiet", "voids"])
+        .arg(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let voids = read_voids(dir).unwrap().unwrap();
+    let room = voids.iter().find(|v| v.number == 1).unwrap().clone();
+    let route = room
+        .rescuer_route
+        .clone()
+        .expect("voids.json holds the route");
+    assert_eq!(route.len(), 2, "{route:?}");
+    assert!((route[0][0] + 3.05).abs() < 1e-9 && (route[1][0] + 0.15).abs() < 1e-9);
+    let fig = VoidsFigure::new(None, View::Plan, voids.clone());
+    let svg = svg_string(&fig).unwrap();
+    // The room's box (1.8 × 1.6 m with its doorway) among the filled boxes of its colour
+    // (the corridor's, 2.0 × 0.8 m, is of the same pattern).
+    let (bw, bh) = (
+        room.bounds[1][0] - room.bounds[0][0],
+        room.bounds[1][1] - room.bounds[0][1],
+    );
+    let r = rects(&svg, &hex(pattern_colour(&room.pattern)), Some("0.45"))
+        .into_iter()
+        .find(|r| (r[2] / r[3] - bw / bh).abs() < 0.02)
+        .expect("the room's box");
+    let ppm = r[2] / bw;
+    // The route among the black polylines (the axes', the legend's strokes): the one of
+    // two points 2.9 m long at the figure's scale.
+    let all = black_polylines(&svg);
+    let lines: Vec<_> = all
+        .iter()
+        .filter(|p| p.len() == 2 && ((p[1][0] - p[0][0]) - 2.9 * ppm).abs() <= 1.5)
+        .collect();
+    assert_eq!(lines.len(), 1, "one route line at {ppm} px/m: {all:?}");
+    let l = lines[0];
+    assert!((l[1][1] - l[0][1]).abs() <= 1.5, "along x: {l:?}");
+    let left = (route[0][0] - room.bounds[0][0]) * ppm;
+    assert!(
+        (l[0][0] - r[0] - left).abs() <= 1.5,
+        "{} vs {left}",
+        l[0][0] - r[0]
+    );
+    // The entry triangle's centre at the line's start.
+    let tri: Vec<Vec<[f64; 2]>> = svg
+        .lines()
+        .filter(|s| s.starts_with("<polygon") && attr(s, "fill").as_deref() == Some("#000000"))
+        .map(|s| {
+            attr(s, "points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
+                    [xy.next().unwrap(), xy.next().unwrap()]
+                })
+                .collect()
+        })
+        .collect();
+    // One per reached survivable void: the room's and the corridor's (also survivable).
+    assert_eq!(tri.len(), 2);
+    let centre =
+        |t: &Vec<[f64; 2]>| [0, 1].map(|k| t.iter().map(|p| p[k]).sum::<f64>() / t.len() as f64);
+    assert!(
+        tri.iter().any(|t| {
+            let c = centre(t);
+            (c[0] - l[0][0]).abs() <= 2.0 && (c[1] - l[0][1]).abs() <= 3.0
+        }),
+        "no triangle at the line's start {:?}: {tri:?}",
+        l[0]
+    );
+}

@@ -321,3 +321,22 @@ pub fn analysed(
 pub fn close(a: f64, b: f64, tol: f64, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }
+
+/// A room at the end of a corridor: a 1.6 × 1.6 × 1.6 m room (x, y ∈ [−0.8, 0.8]) walled by
+/// 0.2 m walls 1.6 m tall and roofed by a 0.2 m slab over x, y ∈ [−1, 1]; its −x wall has a
+/// door 0.8 m wide (y ∈ [−0.4, 0.4]) the room's height, into a corridor x ∈ [−3, −1]
+/// between 0.2 m walls at y ∈ ±[0.4, 0.6] under its own 0.2 m roof slab. The only way in
+/// is along the corridor, from x = −3.
+pub fn room_down_a_corridor() -> Vec<SceneBox> {
+    vec![
+        slab(1, [0.0, 0.0, 1.7], [1.0, 1.0, 0.1]),
+        slab(2, [-2.0, 0.0, 1.7], [1.0, 0.6, 0.1]),
+        wall(3, [-0.9, -0.7, 0.8], [0.1, 0.3, 0.8]),
+        wall(4, [-0.9, 0.7, 0.8], [0.1, 0.3, 0.8]),
+        wall(5, [0.9, 0.0, 0.8], [0.1, 1.0, 0.8]),
+        wall(6, [0.0, -0.9, 0.8], [0.8, 0.1, 0.8]),
+        wall(7, [0.0, 0.9, 0.8], [0.8, 0.1, 0.8]),
+        wall(8, [-2.0, -0.5, 0.8], [1.0, 0.1, 0.8]),
+        wall(9, [-2.0, 0.5, 0.8], [1.0, 0.1, 0.8]),
+    ]
+}

@@ -274,7 +274,8 @@ fn failing_runs_are_recorded_resume_skips_and_jobs_do_not_change_the_bytes() {
 }
 
 /// A hybrid run through a study: the ruin columns of `runs.csv` are those of the run's
-/// `summary.json`, and `fem2rbd plot` draws the study's figures, the same bytes twice.
+/// `summary.json`, `fem2rbd plot` draws the study's figures, the same bytes twice, and
+/// `fem2rbd report` makes its page (checked in the browser by `tests/it/report/study.rs`).
 #[test]
 fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
     let t = tempfile::tempdir().unwrap();
@@ -383,6 +384,8 @@ fn hybrid_runs_fill_the_ruin_columns_and_the_study_plots() {
             assert_eq!(first, bytes);
         }
     }
+    // The study's report in the browser (tests/it/report/study.rs).
+    crate::report::study::check_study_report(&out);
 }
 
 /// A study folder whose lock is held by a process that runs is refused naming that
