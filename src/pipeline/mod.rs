@@ -1112,8 +1112,8 @@ mod tests {
             (0.2, 0.2)
         );
         assert_eq!(
-            erps("steps_per_second = 20\nexperimental.joint_erp = 0.5"),
-            (1.0, 1.0)
+            erps("steps_per_second = 50\nexperimental.joint_erp = 0.5"),
+            (0.8, 1.0)
         );
     }
 }

@@ -67,21 +67,9 @@ pub fn import_opensees_json(
     path: impl AsRef<Path>,
     supports: Supports,
 ) -> std::result::Result<Model, ModelError> {
-    let path = path.as_ref();
-    let text = limits::read_input_file(path, "OpenSees JSON file")?;
-    let file = path.display().to_string();
-    let at = |line: Option<usize>| Location {
-        file: file.clone(),
-        line,
-        item: None,
-    };
-    let v: Value = serde_json::from_str(&text).map_err(|e| ModelError::Syntax {
-        at: at(Some(e.line())),
-        message: format!("not valid JSON: {e}"),
-    })?;
-    let mut model = from_value(&v).map_err(|e| ModelError::Import {
-        at: at(None),
-        message: format!("cannot import the OpenSees model: {e}"),
+    let (file, v) = super::reference_json::read_json_file(path.as_ref(), "OpenSees JSON file")?;
+    let mut model = from_value(&v).map_err(|e| {
+        super::reference_json::import_error(&file, format!("cannot import the OpenSees model: {e}"))
     })?;
     if supports == Supports::FixLowest {
         model.supports = lowest_nodes(&model)

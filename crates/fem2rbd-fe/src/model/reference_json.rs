@@ -64,24 +64,42 @@ pub(crate) fn is_reference_layout(text: &str) -> bool {
         .is_some_and(|v| v.get("uniaxial_materials").is_some())
 }
 
-/// Reads a reference-layout JSON file into a validated [`Model`].
-pub fn import_reference_json(path: impl AsRef<Path>) -> std::result::Result<Model, ModelError> {
-    let path = path.as_ref();
-    let text = limits::read_input_file(path, "model file")?;
+/// The JSON document of the input file `path` (`what` names it in the bounds' message),
+/// with the file's name for the messages: a syntax error names the line.
+pub(crate) fn read_json_file(
+    path: &Path,
+    what: &'static str,
+) -> std::result::Result<(String, Value), ModelError> {
+    let text = limits::read_input_file(path, what)?;
     let file = path.display().to_string();
-    let at = |line: Option<usize>| Location {
-        file: file.clone(),
-        line,
-        item: None,
-    };
-    let v: Value = serde_json::from_str(&text).map_err(|e| ModelError::Syntax {
-        at: at(Some(e.line())),
+    let v = serde_json::from_str(&text).map_err(|e| ModelError::Syntax {
+        at: Location {
+            file: file.clone(),
+            line: Some(e.line()),
+            item: None,
+        },
         message: format!("not valid JSON: {e}"),
     })?;
-    let model = from_value(&v).map_err(|e| ModelError::Import {
-        at: at(None),
-        message: format!("cannot import reference model: {e}"),
-    })?;
+    Ok((file, v))
+}
+
+/// An import error of the whole file `file`.
+pub(crate) fn import_error(file: &str, message: String) -> ModelError {
+    ModelError::Import {
+        at: Location {
+            file: file.to_string(),
+            line: None,
+            item: None,
+        },
+        message,
+    }
+}
+
+/// Reads a reference-layout JSON file into a validated [`Model`].
+pub fn import_reference_json(path: impl AsRef<Path>) -> std::result::Result<Model, ModelError> {
+    let (file, v) = read_json_file(path.as_ref(), "model file")?;
+    let model = from_value(&v)
+        .map_err(|e| import_error(&file, format!("cannot import reference model: {e}")))?;
     model.validate().map_err(|e| e.in_file(file.clone()))?;
     Ok(model)
 }
