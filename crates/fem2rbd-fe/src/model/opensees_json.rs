@@ -32,6 +32,7 @@
 //! other line elements `Beam`s, a shell in a vertical plane a `Wall`, other shells
 //! `Slab`s; every element is in group 1. Anything else in the file is refused with its item
 //! named.
+use super::section::ImportedElasticSections;
 use super::*;
 use serde_json::{Map, Value};
 
@@ -265,8 +266,8 @@ fn from_value(v: &Value) -> Result<Model> {
         masses.extend(mass);
     }
     let node_xyz: BTreeMap<u32, [f64; 3]> = nodes.iter().map(|n| (n.tag, n.xyz())).collect();
-    let first_elastic = sections.iter().map(|s| s.tag).max().unwrap_or(0) + 1;
-    let mut elastic: Vec<[f64; 7]> = Vec::new();
+    let mut elastic =
+        ImportedElasticSections::new(sections.iter().map(|s| s.tag).max().unwrap_or(0) + 1);
     let layered: std::collections::BTreeSet<u32> = sections
         .iter()
         .filter(|s| matches!(s.kind, SectionKind::LayeredShell { .. }))
@@ -274,32 +275,10 @@ fn from_value(v: &Value) -> Result<Model> {
         .collect();
     let mut elements = Vec::new();
     for e in geom.array("elements")? {
-        elements.push(element(
-            e,
-            first_elastic,
-            &mut elastic,
-            &node_xyz,
-            &layered,
-        )?);
+        elements.push(element(e, &mut elastic, &node_xyz, &layered)?);
     }
     geom.done()?;
-    for (k, p) in elastic.iter().enumerate() {
-        sections.push(Section {
-            tag: first_elastic + k as u32,
-            name: format!("elastic_{}", k + 1),
-            kind: SectionKind::Elastic {
-                e: p[0],
-                g: p[1],
-                a: p[2],
-                iy: p[3],
-                iz: p[4],
-                j: p[5],
-                mass_per_length: p[6],
-                width: None,
-                depth: None,
-            },
-        });
-    }
+    sections.extend(elastic.into_sections());
 
     let mut about: Vec<String> = Vec::new();
     if !description.is_empty() {
@@ -747,8 +726,7 @@ fn type_name(nodes: &[[f64; 3]]) -> &'static str {
 
 fn element(
     v: &Value,
-    first_elastic: u32,
-    elastic: &mut Vec<[f64; 7]>,
+    elastic: &mut ImportedElasticSections,
     xyz: &BTreeMap<u32, [f64; 3]>,
     layered: &std::collections::BTreeSet<u32>,
 ) -> Result<Element> {
@@ -833,16 +811,9 @@ fn element(
             let why = "fem2rbd's elastic beam-columns have no end releases";
             e.expect("releasez", 0.0, why)?;
             e.expect("releasey", 0.0, why)?;
-            let k = match elastic.iter().position(|q| *q == p) {
-                Some(k) => k,
-                None => {
-                    elastic.push(p);
-                    elastic.len() - 1
-                }
-            };
             ElementKind::ElasticBeamColumn {
                 nodes: two(),
-                section: first_elastic + k as u32,
+                section: elastic.tag_of(p),
                 transf: e.tag("crdTransformation")?,
             }
         }

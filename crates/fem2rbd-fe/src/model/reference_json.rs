@@ -10,6 +10,7 @@
 //! Rayleigh coefficients. Element `group` column/beam/slab_strip becomes type name
 //! Column/Beam/Slab and the `story`/`floor` number the material group. `scale` is read
 //! from a top-level `scale` key if present, else 1.
+use super::section::ImportedElasticSections;
 use super::*;
 use serde_json::Value;
 
@@ -389,8 +390,8 @@ fn build_model(v: &Value) -> Result<Model> {
     }
 
     let mut elements = Vec::new();
-    let mut elastic_secs: Vec<[f64; 6]> = Vec::new();
-    let first_elastic_tag = sections.iter().map(|s| s.tag).max().unwrap_or(0) + 1;
+    let mut elastic =
+        ImportedElasticSections::new(sections.iter().map(|s| s.tag).max().unwrap_or(0) + 1);
     for e in arr(v, "elements")? {
         let t = tag(e, "tag", "element")?;
         let what = format!("element {t}");
@@ -433,17 +434,11 @@ fn build_model(v: &Value) -> Result<Model> {
                     num(e, "Iy", &what)?,
                     num(e, "Iz", &what)?,
                     num(e, "J", &what)?,
+                    0.0,
                 ];
-                let k = match elastic_secs.iter().position(|q| *q == p) {
-                    Some(k) => k,
-                    None => {
-                        elastic_secs.push(p);
-                        elastic_secs.len() - 1
-                    }
-                };
                 ElementKind::ElasticBeamColumn {
                     nodes: nodes2,
-                    section: first_elastic_tag + k as u32,
+                    section: elastic.tag_of(p),
                     transf,
                 }
             }
@@ -458,23 +453,7 @@ fn build_model(v: &Value) -> Result<Model> {
             kind,
         });
     }
-    for (k, p) in elastic_secs.iter().enumerate() {
-        sections.push(Section {
-            tag: first_elastic_tag + k as u32,
-            name: format!("elastic_{}", k + 1),
-            kind: SectionKind::Elastic {
-                e: p[0],
-                g: p[1],
-                a: p[2],
-                iy: p[3],
-                iz: p[4],
-                j: p[5],
-                mass_per_length: 0.0,
-                width: None,
-                depth: None,
-            },
-        });
-    }
+    sections.extend(elastic.into_sections());
 
     let mut masses = Vec::new();
     for m in arr(v, "nodal_masses")? {

@@ -602,3 +602,60 @@ impl Section {
         Ok(())
     }
 }
+
+/// The elastic sections of an imported model: OpenSees gives an `elasticBeamColumn` its
+/// properties on the element line, fem2rbd keeps them in a section, so each distinct set
+/// becomes one section, tagged from `first_tag` on in order of first use and named
+/// `elastic_1`, `elastic_2`, ….
+///
+/// A property set is `[E (Pa), G (Pa), A (m²), Iy (m⁴), Iz (m⁴), J (m⁴), mass per length (kg/m)]`.
+#[derive(Debug)]
+pub(crate) struct ImportedElasticSections {
+    first_tag: u32,
+    sets: Vec<[f64; 7]>,
+}
+
+impl ImportedElasticSections {
+    /// No sets yet; the first one gets `first_tag`.
+    pub(crate) fn new(first_tag: u32) -> Self {
+        Self {
+            first_tag,
+            sets: Vec::new(),
+        }
+    }
+
+    /// The tag of the section holding `set`, added if it is new (equal bit for bit).
+    pub(crate) fn tag_of(&mut self, set: [f64; 7]) -> u32 {
+        let k = match self.sets.iter().position(|q| *q == set) {
+            Some(k) => k,
+            None => {
+                self.sets.push(set);
+                self.sets.len() - 1
+            }
+        };
+        self.first_tag + k as u32
+    }
+
+    /// The sections, in tag order.
+    pub(crate) fn into_sections(self) -> impl Iterator<Item = Section> {
+        let first_tag = self.first_tag;
+        self.sets
+            .into_iter()
+            .enumerate()
+            .map(move |(k, p)| Section {
+                tag: first_tag + k as u32,
+                name: format!("elastic_{}", k + 1),
+                kind: SectionKind::Elastic {
+                    e: p[0],
+                    g: p[1],
+                    a: p[2],
+                    iy: p[3],
+                    iz: p[4],
+                    j: p[5],
+                    mass_per_length: p[6],
+                    width: None,
+                    depth: None,
+                },
+            })
+    }
+}
