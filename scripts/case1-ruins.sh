@@ -22,17 +22,17 @@ scenario() { # name extra-physics-lines
   printf '%b\n' "$2" >> "$out/$1.toml"
 }
 
-for mode in hybrid physics fe; do
+for mode in hybrid rigid fe; do
   $bin --quiet run data/frame3/lc5.toml --mode $mode --out "$out/$mode"
   $bin --quiet plot "$out/$mode"
 done
 for sps in 400 800; do
-  for mode in hybrid physics; do
+  for mode in hybrid rigid; do
     scenario "$mode-sps$sps" "steps_per_second = $sps"
     $bin --quiet run "$out/$mode-sps$sps.toml" --mode $mode
   done
 done
-for mode in hybrid physics; do
+for mode in hybrid rigid; do
   for f in ruin_plan history; do
     cp "$out/$mode/plots/$f.png" "docs/case1/$mode-$f.png"
   done
@@ -42,7 +42,7 @@ cp "$out/hybrid/plots/connections.png" docs/case1/hybrid-connections.png
 python3 - "$out" > "$out/table.md" <<'PY'
 import json, sys, os
 out = sys.argv[1]
-runs = ["hybrid", "hybrid-sps400", "hybrid-sps800", "physics", "physics-sps400", "physics-sps800", "fe"]
+runs = ["hybrid", "hybrid-sps400", "hybrid-sps800", "rigid", "rigid-sps400", "rigid-sps800", "fe"]
 print("| run | Tc (s, why) | ruin stage end (s, stop) | connections i/p/b | floor offsets 1, 2, 3 (m) | floor drops 1, 2, 3 (m) | overlap 1–2, 2–3 | debris area (m²) | extent (m) | height (m) | max penetration (m) |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")
 for r in runs:

@@ -17,7 +17,7 @@ alone on the same time axis:
       in X (0.03 g/s; then a pulse that brings the ground back to rest, so the ruin
       stage's zero-end baseline leaves the ramp as it is) is an inertial pushover under
       load control: the FE alone (the model's formulation and force-based), and the
-      Bullet building (physics-only, undamaged) with each connection model and with
+      Bullet building (rigid-only, undamaged) with each connection model and with
       100 and 400 iterations; per run the roof-to-base drift at 0.03 and 0.15 g and the
       ground acceleration at which it reaches 2 % (the frame has run away past its peak).
 
@@ -319,7 +319,7 @@ def main():
     grav = {}
     for cm in cms:
         d = os.path.join(out, f"gravity-{cm}")
-        scenario(d + ".toml", model, d, "physics", ts, 'criterion = "vertical_drop"',
+        scenario(d + ".toml", model, d, "rigid", ts, 'criterion = "vertical_drop"',
                  f'time_limit_s = 3.0\nstop_at_rest = false\nconnections = "{cm}"', zeros=zeros)
         run(d + ".toml")
         grav[cm] = history(d)
@@ -362,7 +362,7 @@ def main():
                 p(f"| {name} | {cm} | – ({s['tc_reason']}) | | | | | | | |")
                 continue
             rows = history(d)
-            ph = [r for r in rows if r["stage"] == "physics"]
+            ph = [r for r in rows if r["stage"] in ("ruin", "physics")]
             st = ph[0]
             w = window(rows, tc, tc + 0.5)
             wf = window(fe_rows, tc, tc + 0.5)
@@ -456,7 +456,7 @@ def main():
                 ("FE alone, force-based", "fe", "force", None)]
         for cm in cms:
             for it in (100, 400):
-                runs.append((f"Bullet, `{cm}` connections, {it} iterations", "physics", None,
+                runs.append((f"Bullet, `{cm}` connections, {it} iterations", "rigid", None,
                              f'connections = "{cm}"\nsolver_iterations = {it}'))
         p("| building | roof-to-base drift at 0.03 g (%) | at 0.15 g (%) | ground acceleration at 2 % drift (g) |")
         p("|---|---|---|---|")

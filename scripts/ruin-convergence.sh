@@ -30,7 +30,7 @@
 # Each ensemble's wall time (seconds, all members, THREADS worker threads) goes to
 # OUT/NAME.wall_s. Runs whose summary.json / ensemble.json exist are kept (delete them to
 # rerun).
-# Cost on two free cores: a hybrid run about 50 s, physics-only 30 s, 800 substeps/s about
+# Cost on two free cores: a hybrid run about 50 s, rigid-only 30 s, 800 substeps/s about
 # 3 times longer; the whole table (2 ensembles of 8 + 6 variants) took 39 min on the
 # shared 2-core machine.
 set -euo pipefail

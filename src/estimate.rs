@@ -301,7 +301,7 @@ pub fn for_scenario(
     let limit = match sc.mode {
         Mode::Fe => fe_end,
         Mode::Hybrid => fe_end.max(pipeline::time_limit(sc, &gm)),
-        Mode::Physics => pipeline::time_limit(sc, &gm),
+        Mode::Rigid => pipeline::time_limit(sc, &gm),
     };
     let work = Work {
         fe_steps,

@@ -53,7 +53,7 @@ struct CpuClock {
 }
 
 impl Progress for CpuClock {
-    fn physics(&self, t: f64, _t_end: f64, _counts: (usize, usize, usize)) {
+    fn ruin(&self, t: f64, _t_end: f64, _counts: (usize, usize, usize)) {
         let now = (t, process_cpu_seconds());
         if self.first.get().is_none() {
             self.first.set(Some(now));
@@ -223,8 +223,8 @@ fn main() -> Result<()> {
     let configs = parse_configs(&configs)?;
     let sc = Scenario::load(&path).with_context(|| format!("scenario {path}"))?;
     let start = match sc.mode {
-        fem2rbd::pipeline::scenario::Mode::Physics => 0.0,
-        _ => bail!("{path}: bench_ruin needs a physics-only scenario (mode = \"physics\")"),
+        fem2rbd::pipeline::scenario::Mode::Rigid => 0.0,
+        _ => bail!("{path}: bench_ruin needs a rigid-only scenario (mode = \"physics\")"),
     };
     let end = start + time_s;
     println!(

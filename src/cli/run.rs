@@ -1,4 +1,4 @@
-//! `fem2rbd run [scenario.toml] [--mode hybrid|physics|fe] [--out DIR]`: the whole
+//! `fem2rbd run [scenario.toml] [--mode hybrid|rigid|fe] [--out DIR]`: the whole
 //! pipeline ([`fem2rbd::pipeline`]). Without a scenario it runs the shipped frame3 LC5
 //! example `data/frame3/lc5.toml`. The scenario is read and checked completely before
 //! anything runs; the outputs are written at the end, each atomically, then the run's HTML
@@ -20,8 +20,8 @@ pub const DEFAULT_SCENARIO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/fr
 pub struct RunArgs {
     /// Scenario file (TOML); default the shipped frame3 LC5 example.
     pub scenario: Option<PathBuf>,
-    /// Override the scenario's mode.
-    #[arg(long, value_enum)]
+    /// Override the scenario's mode: hybrid, rigid or fe.
+    #[arg(long, value_parser = Mode::from_arg)]
     pub mode: Option<Mode>,
     /// Override the scenario's output folder.
     #[arg(long)]
@@ -124,7 +124,7 @@ impl Progress for Bars {
             b.set_message(format!("t = {t:.3} / {t_end:.3} s"));
         }
     }
-    fn physics(&self, t: f64, t_end: f64, (intact, plastic, broken): (usize, usize, usize)) {
+    fn ruin(&self, t: f64, t_end: f64, (intact, plastic, broken): (usize, usize, usize)) {
         if let Some(b) = self.bar.borrow().as_ref() {
             b.set_position(self.permille(t));
             b.set_message(format!(
@@ -163,8 +163,8 @@ pub fn run(args: &RunArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
         if sc.mode == Mode::Fe {
             bail!(
                 "--ensemble with the fe mode: its members would be identical (an ensemble \
-                 perturbs the hand-off velocity, or the ground motion of a physics-only run); \
-                 run it with --mode hybrid or --mode physics"
+                 perturbs the hand-off velocity, or the ground motion of a rigid-only run); \
+                 run it with --mode hybrid or --mode rigid"
             );
         }
     }

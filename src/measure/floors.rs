@@ -111,7 +111,7 @@ pub(crate) const FLOORS_DOWN_SHARE: f64 = 0.7;
 /// The floors' shape when the lowest floor has first come [`FLOORS_DOWN_SHARE`] of its
 /// height above the base down, on a run's timeline (FE keyframes, then the ruin stage's
 /// frames): the last moments before a floor lands, the same measure for the FE alone, a
-/// hybrid and a physics-only run (docs/handoff.md, "The FE's own collapse and ruin"). Floors as in
+/// hybrid and a rigid-only run (docs/handoff.md, "The FE's own collapse and ruin"). Floors as in
 /// [`crate::measure::ruin_measures`] (slab bodies by undeformed height, mass-weighted centroids); the base
 /// is the foundations' highest top (else the lowest undeformed corner). **Stories above
 /// whole**: every floor's drop within 0.15 × the lowest floor's height of the lowest

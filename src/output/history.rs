@@ -4,7 +4,7 @@
 //! `history.csv`, one row per timeline frame (25 frames/s, the times of `keyframes.csv`):
 //! `t,stage,roof_drift,max_drop_m,intact,plastic,broken,ground_x,ground_y,ground_z`
 //!
-//! * `stage` — `fe` (FE keyframe, up to Tc) or `physics` (ruin-stage frame);
+//! * `stage` — `fe` (FE keyframe, up to Tc) or `ruin` (ruin-stage frame);
 //! * `roof_drift` — horizontal displacement of the roof, relative to the ground, over the
 //!   roof height: |Δxy(roof centroid) − g_xy(t)| / H. The **roof** is the bodies whose
 //!   undeformed centre lies within 5 % of H below the highest centre (frame3: the roof
@@ -260,7 +260,7 @@ pub fn history_csv(rows: &[BodyRow], frames: &[HistoryFrame]) -> String {
             s,
             "{:.4},{},{drift},{drop},{counts},{:.6},{:.6},{:.6},{energy}",
             f.t_s + 0.0,
-            if f.fe { "fe" } else { "physics" },
+            if f.fe { "fe" } else { "ruin" },
             g[0] + 0.0,
             g[1] + 0.0,
             g[2] + 0.0
@@ -341,7 +341,7 @@ mod tests {
         );
         let line = s.lines().nth(1).unwrap();
         let want = format!(
-            "1.0000,physics,{:.8},0.250000,3,2,1,0.100000,0.100000,0.010000,1.500000,0.250000,100.000000,-2.000000,0.125000,7.000000,0.500000",
+            "1.0000,ruin,{:.8},0.250000,3,2,1,0.100000,0.100000,0.010000,1.500000,0.250000,100.000000,-2.000000,0.125000,7.000000,0.500000",
             0.13f64.sqrt() / 2.9625
         );
         assert_eq!(line, want);

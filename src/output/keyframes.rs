@@ -1,5 +1,5 @@
 //! `keyframes.csv`: every body's pose on one timeline at 25 frames/s, the FE stage's
-//! keyframes (from the FE state, up to Tc) then the physics stage's frames (after Tc).
+//! keyframes (from the FE state, up to Tc) then the ruin stage's frames (after Tc).
 //! Columns `t,name,x,y,z,qw,qx,qy,qz`: time s (4 decimals), position m (6 decimals),
 //! unit quaternion (8 decimals); rows by time, then body order.
 use crate::output::csv_text::field;

@@ -66,7 +66,7 @@ impl BodyInfo {
 pub struct HistoryRow {
     /// Time, s.
     pub t_s: f64,
-    /// `true` for an FE keyframe (`fe`), `false` for a ruin-stage frame (`physics`).
+    /// `true` for an FE keyframe (`fe`), `false` for a ruin-stage frame (`ruin`).
     pub fe: bool,
     /// Roof drift ratio (dimensionless); `None` when the run has no roof.
     pub roof_drift: Option<f64>,
@@ -480,8 +480,9 @@ pub(crate) fn parse_history(text: &str, file: &str) -> Result<Vec<HistoryRow>> {
         let r = r?;
         let fe = match &r.fields[1] {
             "fe" => true,
-            "physics" => false,
-            s => return Err(r.err(1, format!("stage {s:?} must be fe or physics"))),
+            // `physics`: the ruin stage's former name, in run folders written before.
+            "ruin" | "physics" => false,
+            s => return Err(r.err(1, format!("stage {s:?} must be fe or ruin"))),
         };
         let counts = if (4..7).all(|k| r.fields[k].is_empty()) {
             None

@@ -18,15 +18,15 @@ pub(crate) fn r6(x: f64) -> f64 {
 /// field order here; numbers are rounded to 6 decimals (times 4 in `tc_detail`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
-    /// `hybrid`, `physics` or `fe`.
+    /// `hybrid`, `rigid` or `fe`.
     pub mode: Mode,
-    /// Collapse moment Tc, s (`None`: no collapse, or the physics mode).
+    /// Collapse moment Tc, s (`None`: no collapse, or the rigid mode).
     pub tc_s: Option<f64>,
     /// Why the FE stage ended.
     pub tc_reason: TcKind,
     /// The reason in words (criterion and values, or the diverged step).
     pub tc_detail: String,
-    /// End time of the FE stage, s (`None` in the physics mode).
+    /// End time of the FE stage, s (`None` in the rigid mode).
     pub fe_end_s: Option<f64>,
     /// Geometric scale of the model against its prototype (the model's `scale`; absent in
     /// run folders written before it was recorded).
@@ -101,8 +101,9 @@ pub enum TcKind {
     FeDiverged,
     /// The FE stage ended without collapse.
     NoCollapse,
-    /// No FE stage (physics mode).
-    PhysicsOnly,
+    /// No FE stage (rigid mode). Read also as `physics_only`, the rigid mode's former name.
+    #[serde(alias = "physics_only")]
+    RigidOnly,
 }
 
 impl TcKind {
@@ -112,7 +113,7 @@ impl TcKind {
             TcKind::Criterion => "criterion",
             TcKind::FeDiverged => "fe_diverged",
             TcKind::NoCollapse => "no_collapse",
-            TcKind::PhysicsOnly => "physics_only",
+            TcKind::RigidOnly => "rigid_only",
         }
     }
 }
@@ -259,12 +260,15 @@ pub struct SpeedCheck {
 pub struct WallTimes {
     /// FE stage.
     pub fe: f64,
-    /// Ruin stage (build + run).
-    pub physics: f64,
-    /// Inside Bullet's step.
-    pub physics_in_bullet: f64,
-    /// `physics_in_bullet / physics`.
-    pub physics_bullet_share: f64,
+    /// Ruin stage (build + run). Read also as `physics`, its former name.
+    #[serde(alias = "physics")]
+    pub ruin: f64,
+    /// Inside Bullet's step. Read also as `physics_in_bullet`.
+    #[serde(alias = "physics_in_bullet")]
+    pub ruin_in_bullet: f64,
+    /// `ruin_in_bullet / ruin`. Read also as `physics_bullet_share`.
+    #[serde(alias = "physics_bullet_share")]
+    pub ruin_bullet_share: f64,
 }
 
 /// `ruins`: geometric measures of the final state (module docs), m and m². Measures of an

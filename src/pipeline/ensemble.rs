@@ -6,7 +6,7 @@
 //! * **Member m ≥ 1**, hybrid mode: every active body's hand-off velocity at Tc gets
 //!   δv = ε_v·(u₁, u₂, u₃), uᵢ uniform in [−1, 1), ε_v = [`Perturbation::velocity_mps`]
 //!   (default 1e-4 m/s = 0.1 mm/s, 10⁻⁴ of frame3's hand-off speeds of about 1 m/s, far
-//!   below what the FE stage resolves). Physics-only mode (no hand-off): every component
+//!   below what the FE stage resolves). Rigid-only mode (no hand-off): every component
 //!   of the ground acceleration is scaled by 1 + ε_g·u, ε_g = [`Perturbation::ground_share`]
 //!   (default 1e-4, i.e. 0.01 % of the record's amplitude).
 //! * The uᵢ come from SplitMix64 (Steele et al. 2014) seeded with (seed, member, stream,
@@ -32,7 +32,7 @@ pub(crate) struct Perturbation {
     pub member: u64,
     /// ε_v, m/s: amplitude of the hand-off velocity perturbation (hybrid).
     pub velocity_mps: f64,
-    /// ε_g: relative amplitude of the ground-motion scaling (physics-only).
+    /// ε_g: relative amplitude of the ground-motion scaling (rigid-only).
     pub ground_share: f64,
 }
 
@@ -228,7 +228,7 @@ pub fn ensemble_summary(sc: &Scenario, recs: &[RunRecord], seed: u64) -> Value {
         "mode": sc.mode.name(),
         "members": recs.len(),
         "seed": seed,
-        "perturbation": if sc.mode == super::Mode::Physics {
+        "perturbation": if sc.mode == super::Mode::Rigid {
             json!({"kind": "ground_motion_scale", "relative_amplitude": p.ground_share})
         } else {
             json!({"kind": "handoff_velocity", "amplitude_mps": p.velocity_mps})

@@ -11,8 +11,8 @@
 //!   of the last keyframe and the Tc pose) and the FE damage sets each connection's
 //!   start state; the ruin stage then runs with the remaining ground motion until rest or
 //!   the time limit.
-//! * `physics`: the ruin stage from t = 0 on the undeformed model under the whole record
-//!   ([`StageInput::physics_only`]).
+//! * `rigid`: the ruin stage from t = 0 on the undeformed model under the whole record
+//!   ([`StageInput::rigid_only`]).
 //! * `fe`: the FE stage only (no collapse monitor stop).
 //!
 //! **Foundation.** The FE model's base nodes are fixed to the ground; the rigid-body
@@ -83,8 +83,8 @@ pub enum TcReason {
     Diverged(String),
     /// The record (or `fe.duration`) ended without collapse.
     NoCollapse,
-    /// Not applicable (physics mode: Tc = 0).
-    PhysicsOnly,
+    /// Not applicable (rigid mode: Tc = 0).
+    RigidOnly,
 }
 
 /// Everything a run produced, before it is written.
@@ -130,12 +130,12 @@ pub trait Progress {
     fn fe(&self, _t: f64, _t_end: f64) {}
     /// Physics stage: frame at simulated time `t` of at most `t_end` s, with the
     /// connection counts (intact, plastic, broken) after it.
-    fn physics(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
+    fn ruin(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
     /// A stage begins (`"fe"`, `"ruin"`), with its simulated time span.
     fn stage(&self, _name: &str, _from_s: f64, _to_s: f64) {}
     /// The work ahead, once checked against the resource bounds ([`check_budget`]):
     /// FE steps and ruin-stage substeps (at most; the ruin stage may stop at rest).
-    fn plan(&self, _fe_steps: u64, _physics_substeps: u64) {}
+    fn plan(&self, _fe_steps: u64, _ruin_substeps: u64) {}
     /// A stage ends.
     fn done(&self) {}
 }
@@ -340,7 +340,7 @@ pub(crate) fn check_budget(sc: &Scenario, gm: &GroundMotion) -> Result<(u64, u64
         sc.dt,
         MAX_SAMPLES,
     )?;
-    let fe = if sc.mode == Mode::Physics {
+    let fe = if sc.mode == Mode::Rigid {
         0
     } else {
         grid_count(
@@ -380,7 +380,7 @@ pub fn run(sc: &Scenario, progress: &dyn Progress) -> Result<RunRecord> {
 }
 
 /// What every stage reads, loaded and checked once before any work: the model, the
-/// ground motion (perturbed for a physics-only ensemble member), its integral on the FE
+/// ground motion (perturbed for a rigid-only ensemble member), its integral on the FE
 /// step, the mapped bodies and the BCB group strengths.
 pub struct Inputs {
     /// The model.
@@ -404,7 +404,7 @@ pub struct Inputs {
     pub ground_damping_per_s: f64,
 }
 
-/// Loads and checks the scenario's inputs (module docs of [`Inputs`]). In the physics
+/// Loads and checks the scenario's inputs (module docs of [`Inputs`]). In the rigid
 /// mode an ensemble member's ground motion is scaled by its perturbation.
 pub(crate) fn load_inputs(
     sc: &Scenario,
@@ -415,7 +415,7 @@ pub(crate) fn load_inputs(
         error: Box::new(error),
     })?;
     let mut motion = ground_motion(sc)?;
-    if let (Some(p), Mode::Physics) = (perturbation, sc.mode) {
+    if let (Some(p), Mode::Rigid) = (perturbation, sc.mode) {
         for (k, c) in motion.components.iter_mut().enumerate() {
             if let Some(rec) = c {
                 rec.scale(1.0 + p.ground_share * p.uniform(1, k as u64));
@@ -780,7 +780,7 @@ pub fn ruin_stage(
     let result = stage
         .run_with(&stop, &mut |f| {
             let c = f.counts;
-            progress.physics(f.time_s, limit, (c.elastic, c.plastic, c.broken));
+            progress.ruin(f.time_s, limit, (c.elastic, c.plastic, c.broken));
         })
         .map_err(|error| PipelineError::Ruin {
             stage: "running the ruin stage",
@@ -831,29 +831,29 @@ fn build_stage(
     })
 }
 
-/// The physics-only ruin stage of `sc` exactly as [`run`] builds it (BCB's Formula-Assistant
+/// The rigid-only ruin stage of `sc` exactly as [`run`] builds it (BCB's Formula-Assistant
 /// connections, every body at its start pose at t = 0, the scenario's moving ground), with
 /// `adjust` applied to its settings, not yet run: for checks that drive the same stage in
 /// two ways (e.g. the shim's solver against Bullet's stock one,
-/// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be physics-only with
+/// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be rigid-only with
 /// `connections = "formula"` (the default of that mode).
-pub fn physics_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
-    if sc.mode != Mode::Physics || sc.physics.connections != ConnectionModel::Formula {
+pub fn rigid_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
+    if sc.mode != Mode::Rigid || sc.physics.connections != ConnectionModel::Formula {
         return Err(PipelineError::Scenario(ScenarioError::Invalid {
             file: sc.path.display().to_string(),
-            message: "a physics-only stage needs mode = \"physics\" with connections = \"formula\""
+            message: "a rigid-only stage needs mode = \"rigid\" with connections = \"formula\""
                 .into(),
         }));
     }
     let inputs = load_inputs(sc, None)?;
     let geoms = geoms(&inputs.bodies);
     let masses: Vec<f64> = inputs.bodies.iter().map(|b| b.mass_kg).collect();
-    let start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
+    let start = StageInput::rigid_only(&geoms, &masses, &inputs.groups);
     build_stage(sc, &inputs, &start, adjust)
 }
 
 /// As [`run`], with the start of the ruin stage perturbed as an ensemble member
-/// ([`ensemble`]): hybrid, the hand-off velocities; physics-only, the ground motion.
+/// ([`ensemble`]): hybrid, the hand-off velocities; rigid-only, the ground motion.
 /// The stages in order: [`load_inputs`], [`fe_domain`] (once), [`fe_stage`],
 /// [`collapse_decision`], [`hand_off`], the ruin stage's start state, [`ruin_stage`].
 pub(crate) fn run_perturbed(
@@ -869,7 +869,7 @@ pub(crate) fn run_perturbed(
         scale: inputs.model.scale,
         bodies: bodies.clone(),
         tc_s: None,
-        tc_reason: TcReason::PhysicsOnly,
+        tc_reason: TcReason::RigidOnly,
         fe_frames: Vec::new(),
         ruin: None,
         preset: None,
@@ -883,12 +883,12 @@ pub(crate) fn run_perturbed(
     };
     let geoms = geoms(bodies);
     let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();
-    let mut start = StageInput::physics_only(&geoms, &masses, &inputs.groups);
+    let mut start = StageInput::rigid_only(&geoms, &masses, &inputs.groups);
     // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
-    // the physics mode the undamaged capacities at them.
+    // the rigid mode the undamaged capacities at them.
     let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let push = PushSettings::default();
-    let domain = if sc.mode != Mode::Physics || fe_strengths {
+    let domain = if sc.mode != Mode::Rigid || fe_strengths {
         Some(fe_domain(sc, &inputs.model)?)
     } else {
         None
@@ -915,7 +915,7 @@ pub(crate) fn run_perturbed(
         }
         _ => None,
     };
-    if sc.mode != Mode::Physics {
+    if sc.mode != Mode::Rigid {
         let handoff = Handoff::new(&inputs.model, &inputs.mapping)
             .map_err(|e| PipelineError::HandOff(Box::new(e)))?;
         let prepared = domain.expect("the FE modes build the domain");

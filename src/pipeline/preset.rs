@@ -7,7 +7,7 @@
 //!   connections, 200 substeps/s × 100 iterations, BCB's one-way axial rows, connected
 //!   pieces that never touch, no joint warm start. It keeps two plastic-spring stability
 //!   fixes BCB lacks (`angular_spring = "lever"`, `spring_cap_per_body = true`,
-//!   docs/scenario-format.md, "Plastic-spring stability"). The physics-only default.
+//!   docs/scenario-format.md, "Plastic-spring stability"). The rigid-only default.
 //! * `fem2rbd`: the hybrid default, `bcb` with the keys [`Preset::physics`] lists for it.
 
 use super::scenario::{
@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Preset {
-    /// The paper's physics engine settings (BCB), the physics-only default.
+    /// The paper's physics engine settings (BCB), the rigid-only default.
     Bcb,
     /// fem2rbd's hybrid default.
     Fem2rbd,
@@ -40,10 +40,10 @@ impl Preset {
     }
 
     /// The preset of a run in `mode` that names none: `fem2rbd` for the hybrid and fe
-    /// modes, `bcb` for the physics-only mode (the paper's baseline).
+    /// modes, `bcb` for the rigid-only mode (the paper's baseline).
     pub fn for_mode(mode: Mode) -> Preset {
         match mode {
-            Mode::Physics => Preset::Bcb,
+            Mode::Rigid => Preset::Bcb,
             Mode::Hybrid | Mode::Fe => Preset::Fem2rbd,
         }
     }

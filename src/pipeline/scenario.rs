@@ -645,7 +645,7 @@ impl PhysicsTable {
     /// another key is resolved here, one rule each:
     ///
     /// 1. The preset: as named (`preset`), else `fem2rbd` for hybrid and fe runs and
-    ///    `bcb` for physics-only runs ([`super::preset::Preset::for_mode`]).
+    ///    `bcb` for rigid-only runs ([`super::preset::Preset::for_mode`]).
     /// 2. `connections` given and not the preset's: the keys that follow the connection
     ///    model (`axial_rows`, `connected_pairs_touch`, `ground_under_connected_bases`,
     ///    `joint_warmstart`) take the values of the preset built on that model
@@ -1204,6 +1204,7 @@ impl Scenario {
                 message: e.message().to_string(),
             }
         })?;
+        Mode::warn_former_names(text, &p.to_string());
         let base = path.parent().unwrap_or(Path::new("."));
         let model = base.join(&raw.model);
         crate::model::limits::check_input_file(&model, "model file").map_err(|error| {

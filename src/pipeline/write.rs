@@ -215,8 +215,8 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
                 rec.fe_end_s.unwrap_or(0.0)
             ),
         ),
-        TcReason::PhysicsOnly => (
-            TcKind::PhysicsOnly,
+        TcReason::RigidOnly => (
+            TcKind::RigidOnly,
             "no FE stage; the ruin stage starts at t = 0".into(),
         ),
     };
@@ -260,9 +260,9 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         };
         WallTimes {
             fe,
-            physics: ph,
-            physics_in_bullet: rec.ruin_in_bullet.as_secs_f64(),
-            physics_bullet_share: share,
+            ruin: ph,
+            ruin_in_bullet: rec.ruin_in_bullet.as_secs_f64(),
+            ruin_bullet_share: share,
         }
     });
     RunSummary {

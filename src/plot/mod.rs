@@ -264,7 +264,7 @@ pub fn write_all(run: &RunFolder, out: &Path, format: ImageFormat) -> Result<Vec
 }
 
 /// The run's mode and collapse moment for titles, from `summary.json`:
-/// `mode physics, no Tc (physics_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
+/// `mode rigid, no Tc (rigid_only)` or `mode hybrid, Tc = 1.660 s (criterion)`.
 pub(crate) fn run_label(run: &RunFolder) -> String {
     let mode = run.summary.mode.name();
     let reason = run.summary.tc_reason.name();

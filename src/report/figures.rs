@@ -254,10 +254,10 @@ fn rows(s: &RunSummary, run: &RunFolder) -> Vec<Row> {
             format!(
                 "FE stage {:.1} s, ruin stage {:.1} s ({:.0} % inside Bullet)",
                 w.fe,
-                w.physics,
-                100.0 * w.physics_bullet_share
+                w.ruin,
+                100.0 * w.ruin_bullet_share
             ),
-            Some(w.fe + w.physics),
+            Some(w.fe + w.ruin),
         ),
         None => row("wall_time_s", "Wall time", "not recorded".into(), None),
     });

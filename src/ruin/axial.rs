@@ -38,7 +38,7 @@
 //! substep is clamped at T·κ·Δt for that substep (if T < C), and a tension that follows a
 //! compressive substep can transmit up to C·κ·Δt in the substep in which it breaks the row
 //! (BCB's tension row would have been clamped at T·κ·Δt); measured on frame3 LC5
-//! physics-only, such breaks carried at most 1.8 times T·κ·Δt. The one-way row left after
+//! rigid-only, such breaks carried at most 1.8 times T·κ·Δt. The one-way row left after
 //! a break acts from the next substep on.
 //! A connection with no strength in one sense (an FE-derived residual capacity gone in that
 //! sense, docs/handoff.md §3) keeps BCB's two one-way rows: the row without strength starts

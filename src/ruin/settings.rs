@@ -386,7 +386,7 @@ pub struct StageInput<'a> {
     pub start_velocities: Vec<Velocity>,
     /// Group strengths.
     pub groups: &'a [GroupStrength],
-    /// Start time, s (Tc; 0 in the physics-only mode).
+    /// Start time, s (Tc; 0 in the rigid-only mode).
     pub start_time_s: f64,
     /// FE damage at the start per connected body pair (a, b) with a < b (input indices);
     /// missing = intact; a pair that has no connection is ignored (a pair with a ≥ b or
@@ -398,8 +398,8 @@ pub struct StageInput<'a> {
 }
 
 impl<'a> StageInput<'a> {
-    /// The physics-only mode (BCB alone): undeformed poses, at rest, t = 0, no damage.
-    pub fn physics_only(
+    /// The rigid-only mode (BCB alone): undeformed poses, at rest, t = 0, no damage.
+    pub fn rigid_only(
         bodies: &'a [BodyGeom],
         masses_kg: &'a [f64],
         groups: &'a [GroupStrength],

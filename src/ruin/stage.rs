@@ -25,7 +25,7 @@
 //! profile): 98–99 % inside Bullet for a 5-body portal frame under ground motion, 99.7 %
 //! for 30 debris boxes.
 //!
-//! **Physics-only mode** (BCB alone): [`StageInput::physics_only`] — undeformed start poses,
+//! **Rigid-only mode** (BCB alone): [`StageInput::rigid_only`] — undeformed start poses,
 //! zero velocities, all connections elastic, start at t = 0 under the whole record.
 
 pub use super::record::{

@@ -322,7 +322,7 @@ pub(crate) fn study_json(study: &Study, plan: &Plan, rows: &[RunRow]) -> Value {
         Intensity::Stripes(_) => {
             // One observation per (model, record, mode, intensity): collapse is the FE
             // stage's outcome (`tc_s`), which an ensemble's members share (they perturb
-            // the hand-off state or, physics-only, have no Tc), so counting every member
+            // the hand-off state or, rigid-only, have no Tc), so counting every member
             // would multiply the binomial counts without adding information. The first
             // member without an error stands for its run.
             let mut counted: BTreeSet<(usize, usize, usize, u32)> = BTreeSet::new();
@@ -558,7 +558,7 @@ pub(crate) fn ensemble_stats(study: &Study, plan: &Plan, rows: &[RunRow]) -> (Va
             "member_0": "unperturbed",
             "perturbation": {
                 "hybrid": {"kind": "handoff_velocity", "amplitude_mps": p.velocity_mps},
-                "physics": {"kind": "ground_motion_scale", "relative_amplitude": p.ground_share},
+                "rigid": {"kind": "ground_motion_scale", "relative_amplitude": p.ground_share},
             },
             "groups": out,
         }),

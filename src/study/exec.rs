@@ -94,7 +94,7 @@ fn entry_json(study: &Study, entry: &Entry) -> serde_json::Value {
             "seed": study.ensemble.seed,
             "perturbation": if entry.member == 0 {
                 json!("none (member 0)")
-            } else if entry.mode == crate::pipeline::Mode::Physics {
+            } else if entry.mode == crate::pipeline::Mode::Rigid {
                 json!({"kind": "ground_motion_scale", "relative_amplitude": p.ground_share})
             } else {
                 json!({"kind": "handoff_velocity", "amplitude_mps": p.velocity_mps})

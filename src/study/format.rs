@@ -327,6 +327,7 @@ impl Study {
                 .unwrap_or((0, 0));
             StudyError::Invalid(format!("{p}:{line}: column {col}: {}", e.message()))
         })?;
+        Mode::warn_former_names(text, &p.to_string());
         let at = |s: std::ops::Range<usize>| format!("{p}:{}", line_of(text, s.start));
         let base_dir = path.parent().unwrap_or(Path::new("."));
         let base_path = base_dir.join(raw.base.get_ref());
@@ -513,8 +514,8 @@ impl Study {
                         at(ida.tolerance_g.span())
                     );
                 }
-                if modes.contains(&Mode::Physics) {
-                    bail!("{p}: intensity.ida needs modes fe or hybrid: physics mode has no collapse moment");
+                if modes.contains(&Mode::Rigid) {
+                    bail!("{p}: intensity.ida needs modes fe or hybrid: rigid mode has no collapse moment");
                 }
                 Intensity::Ida(rule)
             }
@@ -534,7 +535,7 @@ impl Study {
                 }
                 if n > 1 && modes.contains(&Mode::Fe) {
                     bail!(
-                        "{}: ensemble.members: members perturb the ruin stage only, so fe-mode members would be identical copies; use modes hybrid or physics",
+                        "{}: ensemble.members: members perturb the ruin stage only, so fe-mode members would be identical copies; use modes hybrid or rigid",
                         at(e.members.span())
                     );
                 }

@@ -75,7 +75,7 @@ pub fn build_connections(
 /// * `groups`: strength definitions, looked up by [`BodyGeom::group`].
 /// * `contacts`: from [`crate::ruin::search::find_contacts`].
 /// * `poses_at_start`: every body's pose when the constraints are created (Tc for the
-///   hybrid mode; the undeformed poses for physics-only), one per body.
+///   hybrid mode; the undeformed poses for rigid-only), one per body.
 ///
 /// Every connection is created elastic; use [`ConnectionSpec::set_state`] for another
 /// starting state.

@@ -41,7 +41,7 @@ fn listing(dir: &Path) -> BTreeSet<String> {
 
 /// A scenario in the work folder; `{X}` is replaced by the El Centro 180 record.
 const SCENARIO: &str = r#"model = "model.toml"
-mode = "physics"
+mode = "rigid"
 output = "out"
 [[ground_motion]]
 file = "elc180.at2"
@@ -681,7 +681,7 @@ fn cases() -> Vec<Case> {
             scenario("model = \"model.toml\"", "model = \"none.toml\""),
         ),
         case("scenario syntax", run, 1, &["s.toml:2:"])
-            .with("s.toml", scenario("mode = \"physics\"", "mode = = 1")),
+            .with("s.toml", scenario("mode = \"rigid\"", "mode = = 1")),
         case(
             "scenario unknown key",
             run,
@@ -1518,7 +1518,7 @@ fn a_comma_in_a_name_survives_a_whole_run() {
     std::fs::write(w.join("model.toml"), m).unwrap();
     std::fs::write(
         w.join("s.toml"),
-        scenario("mode = \"physics\"", "mode = \"fe\"") + "[fe]\nduration = 0.1\n",
+        scenario("mode = \"rigid\"", "mode = \"fe\"") + "[fe]\nduration = 0.1\n",
     )
     .unwrap();
     let st = Command::new(BIN)
@@ -1588,7 +1588,7 @@ fn allow_unusual_runs_and_the_summary_records_it() {
     std::fs::write(w.join("model.toml"), model("xi = 0.05", "xi = 0.35")).unwrap();
     std::fs::write(
         w.join("s.toml"),
-        scenario("mode = \"physics\"", "mode = \"fe\"") + "[fe]\nduration = 0.05\n",
+        scenario("mode = \"rigid\"", "mode = \"fe\"") + "[fe]\nduration = 0.05\n",
     )
     .unwrap();
     let run = |extra: &[&str]| {

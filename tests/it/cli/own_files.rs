@@ -61,7 +61,7 @@ fn user_folder(w: &Path) -> PathBuf {
     .unwrap();
     fs::write(
         dir.join("s.toml"),
-        "model = \"model.toml\"\nmode = \"physics\"\noutput = \"out\"\n\
+        "model = \"model.toml\"\nmode = \"rigid\"\noutput = \"out\"\n\
          [[ground_motion]]\nfile = \"elc180.at2\"\ndirection = \"X\"\npga_g = 0.3\n\
          time_scale = 0.5\n",
     )

@@ -450,9 +450,7 @@ fn missing_or_garbled_run_folder_is_named_and_nothing_is_written() {
     });
     assert!(e.contains("keyframes.csv:3: column name"), "{e}");
     // history.csv's ground column garbled.
-    let e = garbled("history.csv", |s| {
-        Some(s.replacen(",physics,", ",ruin,", 1))
-    });
+    let e = garbled("history.csv", |s| Some(s.replacen(",ruin,", ",rubble,", 1)));
     assert!(
         e.contains("history.csv:") && e.contains("column stage"),
         "{e}"

@@ -142,7 +142,7 @@ fn distribution(poses: &[Pose], masses: &[f64]) -> ([f64; 3], [f64; 2], f64) {
 fn debris_phase_agrees_with_pybullet() {
     let (bodies, masses) = frame_bodies();
     assert_eq!(bodies.len(), 30);
-    let mut input = StageInput::physics_only(&bodies, &masses, &[]);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &[]);
     // "Tc": the frame turned rigidly about its base centre (no body penetrates another:
     // touching faces stay touching), lifted 0.12 m, each body moving on its own.
     let turn = Isometry3::from_parts(

@@ -16,7 +16,7 @@
 //!   Both are compared;
 //! * the joint warm start (`WarmJointSolver`) and the direct joint solve
 //!   (`DirectJointSolver`) are features stock Bullet does not have: they change the
-//!   iterates, so they are off (the physics-only defaults: warm start 0, projected
+//!   iterates, so they are off (the rigid-only defaults: warm start 0, projected
 //!   Gauss–Seidel). A stock world refuses them.
 use fem2rbd::physics::Sweep;
 
@@ -24,11 +24,11 @@ use fem2rbd::physics::Sweep;
 /// leaves every connection elastic; by 3 s the frame has collapsed (connections plastic
 /// and broken, pieces in contact with each other and the ground).
 const SECONDS: f64 = 3.0;
-use fem2rbd::pipeline::{physics_only_stage, Scenario};
+use fem2rbd::pipeline::{rigid_only_stage, Scenario};
 use fem2rbd::ruin::connection::ConnectionState;
 use fem2rbd::ruin::stage::{RuinResult, SpeedSettings, StageSettings, StopRule};
 
-/// [`SECONDS`] of frame3 under LC5, physics-only (BCB's CT 22 breakable 6-DoF spring connections,
+/// [`SECONDS`] of frame3 under LC5, rigid-only (BCB's CT 22 breakable 6-DoF spring connections,
 /// 200 substeps/s, 100 iterations), on the given world.
 fn run(sc: &Scenario, stock: bool, threads: usize, sweep: Sweep) -> RuinResult {
     let adjust = move |s: &mut StageSettings| {
@@ -38,7 +38,7 @@ fn run(sc: &Scenario, stock: bool, threads: usize, sweep: Sweep) -> RuinResult {
             sweep,
         };
     };
-    let mut stage = physics_only_stage(sc, &adjust).unwrap();
+    let mut stage = rigid_only_stage(sc, &adjust).unwrap();
     assert_eq!(stage.world().is_stock(), stock);
     stage
         .run(&StopRule {
@@ -48,7 +48,7 @@ fn run(sc: &Scenario, stock: bool, threads: usize, sweep: Sweep) -> RuinResult {
         .unwrap()
 }
 
-/// Frame3 physics-only, 3 s of LC5: the shim's solver with Bullet's sweep on one thread,
+/// Frame3 rigid-only, 3 s of LC5: the shim's solver with Bullet's sweep on one thread,
 /// and its default packed sweep on two, give every body's pose in every frame, the final
 /// velocities and every connection's plastic and breaking times bit for bit as Debian's
 /// unmodified Bullet does. The run is not trivial: connections turn plastic or break and
@@ -56,7 +56,7 @@ fn run(sc: &Scenario, stock: bool, threads: usize, sweep: Sweep) -> RuinResult {
 /// 3.4 m from its start).
 #[test]
 fn the_shims_solver_gives_stock_bullets_bits_on_frame3() {
-    let text = crate::support::frame3_lc5("physics", "criterion = \"vertical_drop\"", "", "");
+    let text = crate::support::frame3_lc5("rigid", "criterion = \"vertical_drop\"", "", "");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("lc5.toml");
     std::fs::write(&path, text).unwrap();

@@ -1,5 +1,5 @@
 //! Ensembles (`fem2rbd run --ensemble N`, `fem2rbd::pipeline::ensemble`) on frame3 LC5
-//! physics-only, CI-sized (timeline to 0.8 s): the members do not depend on the number
+//! rigid-only, CI-sized (timeline to 0.8 s): the members do not depend on the number
 //! of worker threads (same bytes), member 0 is the plain run, the perturbation of the
 //! other members reaches the ruin stage but stays small, and the ensemble statistics are
 //! the members' own.
@@ -14,7 +14,7 @@ const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 fn scenario(dir: &Path) -> Scenario {
     let text = format!(
         r#"model = "{ROOT}/data/frame3/model.toml"
-mode = "physics"
+mode = "rigid"
 
 [[ground_motion]]
 file = "{ROOT}/data/ground-motions/RSN6_IMPVALL.I_I-ELC180.AT2"

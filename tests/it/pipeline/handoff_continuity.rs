@@ -140,12 +140,12 @@ fn gravity_record(mode: &str, physics: &str, fe: &str, seconds: f64) -> pipeline
     pipeline::run(&sc, &Silent).unwrap()
 }
 
-/// Gravity alone on frame3, physics-only with the `[physics]` lines, for `seconds`: the
+/// Gravity alone on frame3, rigid-only with the `[physics]` lines, for `seconds`: the
 /// largest sag (m) and roof drift (ratio), printed under `label`; every connection must
 /// still be intact at the end.
 fn gravity_peaks(label: &str, physics: &str, seconds: f64) -> (f64, f64) {
     let rows = gravity_only(
-        "physics",
+        "rigid",
         &format!("time_limit_s = {seconds}\nstop_at_rest = false\n{physics}"),
         "",
         seconds,
@@ -265,7 +265,7 @@ fn gravity_alone_member_rows_at_200_substeps() {
 }
 
 /// Frame3 with FE-derived connections under gravity alone for 1 s at 200 substeps/s,
-/// physics-only, with the extra `[physics]` lines: (peak sag m, peak roof drift ratio,
+/// rigid-only, with the extra `[physics]` lines: (peak sag m, peak roof drift ratio,
 /// connections plastic or broken at the end).
 fn gravity_peaks_1s(extra: &str) -> (f64, f64, usize) {
     let (sag, drift, lost, _) = gravity_peaks_and_rows_1s(extra);
@@ -275,7 +275,7 @@ fn gravity_peaks_1s(extra: &str) -> (f64, f64, usize) {
 /// [`gravity_peaks_1s`] and the kinds of the connections that had a row at its threshold.
 fn gravity_peaks_and_rows_1s(extra: &str) -> (f64, f64, usize, Vec<String>) {
     let rec = gravity_record(
-        "physics",
+        "rigid",
         &format!("time_limit_s = 1.0\nstop_at_rest = false\nconnections = \"fe\"\n{extra}"),
         "",
         1.0,
@@ -412,7 +412,7 @@ fn drift_1_50_handoff_does_not_collapse_early() {
     let tc = rec.tc_s.unwrap();
     assert!((tc - tc_guess).abs() < 0.011, "Tc {tc}");
     let rows = history(&rec);
-    let phys: Vec<&Row> = rows.iter().filter(|r| r.1 == "physics").collect();
+    let phys: Vec<&Row> = rows.iter().filter(|r| r.1 == "ruin").collect();
     let start = phys[0].4.unwrap();
     let first_drop = phys.iter().find(|r| r.3 >= 0.25).map(|r| r.0);
     eprintln!(
@@ -451,7 +451,7 @@ fn at_the_fe_capacities_the_frame_fails_in_its_story_1_columns() {
     let rows = history(&rec);
     let first_drop = rows
         .iter()
-        .filter(|r| r.1 == "physics")
+        .filter(|r| r.1 == "ruin")
         .find(|r| r.3 >= 0.25)
         .map(|r| r.0);
     let text = output_text(&rec, "connections.csv");
@@ -817,13 +817,13 @@ fn ramp_capacity_g(rec: &pipeline::RunRecord, rate_g: f64) -> Option<f64> {
         .map(|(t, _)| t * rate_g)
 }
 
-/// A physics-only frame3 run under the ramp (0.03 g/s) to `until_s` with FE-derived
+/// A rigid-only frame3 run under the ramp (0.03 g/s) to `until_s` with FE-derived
 /// connections in the "FE throughout" setting and `extra` `[physics]` lines.
 fn bullet_pushover(until_s: f64, extra: &str) -> pipeline::RunRecord {
     let dir = tempfile::tempdir().unwrap();
     let r = ramp_record(dir.path(), 0.03, 0.36);
     let text = format!(
-        "model = \"{ROOT}/data/frame3/model.toml\"\nmode = \"physics\"\n\n\
+        "model = \"{ROOT}/data/frame3/model.toml\"\nmode = \"rigid\"\n\n\
          [[ground_motion]]\nfile = \"{}\"\ndirection = \"X\"\n\n[collapse]\n\
          criterion = \"vertical_drop\"\n\n[physics]\ntime_limit_s = {until_s}\n\
          stop_at_rest = false\n{FE_CAPACITIES}\nground_damping = \"fe\"\n\
@@ -989,7 +989,7 @@ fn the_fe_mesh_is_stronger_than_its_sections_and_the_force_formulation_is_not() 
 }
 
 /// Gravity holds: the undamaged frame3 with the hybrid defaults' connections (FE-derived,
-/// the two-way axial row, joint warm start 0.5, physics-only on a ground record of zeros,
+/// the two-way axial row, joint warm start 0.5, rigid-only on a ground record of zeros,
 /// every body and connection as at t = 0) sags at most twice the FE's static gravity
 /// deflection and sways at most 0.02 % roof drift, at the cheapest setting that meets both:
 /// BCB's 200 substeps/s and 100 iterations with the joints' bilateral rows solved directly

@@ -52,7 +52,7 @@ fn gravity_run(dir: &Path, search_distance_m: f64) -> (f64, usize, usize) {
         .collect();
     std::fs::write(dir.join("zeros.txt"), zeros).unwrap();
     let text = format!(
-        "model = \"{}\"\nmode = \"physics\"\n\n[[ground_motion]]\nfile = \"{}\"\n\
+        "model = \"{}\"\nmode = \"rigid\"\n\n[[ground_motion]]\nfile = \"{}\"\n\
          direction = \"X\"\n\n[physics]\ntime_limit_s = 1.0\nstop_at_rest = false\n\
          search_distance_m = {search_distance_m}\n",
         model.display(),

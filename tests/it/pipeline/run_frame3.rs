@@ -143,12 +143,12 @@ fn run_snapshot(sc: &Scenario, preset: &str) -> (serde_json::Value, String, pipe
 }
 
 #[test]
-fn physics_mode_lc5_ruin_distribution() {
+fn rigid_mode_lc5_ruin_distribution() {
     let dir = tempfile::tempdir().unwrap();
     let p = write_scenario(
         dir.path(),
         "physics.toml",
-        &scenario_text("physics", "", "", "time_limit_s = 3.0"),
+        &scenario_text("rigid", "", "", "time_limit_s = 3.0"),
     );
     let sc = Scenario::load(&p).unwrap();
     let (summary, ruins, rec) = run_snapshot(&sc, "bcb");
@@ -165,8 +165,8 @@ fn physics_mode_lc5_ruin_distribution() {
         r.wall.bullet_share()
     );
     assert_debris_physical(&write::run_summary(&rec, false), &rec);
-    insta::assert_json_snapshot!("physics_lc5_summary", summary);
-    insta::assert_snapshot!("physics_lc5_ruins", ruins);
+    insta::assert_json_snapshot!("rigid_lc5_summary", summary);
+    insta::assert_snapshot!("rigid_lc5_ruins", ruins);
 }
 
 #[test]
@@ -205,7 +205,7 @@ fn two_runs_give_the_same_bytes() {
     let p = write_scenario(
         dir.path(),
         "det.toml",
-        &scenario_text("physics", "", "", "time_limit_s = 1.5"),
+        &scenario_text("rigid", "", "", "time_limit_s = 1.5"),
     );
     let sc = Scenario::load(&p).unwrap();
     let a = write::contents(&pipeline::run(&sc, &Silent).unwrap(), false).unwrap();
@@ -269,7 +269,7 @@ fn cli_error(dir: &Path, text: &str) -> String {
 #[test]
 fn bad_scenarios_name_the_file_line_and_item_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let good = scenario_text("physics", "", "", "time_limit_s = 1.0");
+    let good = scenario_text("rigid", "", "", "time_limit_s = 1.0");
     // TOML syntax error: file:line:column.
     let e = cli_error(dir.path(), &good.replace("dt = 0.005", "dt = = 0.005"));
     let line = good.lines().position(|l| l == "dt = 0.005").unwrap() + 1;
@@ -331,7 +331,7 @@ fn bad_scenarios_name_the_file_line_and_item_and_write_nothing() {
     assert!(e.contains("physics.steps_per_second"), "{e}");
     let e = cli_error(
         dir.path(),
-        &good.replace("mode = \"physics\"", "mode = \"bcb\""),
+        &good.replace("mode = \"rigid\"", "mode = \"bcb\""),
     );
     assert!(e.contains("bad.toml:2:"), "{e}");
 }

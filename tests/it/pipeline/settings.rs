@@ -1,6 +1,6 @@
 //! One resolution of the ruin stage's settings: the command line (`fem2rbd run --mode`,
 //! a study entry's mode) and the library resolve a scenario's `[physics]` table the same
-//! way, the physics-only default is the `bcb` preset and the ruin stage's own default
+//! way, the rigid-only default is the `bcb` preset and the ruin stage's own default
 //! (`StageSettings::bcb`), and the hybrid default (`fem2rbd`) differs from it on the
 //! keys its preset lists.
 use fem2rbd::pipeline::preset::Preset;
@@ -35,9 +35,9 @@ fn lc5_in(mode: Mode, physics: &str) -> Scenario {
 #[test]
 fn the_command_line_mode_resolves_as_the_file_mode() {
     let (path, _) = lc5();
-    for mode in [Mode::Hybrid, Mode::Physics, Mode::Fe] {
+    for mode in [Mode::Hybrid, Mode::Rigid, Mode::Fe] {
         let in_file = lc5_in(mode, "");
-        for file_mode in [Mode::Hybrid, Mode::Physics] {
+        for file_mode in [Mode::Hybrid, Mode::Rigid] {
             let mut on_command_line = lc5_in(file_mode, "");
             on_command_line.set_mode(mode);
             assert_eq!(on_command_line.mode, mode);
@@ -55,16 +55,16 @@ fn the_command_line_mode_resolves_as_the_file_mode() {
     }
     // Keys given in the file still apply after the mode changes.
     let mut sc = lc5_in(Mode::Hybrid, "steps_per_second = 400");
-    sc.set_mode(Mode::Physics);
+    sc.set_mode(Mode::Rigid);
     assert_eq!(sc.physics.steps_per_second, 400.0);
     assert_eq!(sc.physics.preset, Preset::Bcb);
 }
 
-/// The BCB baseline: a physics-only run that sets nothing runs the `bcb` preset, and
+/// The BCB baseline: a rigid-only run that sets nothing runs the `bcb` preset, and
 /// its stage settings are the ruin stage's own defaults.
 #[test]
-fn bcb_baseline_is_the_physics_only_default_and_the_stage_default() {
-    let sc = lc5_in(Mode::Physics, "");
+fn bcb_baseline_is_the_rigid_only_default_and_the_stage_default() {
+    let sc = lc5_in(Mode::Rigid, "");
     assert_eq!(sc.physics, Preset::Bcb.physics());
     assert_eq!(sc.physics.connections, ConnectionModel::Formula);
     assert_eq!(stage_settings(&sc), StageSettings::bcb());
@@ -106,7 +106,7 @@ fn connections_given_bring_their_presets_rows() {
     assert_eq!(formula.physics.connected_pairs_touch, PairsTouch::Never);
     assert!(formula.physics.ground_under_connected_bases);
     assert_eq!(formula.physics.joint_warmstart, 0.0);
-    let fe = lc5_in(Mode::Physics, "connections = \"fe\"");
+    let fe = lc5_in(Mode::Rigid, "connections = \"fe\"");
     assert_eq!(fe.physics.preset, Preset::Bcb);
     assert_eq!(fe.physics.axial_rows, AxialRows::TwoWay);
     assert_eq!(fe.physics.connected_pairs_touch, PairsTouch::OnceYielded);
@@ -129,11 +129,11 @@ fn connections_given_bring_their_presets_rows() {
 #[test]
 fn threads_traces_and_sweep_reach_the_stage_as_values() {
     use fem2rbd::physics::Sweep;
-    use fem2rbd::pipeline::physics_only_stage;
+    use fem2rbd::pipeline::rigid_only_stage;
     use fem2rbd::pipeline::scenario::SweepSpec;
     use fem2rbd::ruin::stage::BodyTraceSettings;
-    assert_eq!(lc5_in(Mode::Physics, "").physics.sweep, SweepSpec::Packed);
-    let mut sc = lc5_in(Mode::Physics, "experimental.sweep = \"lean\"");
+    assert_eq!(lc5_in(Mode::Rigid, "").physics.sweep, SweepSpec::Packed);
+    let mut sc = lc5_in(Mode::Rigid, "experimental.sweep = \"lean\"");
     assert_eq!(stage_settings(&sc).speed.sweep, Sweep::Lean);
     sc.threads = Some(3);
     sc.traces.body = Some(BodyTraceSettings {
@@ -145,7 +145,7 @@ fn threads_traces_and_sweep_reach_the_stage_as_values() {
     let s = stage_settings(&sc);
     assert_eq!(s.speed.solver_threads, 3);
     assert_eq!(s.traces, sc.traces);
-    let err = match physics_only_stage(&sc, &|_| ()) {
+    let err = match rigid_only_stage(&sc, &|_| ()) {
         Ok(_) => panic!("a trace of a body that does not exist"),
         Err(e) => e.to_string(),
     };

@@ -1,4 +1,4 @@
-//! A frame–shear-wall building end to end in the physics-only mode: a 2-story, 2 × 1-bay
+//! A frame–shear-wall building end to end in the rigid-only mode: a 2-story, 2 × 1-bay
 //! full-scale frame (6 m × 5 m bays, 3 m stories) with one wall along X on column line 0,
 //! bay 1, both stories (`fem2rbd_fe::model::building`). Body count, wall body size and
 //! mass from the closed form, connections by type from the geometry, the building under
@@ -189,7 +189,7 @@ fn history(rec: &pipeline::RunRecord) -> Vec<(f64, f64, f64, [usize; 3])> {
 fn run(dir: &Path, ground: &str, physics: &str) -> Vec<(f64, f64, f64, [usize; 3])> {
     let model = write_model(dir, true);
     let text = format!(
-        "model = \"{}\"\nmode = \"physics\"\n\n{ground}\n[physics]\n{physics}\n",
+        "model = \"{}\"\nmode = \"rigid\"\n\n{ground}\n[physics]\n{physics}\n",
         model.display()
     );
     let p = dir.join("scenario.toml");

@@ -160,7 +160,7 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
             t_s: *t,
             fe: mode == "hybrid" && *t <= TC + 1e-9,
             poses: p,
-            counts: (mode == "physics" || *t > TC + 1e-9).then(|| {
+            counts: (mode == "rigid" || *t > TC + 1e-9).then(|| {
                 let broken = ((t - TC).max(0.0) * 5.0).round() as usize;
                 (6 - broken.min(6), 1, broken.min(6))
             }),
@@ -185,7 +185,7 @@ fn write_run(dir: &Path, bodies: &[Body], mode: &str) {
     let reason = if mode == "hybrid" {
         "criterion"
     } else {
-        "physics_only"
+        "rigid_only"
     };
     std::fs::write(dir.join("bodies.csv"), bodies_csv(&rows)).unwrap();
     std::fs::write(dir.join("keyframes.csv"), keyframes_csv(&names, &fr)).unwrap();
@@ -434,12 +434,12 @@ fn histories_draw_both_stages_and_tc() {
 }
 
 #[test]
-fn physics_mode_without_tc_and_fe_run_without_counts() {
+fn rigid_mode_without_tc_and_fe_run_without_counts() {
     let dir = tempfile::tempdir().unwrap();
-    write_run(dir.path(), &building([3.5, -1.0, 0.15]), "physics");
+    write_run(dir.path(), &building([3.5, -1.0, 0.15]), "rigid");
     let run = RunFolder::load(dir.path()).unwrap();
     let svg = plot::svg_string(&plot::history::HistoryFigure::new(&run)).unwrap();
-    assert!(svg.contains("mode physics, no Tc (physics_only)"));
+    assert!(svg.contains("mode rigid, no Tc (rigid_only)"));
     assert!(!svg.contains("Tc ="));
     assert_eq!(polylines_with_stroke(&svg, &hex(style::FE_STAGE)), 0);
     // no counts at all: the connections figure says so

@@ -21,7 +21,7 @@ fn f(v: &Value) -> f64 {
 fn ensemble_report_overlays_the_members_in_headless_chromium() {
     let tmp = tempfile::tempdir().unwrap();
     let text = scenario_text()
-        .replace("mode = \"hybrid\"", "mode = \"physics\"")
+        .replace("mode = \"hybrid\"", "mode = \"rigid\"")
         .replace("criterion = \"drift_4pct\"", "")
         .replace("time_limit_s = 3.0", "time_limit_s = 1.0");
     let sc = tmp.path().join("ens.toml");

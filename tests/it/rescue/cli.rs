@@ -72,7 +72,7 @@ fn writes_the_three_files_into_the_run_folder() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join(f)).unwrap()).unwrap()
     };
     let summary = read("summary.json");
-    assert_eq!(summary["mode"], "physics");
+    assert_eq!(summary["mode"], "rigid");
     assert_eq!(summary["scale"], 1.0);
     let rescue = &summary["rescue"];
     assert_eq!(rescue["voids_count"], 1);
@@ -141,7 +141,7 @@ fn bad_input_is_named_and_nothing_is_written() {
         "{e}"
     );
     let e = refused(
-        |d| std::fs::write(d.join("summary.json"), "{\"mode\": \"physics\"}\n").unwrap(),
+        |d| std::fs::write(d.join("summary.json"), "{\"mode\": \"rigid\"}\n").unwrap(),
         &[],
     );
     assert!(e.contains("summary.json") && e.contains("scale"), "{e}");

@@ -373,13 +373,13 @@ fn a_broken_member_is_refused_naming_its_file() {
     }
 }
 
-/// `fem2rbd run --ensemble 3` on frame3 LC5 (physics mode cut at 1 s): the ensemble folder
+/// `fem2rbd run --ensemble 3` on frame3 LC5 (rigid mode cut at 1 s): the ensemble folder
 /// holds the maps, every cell agrees with the members' `voids.csv`, and the distributions
 /// of the void and survivable counts are the members' own (`voids.json`).
 #[test]
 fn a_frame3_ensemble_writes_maps_that_agree_with_its_members() {
     let tmp = tempfile::tempdir().unwrap();
-    let text = crate::support::frame3_lc5("physics", "", "", "time_limit_s = 1.0");
+    let text = crate::support::frame3_lc5("rigid", "", "", "time_limit_s = 1.0");
     let sc = tmp.path().join("ens.toml");
     std::fs::write(&sc, text).unwrap();
     let dir = tmp.path().join("ens");

@@ -102,7 +102,7 @@ pub fn write_run(dir: &Path, boxes: &[SceneBox], connections: &[(usize, usize, &
     std::fs::write(dir.join("connections.csv"), c).unwrap();
     std::fs::write(
         dir.join("summary.json"),
-        format!("{{\n  \"mode\": \"physics\",\n  \"scale\": {scale}\n}}\n"),
+        format!("{{\n  \"mode\": \"rigid\",\n  \"scale\": {scale}\n}}\n"),
     )
     .unwrap();
 }

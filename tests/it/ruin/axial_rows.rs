@@ -41,7 +41,7 @@ fn column_under_block(rows: AxialRows, pieces: usize, iterations: u32) -> Suppor
     bodies.push(body("block", [0.0, 0.0, top], [0.5, 0.5, 0.1], false));
     masses.push(700.0);
     let groups = [group("rc", 5.2), group("base", 5.2)];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings::bcb();
     settings.ruin.axial_rows = rows;
     settings.ruin.solver_iterations = iterations;
@@ -127,7 +127,7 @@ fn hanging_box_drop(rows: AxialRows, t_per_mm2: f64) -> (f64, bool) {
     ];
     let masses = [0.0, 225.0];
     let groups = [group("rc", t_per_mm2), group("base", t_per_mm2)];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings::bcb();
     settings.ruin.axial_rows = rows;
     let ground = GroundSpec {
@@ -181,7 +181,7 @@ fn two_way_axial_row_is_not_broken_in_compression_by_the_tension_threshold() {
     ];
     let masses = [0.0, 225.0];
     let groups = [group("rc", 0.001), group("base", 0.001)];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings::bcb();
     settings.ruin.axial_rows = AxialRows::TwoWay;
     let ground = GroundSpec {

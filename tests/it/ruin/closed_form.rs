@@ -76,7 +76,7 @@ fn run_block(
     let bodies = block(he);
     let masses = [mass];
     let gr = groups();
-    let input = StageInput::physics_only(&bodies, &masses, &gr);
+    let input = StageInput::rigid_only(&bodies, &masses, &gr);
     let mut settings = StageSettings {
         connect: false,
         ..StageSettings::bcb()

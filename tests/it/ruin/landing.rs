@@ -59,7 +59,7 @@ fn landing(sps: f64, iterations: u32, solve: JointSolve) -> Landing {
     ));
     masses.push(m);
     let groups = [strong("rc"), strong("base")];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings::bcb();
     settings.ruin.axial_rows = AxialRows::TwoWay;
     settings.ruin.solver_iterations = iterations;

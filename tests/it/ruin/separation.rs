@@ -38,7 +38,7 @@ fn a_piece_whose_connection_is_broken_rests_on_the_piece_it_was_joined_to() {
     ];
     let masses = vec![225.0, 225.0];
     let groups = [group("rc")];
-    let mut input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &groups);
     input.start_damage.insert((0, 1), FeDamage::Ruptured);
     let mut z = Vec::new();
     for touch in [PairsTouch::OnceBroken, PairsTouch::Never] {
@@ -94,7 +94,7 @@ fn a_base_joined_to_its_foundation_stands_on_the_connection_alone() {
         top_z: Some(0.0),
         ..GroundSpec::default()
     };
-    let mut input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut share = Vec::new();
     for on_ground in [false, true] {
         let settings = StageSettings {

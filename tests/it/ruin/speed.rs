@@ -105,7 +105,7 @@ fn run_scene(
     ParallelCounts,
 ) {
     let (bodies, masses, groups, hist) = scene;
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings {
         speed: SpeedSettings {
             solver_threads: threads,

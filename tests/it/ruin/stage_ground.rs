@@ -53,7 +53,7 @@ fn kinematic_ground_follows_the_record_at_every_substep_from_tc() {
     let gr = groups();
     let tc = 1.3;
     let (d_tc, v_tc, _) = hist.ground_state_at(tc);
-    let mut input = StageInput::physics_only(&bodies, &masses, &gr);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &gr);
     input.start_time_s = tc;
     // At Tc the bodies are where the FE stage's ground carried them, moving with it.
     for (i, b) in bodies.iter().enumerate() {
@@ -156,7 +156,7 @@ fn box_on(ground: GroundSpec, mu: f64, v0: f64) -> RuinStage {
     let bodies = vec![body("box", [0.0, 0.0, 0.25], [0.25, 0.25, 0.25], false)];
     let masses = [100.0];
     let gr = groups();
-    let mut input = StageInput::physics_only(&bodies, &masses, &gr);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &gr);
     input.start_velocities[0] = Velocity {
         linear: [v0, 0.0, 0.0],
         angular: [0.0; 3],
@@ -219,7 +219,7 @@ fn a_dropped_box_is_at_rest_one_hold_time_after_it_lands() {
     )];
     let masses = [50.0];
     let gr = groups();
-    let input = StageInput::physics_only(&bodies, &masses, &gr);
+    let input = StageInput::rigid_only(&bodies, &masses, &gr);
     let ground = GroundSpec {
         top_z: Some(0.0),
         ..GroundSpec::default()
@@ -341,7 +341,7 @@ fn pile() -> (Vec<BodyGeom>, Vec<f64>) {
 fn a_dropped_pile_stops_when_it_is_at_rest_and_stays_there() {
     let (bodies, masses) = pile();
     let gr = groups();
-    let input = StageInput::physics_only(&bodies, &masses, &gr);
+    let input = StageInput::rigid_only(&bodies, &masses, &gr);
     let ground = GroundSpec {
         top_z: Some(0.0),
         ..GroundSpec::default()
@@ -376,7 +376,7 @@ fn a_dropped_pile_stops_when_it_is_at_rest_and_stays_there() {
 }
 
 fn frame_run() -> (Vec<u64>, f64) {
-    // Physics-only mode: a portal frame on passive foundations under the whole record.
+    // Rigid-only mode: a portal frame on passive foundations under the whole record.
     let bodies = vec![
         body("f0", [0.0, 0.0, -0.25], [0.3, 0.3, 0.25], true),
         body("f1", [3.0, 0.0, -0.25], [0.3, 0.3, 0.25], true),
@@ -389,7 +389,7 @@ fn frame_run() -> (Vec<u64>, f64) {
     for g in &mut gr {
         g.threshold_multiplier = 0.05;
     }
-    let input = StageInput::physics_only(&bodies, &masses, &gr);
+    let input = StageInput::rigid_only(&bodies, &masses, &gr);
     let settings = StageSettings {
         ruin: RuinSettings::default(),
         ..StageSettings::bcb()
@@ -433,7 +433,7 @@ fn frame_run() -> (Vec<u64>, f64) {
 }
 
 #[test]
-fn two_physics_only_runs_are_bit_identical() {
+fn two_rigid_only_runs_are_bit_identical() {
     let (a, share) = frame_run();
     let (b, _) = frame_run();
     assert_eq!(a.len(), b.len());
@@ -460,7 +460,7 @@ fn ground_damping_is_relative_to_the_moving_ground() {
         let bodies = vec![body("box", [0.0, 0.0, 60.0], [0.2, 0.2, 0.2], false)];
         let masses = [100.0];
         let gr = groups();
-        let input = StageInput::physics_only(&bodies, &masses, &gr);
+        let input = StageInput::rigid_only(&bodies, &masses, &gr);
         let settings = StageSettings {
             ground_damping_per_s: a0,
             body: BodySettings {

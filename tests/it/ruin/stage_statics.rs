@@ -38,7 +38,7 @@ fn column_carries_the_weight_above_each_joint_and_does_not_settle() {
         .collect();
     let masses = vec![m; n];
     let groups = [group("rc", 1.0, Some(1.3))];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let settings = StageSettings::bcb();
     let mut stage = RuinStage::build(&input, GroundSpec::default(), &settings).unwrap();
     assert_eq!(stage.connections().len(), n - 1);
@@ -124,7 +124,7 @@ fn cantilever(mass: f64) -> (RuinStage, f64) {
     let m_limit_nm = 3.0 * b_per_mm2 * area_mm2;
     let masses = vec![1.0, mass];
     let groups = [group("rc", b_per_mm2, None), group("base", b_per_mm2, None)];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let settings = StageSettings {
         warmup_s: WARMUP,
         ..StageSettings::bcb()
@@ -250,7 +250,7 @@ fn starting_states_set_the_enabled_constraints() {
         .collect();
     let masses = vec![100.0; 3];
     let groups = [group("rc", 1.0, Some(1.3))];
-    let mut input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &groups);
     input.start_damage.insert((0, 1), FeDamage::Ruptured);
     input.start_damage.insert((1, 2), FeDamage::Yielded);
     input.start_velocities[2] = Velocity::default();
@@ -287,14 +287,14 @@ fn bad_input_is_a_clear_error() {
     ];
     let groups = [group("rc", 1.0, Some(1.3))];
     let masses = [100.0, 0.0];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
     assert!(err.contains("'c1'") && err.contains("mass"), "{err}");
     let masses = [100.0];
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
@@ -304,13 +304,13 @@ fn bad_input_is_a_clear_error() {
         "{err}"
     );
     let masses = [100.0, 100.0];
-    let input = StageInput::physics_only(&bodies, &masses, &[]);
+    let input = StageInput::rigid_only(&bodies, &masses, &[]);
     let err = RuinStage::build(&input, GroundSpec::default(), &StageSettings::bcb())
         .err()
         .unwrap()
         .to_string();
     assert!(err.contains("'c0'") && err.contains("group 'rc'"), "{err}");
-    let input = StageInput::physics_only(&bodies, &masses, &groups);
+    let input = StageInput::rigid_only(&bodies, &masses, &groups);
     let mut settings = StageSettings::bcb();
     settings.ruin.steps_per_second = 210.0;
     let err = RuinStage::build(&input, GroundSpec::default(), &settings)
@@ -365,7 +365,7 @@ fn a_deformed_start_pose_does_not_fire_the_connections() {
         .collect();
     let masses = vec![150.0; n];
     let groups = [group("rc", 1.0, Some(1.3))];
-    let mut input = StageInput::physics_only(&bodies, &masses, &groups);
+    let mut input = StageInput::rigid_only(&bodies, &masses, &groups);
     // Each segment turned by 0.15 rad more than the one below about y (0.45 rad at the
     // top), chained at the joints: a kinked column far beyond tol1R = 0.2 rad in total.
     let mut base = Isometry3::translation(0.0, 0.0, 0.0225);
