@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Convergence of the ruin measures of frame3 LC5 against the ensemble spread
-# (docs/ruin-numerics.md, "Convergence"). Per mode (hybrid, physics):
+# (docs/ruin-numerics.md, "Convergence"). Per mode (hybrid, rigid):
 #   1. an ensemble of N members at BCB's setting (200 substeps/s, 100 iterations;
 #      `fem2rbd run --ensemble N --seed S`, member 0 = the unperturbed run),
 #   2. the same scenario at 400 and 800 substeps/s (100 iterations) and at 200 iterations,
@@ -9,7 +9,7 @@
 # the unperturbed run (member 0) by at most max(10 % of it (0.1 for ratios), the ensemble
 # spread = max - min over the members).
 #
-#   bash scripts/ruin-convergence.sh [OUT_DIR] [MODES]   (default out/ruin-convergence, "hybrid physics")
+#   bash scripts/ruin-convergence.sh [OUT_DIR] [MODES]   (default out/ruin-convergence, "hybrid rigid")
 #
 # Environment: ENSEMBLE (members, default 8), SEED (default 1), THREADS (ensemble worker
 # threads, default 2), FEM2RBD (the binary, default target/release/fem2rbd, built first),
@@ -36,7 +36,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/ruin-convergence}
-MODES=${2:-hybrid physics}
+MODES=${2:-hybrid rigid}
 N=${ENSEMBLE:-8}
 SEED=${SEED:-1}
 THREADS=${THREADS:-2}

@@ -128,7 +128,7 @@ pub struct RunRecord {
 pub trait Progress {
     /// FE stage: simulated time `t` of `t_end` s.
     fn fe(&self, _t: f64, _t_end: f64) {}
-    /// Physics stage: frame at simulated time `t` of at most `t_end` s, with the
+    /// Ruin stage: frame at simulated time `t` of at most `t_end` s, with the
     /// connection counts (intact, plastic, broken) after it.
     fn ruin(&self, _t: f64, _t_end: f64, _counts: (usize, usize, usize)) {}
     /// A stage begins (`"fe"`, `"ruin"`), with its simulated time span.
