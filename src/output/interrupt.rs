@@ -132,9 +132,17 @@ impl Registry {
 }
 
 /// Removes a file or a folder with its content; whether there was one.
+///
+/// Another thread of the process may still be writing files into a staged folder (the
+/// clean-up does not stop it): a file created while the folder is being emptied makes
+/// the removal fail, so it is tried again until the folder is gone. The writer creates
+/// its files by path in the folder and never the folder itself, so once the folder is
+/// gone nothing brings it back.
 fn remove(path: &Path) -> bool {
     match fs::symlink_metadata(path) {
-        Ok(m) if m.is_dir() => fs::remove_dir_all(path).is_ok(),
+        Ok(m) if m.is_dir() => {
+            (0..1000).any(|_| fs::remove_dir_all(path).is_ok() || !path.exists())
+        }
         Ok(_) => fs::remove_file(path).is_ok(),
         Err(_) => false,
     }
