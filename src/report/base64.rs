@@ -1,5 +1,5 @@
 //! Base64 (RFC 4648 §4, standard alphabet, `=` padding) of the binary arrays the report
-//! page decodes with the browser's `atob`.
+//! page decodes with the browser's `atob`: float32, and the 16-bit codes of the poses.
 
 const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
 
@@ -34,6 +34,27 @@ pub fn encode_f32(values: &[f32]) -> String {
     encode(&bytes)
 }
 
+/// The base64 text of `values` as little-endian unsigned 16-bit integers (`Uint16Array`).
+pub fn encode_u16(values: &[u16]) -> String {
+    encode(
+        &values
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<u8>>(),
+    )
+}
+
+/// The base64 text of `values` as little-endian two's-complement 16-bit integers
+/// (`Int16Array`).
+pub fn encode_i16(values: &[i16]) -> String {
+    encode(
+        &values
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect::<Vec<u8>>(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,5 +86,15 @@ mod tests {
         let text = encode(&all);
         assert_eq!(text.len(), 344);
         assert!(text.ends_with("+/w=="), "{text}");
+    }
+
+    #[test]
+    fn integers_are_little_endian_16_bit() {
+        // 0x1234 → bytes 34 12; -2 = 0xFFFE → bytes FE FF.
+        assert_eq!(
+            encode_u16(&[0x1234, 65_535]),
+            encode(&[0x34, 0x12, 0xFF, 0xFF])
+        );
+        assert_eq!(encode_i16(&[-2, 1]), encode(&[0xFE, 0xFF, 0x01, 0x00]));
     }
 }

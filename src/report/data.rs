@@ -9,8 +9,11 @@
 //!   (full box size along the box axes, m: twice the half extents), `mass` (kg), `final`
 //!   (the final centre of `ruins.csv`, m) and `at_rest` (1, 0 or `null`);
 //! * `position` and `rotation`: per frame and body, the box centre (x, y, z, m) and the
-//!   unit quaternion of its axes in three.js's order (x, y, z, w), little-endian float32 in
-//!   base64: `frames × bodies × 3` and `frames × bodies × 4` values;
+//!   unit quaternion of its axes in three.js's order (x, y, z, w), as 16-bit integers
+//!   ([`super::quantise`]): `position` is `{origin, step, u16}` with `u16` the
+//!   `frames × bodies × 3` codes (x = origin + step · code), `rotation` is `{scale, i16}`
+//!   with `i16` the `frames × bodies × 4` codes (q = code / scale, then normalised), each
+//!   little-endian in base64;
 //! * `ground`: `top` (the base level: top of the passive foundations, else the lowest
 //!   undeformed corner, m) and `disp`, the ground displacement of each frame
 //!   (`history.csv`, `frames × 3` float32 in base64);
@@ -22,6 +25,7 @@
 //! Numbers are written by serde_json (shortest round-trip decimal), so the same run
 //! folder gives the same text.
 use super::connections::Connection;
+use super::quantise::{quaternion_codes, PositionGrid, QUATERNION_SCALE};
 use crate::output::palette::type_srgb;
 use crate::output::run_folder::RunFolder;
 use crate::plot::geometry::{base_level, Stories};
@@ -80,13 +84,18 @@ pub fn stories(run: &RunFolder) -> (Vec<usize>, usize) {
 pub fn page_data(run: &RunFolder, connections: Option<&[Connection]>) -> Value {
     let n = run.bodies.len();
     let (story, n_stories) = stories(run);
+    let grid = PositionGrid::covering(
+        run.frames
+            .iter()
+            .flat_map(|f| f.1.iter().map(|p| p.position)),
+    );
     let mut position = Vec::with_capacity(run.frames.len() * n * 3);
     let mut rotation = Vec::with_capacity(run.frames.len() * n * 4);
     for (_, poses) in &run.frames {
         for p in poses {
-            position.extend(p.position.iter().map(|&v| v as f32));
+            position.extend(grid.encode(p.position));
             let [w, x, y, z] = p.orientation;
-            rotation.extend([x, y, z, w].iter().map(|&v| v as f32));
+            rotation.extend(quaternion_codes([x, y, z, w]));
         }
     }
     let ground: Vec<f32> = run
@@ -146,8 +155,15 @@ pub fn page_data(run: &RunFolder, connections: Option<&[Connection]>) -> Value {
             "final": run.final_poses.iter().flat_map(|p| p.position).collect::<Vec<_>>(),
             "at_rest": run.at_rest.iter().map(|a| a.map(u8::from)).collect::<Vec<_>>(),
         },
-        "position": super::base64::encode_f32(&position),
-        "rotation": super::base64::encode_f32(&rotation),
+        "position": {
+            "origin": grid.origin,
+            "step": grid.step,
+            "u16": super::base64::encode_u16(&position),
+        },
+        "rotation": {
+            "scale": QUATERNION_SCALE,
+            "i16": super::base64::encode_i16(&rotation),
+        },
         "ground": {
             "top": base_level(&run.bodies).unwrap_or(0.0),
             "disp": super::base64::encode_f32(&ground),

@@ -7,8 +7,8 @@
 //!
 //! Every member is read through [`RunFolder::load`]; all members must have the bodies of
 //! the first (the same names in the same order), or the differing member's `bodies.csv`
-//! is named. Final poses are those of `ruins.csv`, as float32 in base64 like the run
-//! report's ([`super::data`]).
+//! is named. Final poses are those of `ruins.csv`, as float32 in base64 (one pose per
+//! body and member; the run report's timeline is quantised, [`super::quantise`]).
 use super::html::{escape, script_json};
 use super::script::{ENSEMBLE_JS, PAGE_CSS, THREE_BUNDLE, THREE_LICENSE};
 use super::{inconsistent, ReportError, Result};

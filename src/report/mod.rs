@@ -16,8 +16,9 @@
 //!   `RUN_DIR/plots/*.svg`, inlined ([`plots`]).
 //!
 //! The data the page animates ([`data`]) is JSON inside the page, with the per-frame poses
-//! as little-endian 32-bit floats in base64 ([`base64`]): every keyframe is kept (no
-//! decimation), each coordinate to float32 precision (relative 6·10⁻⁸, 0.6 µm at 10 m).
+//! as 16-bit integers in base64 ([`quantise`], [`base64`]): every keyframe is kept (no
+//! decimation), each centre coordinate to half a step of 1/65 535 of the run's largest
+//! span, each rotation to 6.1·10⁻⁵ rad.
 //!
 //! The run folder is read through [`RunFolder::load`], which checks every file; the
 //! report adds its own checks (`summary.json` against the tables, `connections.csv`, the
@@ -41,6 +42,7 @@ pub mod ground_strip;
 pub mod html;
 pub mod page;
 pub mod plots;
+pub mod quantise;
 pub mod rescue_map;
 pub mod script;
 pub mod study;

@@ -7,19 +7,45 @@
 (function () {
   const data = JSON.parse(document.getElementById("report-data").textContent);
 
-  function floats(b64) {
+  function bytes(b64) {
     const bin = atob(b64);
-    const bytes = new Uint8Array(bin.length);
-    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
-    return new Float32Array(bytes.buffer);
+    const out = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) out[i] = bin.charCodeAt(i);
+    return out.buffer;
+  }
+  function floats(b64) {
+    return new Float32Array(bytes(b64));
+  }
+  // Box centres: origin + step · code, per axis (src/report/quantise.rs).
+  function positions(p) {
+    const codes = new Uint16Array(bytes(p.u16));
+    const out = new Float32Array(codes.length);
+    for (let i = 0; i < codes.length; i += 3) {
+      for (let c = 0; c < 3; c++) out[i + c] = p.origin[c] + p.step * codes[i + c];
+    }
+    return out;
+  }
+  // Unit quaternions (x, y, z, w): code / scale, normalised.
+  function rotations(r) {
+    const codes = new Int16Array(bytes(r.i16));
+    const out = new Float32Array(codes.length);
+    for (let i = 0; i < codes.length; i += 4) {
+      const x = codes[i], y = codes[i + 1], z = codes[i + 2], w = codes[i + 3];
+      const n = Math.hypot(x, y, z, w) || 1;
+      out[i] = x / n;
+      out[i + 1] = y / n;
+      out[i + 2] = z / n;
+      out[i + 3] = w / n;
+    }
+    return out;
   }
 
   const times = data.times;
   const nFrames = times.length;
   const B = data.bodies;
   const nBodies = B.name.length;
-  const pos = floats(data.position);
-  const rot = floats(data.rotation);
+  const pos = positions(data.position);
+  const rot = rotations(data.rotation);
   const groundDisp = floats(data.ground.disp);
   const t0 = times[0];
   const t1 = times[nFrames - 1];

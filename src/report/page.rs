@@ -130,7 +130,9 @@ pub fn render(
     data["voids"] = super::voids::page_data(voids);
     let frames = run.frames.len();
     let n = run.bodies.len();
-    let pose_bytes = frames * n * 7 * 4;
+    // Seven 16-bit codes per body and frame (src/report/quantise.rs).
+    let pose_bytes = frames * n * 7 * 2;
+    let step_mm = data["position"]["step"].as_f64().unwrap_or(0.0) * 1e3;
     let mut h = String::new();
     let _ = write!(
         h,
@@ -149,7 +151,7 @@ pub fn render(
 <datalist id="time-marks">{tc_mark}</datalist>
 {strip}
 <p class="note">{strip_legend}</p>
-<p class="note">Drag to orbit, scroll to zoom, right-drag to pan; click a body to see its row. Link to a moment with <code>#t=SECONDS</code> (also <code>&amp;colour=type|story|connection</code>, <code>&amp;view=plan</code>). Every keyframe of <code>keyframes.csv</code> is drawn ({frames} frames × {n} bodies; poses as 32-bit floats, {pose_mb:.2} MB before base64), positions and rotations interpolated linearly between frames.</p>
+<p class="note">Drag to orbit, scroll to zoom, right-drag to pan; click a body to see its row. Link to a moment with <code>#t=SECONDS</code> (also <code>&amp;colour=type|story|connection</code>, <code>&amp;view=plan</code>). Every keyframe of <code>keyframes.csv</code> is drawn ({frames} frames × {n} bodies; poses as 16-bit integers, {pose_mb:.2} MB before base64: centres on a grid of {step_mm:.3} mm, rotations to 6·10⁻⁵ rad), positions interpolated linearly and rotations by slerp between frames.</p>
 </section>
 <section id="figures"><h2>Key figures</h2>
 {figures}

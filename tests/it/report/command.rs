@@ -49,16 +49,19 @@ fn report_error(dir: &Path) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// The base64 float32 array `key` of the page's data.
-fn floats(html: &str, key: &str) -> Vec<f32> {
+/// The page's data (the JSON of `report-data`).
+fn page_data(html: &str) -> serde_json::Value {
     let start = html
         .find(r#"<script type="application/json" id="report-data">"#)
         .unwrap();
     let json = &html[start..];
     let json = &json[json.find('>').unwrap() + 1..json.find("</script>").unwrap()];
-    let v: serde_json::Value = serde_json::from_str(json).unwrap();
-    let text = v[key].as_str().unwrap();
-    // Decoded here independently of the writer (RFC 4648 alphabet).
+    serde_json::from_str(json).unwrap()
+}
+
+/// The bytes of base64 `text`, decoded here independently of the writer (RFC 4648
+/// alphabet).
+fn base64_bytes(text: &str) -> Vec<u8> {
     let alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut bits = 0u32;
     let mut nbits = 0;
@@ -73,9 +76,6 @@ fn floats(html: &str, key: &str) -> Vec<f32> {
         }
     }
     bytes
-        .chunks(4)
-        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
-        .collect()
 }
 
 #[test]
@@ -100,24 +100,66 @@ fn the_page_holds_the_runs_numbers_and_is_byte_stable() {
     assert!(html.contains(&format!(
         r#"<tr data-key="tc_s"><th>Collapse moment Tc</th><td data-value="{tc}">{tc} s</td></tr>"#
     )));
-    // Every keyframe's poses, to float32 precision: position and (x, y, z, w).
-    let pos = floats(&html, "position");
-    let rot = floats(&html, "rotation");
+    // Every keyframe's poses as 16-bit codes: the centres on one grid whose step is the
+    // largest span of the centres over 65 535 (each coordinate within half a step), the
+    // quaternions (x, y, z, w) as 32 767 · q (each component within half a code).
+    let data = page_data(&html);
+    let position = &data["position"];
+    let step = position["step"].as_f64().unwrap();
+    let origin: Vec<f64> = (0..3)
+        .map(|c| position["origin"][c].as_f64().unwrap())
+        .collect();
+    let centres = || {
+        run.frames
+            .iter()
+            .flat_map(|f| f.1.iter().map(|p| p.position))
+    };
+    let span = (0..3)
+        .map(|c| {
+            let hi = centres().map(|p| p[c]).fold(f64::NEG_INFINITY, f64::max);
+            let lo = centres().map(|p| p[c]).fold(f64::INFINITY, f64::min);
+            assert_eq!(lo, origin[c], "origin along axis {c}");
+            hi - lo
+        })
+        .fold(0.0, f64::max);
+    assert!(
+        (step - span / 65_535.0).abs() <= 1e-15 * span,
+        "{step} vs {span}"
+    );
+    let pos: Vec<u16> = base64_bytes(position["u16"].as_str().unwrap())
+        .chunks(2)
+        .map(|b| u16::from_le_bytes([b[0], b[1]]))
+        .collect();
+    assert_eq!(data["rotation"]["scale"].as_f64(), Some(32_767.0));
+    let rot: Vec<i16> = base64_bytes(data["rotation"]["i16"].as_str().unwrap())
+        .chunks(2)
+        .map(|b| i16::from_le_bytes([b[0], b[1]]))
+        .collect();
     let n = run.bodies.len();
     assert_eq!(pos.len(), run.frames.len() * n * 3);
     assert_eq!(rot.len(), run.frames.len() * n * 4);
+    let mut worst_position: f64 = 0.0;
     for (k, (_, poses)) in run.frames.iter().enumerate() {
         for (i, p) in poses.iter().enumerate() {
             for c in 0..3 {
-                let v = f64::from(pos[(k * n + i) * 3 + c]);
-                assert!((v - p.position[c]).abs() <= 1e-6 * p.position[c].abs().max(1.0));
+                let v = origin[c] + step * f64::from(pos[(k * n + i) * 3 + c]);
+                let e = (v - p.position[c]).abs();
+                assert!(
+                    e <= 0.5 * step * (1.0 + 1e-9),
+                    "{e} > step/2 = {}",
+                    step / 2.0
+                );
+                worst_position = worst_position.max(e);
             }
             let [w, x, y, z] = p.orientation;
             for (c, q) in [x, y, z, w].into_iter().enumerate() {
-                assert!((f64::from(rot[(k * n + i) * 4 + c]) - q).abs() <= 1e-7);
+                let code = f64::from(rot[(k * n + i) * 4 + c]);
+                assert!((code - 32_767.0 * q).abs() <= 0.5 + 1e-9, "{code} for {q}");
             }
         }
     }
+    // The grid is used: the largest error is more than a quarter step.
+    assert!(worst_position > 0.25 * step, "{worst_position} vs {step}");
     // Nothing loaded from outside the page: no external script, style sheet or frame.
     for needle in ["<script src", "<link", "<iframe", "<img"] {
         assert!(!html.contains(needle), "{needle}");
