@@ -208,7 +208,7 @@ pub fn report(
                         if b.iter().all(|&x| x < BUILDING_MODE_MASS_RATIO) {
                             " (none of them can be a building mode)"
                         } else {
-                            ""
+                            ": a building mode among them is not excluded"
                         }
                     )
                 }

@@ -68,7 +68,7 @@ use crate::fe::linalg::SparsePattern;
 pub const BUILDING_MODE_MASS_RATIO: f64 = 0.01;
 
 /// The most load-dependent Ritz vectors generated before the search stops.
-pub const MAX_RITZ_VECTORS: usize = 900;
+pub const MAX_RITZ_VECTORS: usize = 300;
 
 /// Relative Ritz residual ‖C y − θ y‖ / θ at which a candidate's λ̃ becomes a shift.
 const RITZ_TOL: f64 = 1e-4;
@@ -79,6 +79,10 @@ const SHIFT_OFFSET: f64 = 1e-6;
 
 /// Candidates (and reported modes) closer than this, relative, form one group.
 const GROUP_GAP: f64 = 1e-4;
+
+/// Ritz vectors added without a new converged candidate before the unconverged ones
+/// become shifts too.
+const STALL: usize = 60;
 
 /// The most skipped modes in one gap that are found one by one (step 4).
 const MAX_RESOLVED: usize = 24;
@@ -195,6 +199,8 @@ struct Search<'a> {
     exact: Vec<Exact>,
     /// Sturm counts made: (σ, eigenvalues below σ).
     counts: Vec<(f64, usize)>,
+    /// The factorisation of K − σM at the last shift (one symbolic analysis for all).
+    shifted: Option<ShiftInvert<'a>>,
 }
 
 /// Orthonormal columns from `vectors` (twice Gram–Schmidt), dependent ones dropped.
@@ -217,7 +223,18 @@ fn orthonormal(vectors: &[DVector<f64>]) -> Vec<DVector<f64>> {
     out
 }
 
-impl Search<'_> {
+impl<'a> Search<'a> {
+    /// The operator at shift σ, refactoring the one held.
+    fn at(&mut self, sigma: f64) -> Result<ShiftInvert<'a>, AnalysisError> {
+        match self.shifted.take() {
+            Some(mut op) => {
+                op.shift(self.k, self.m, sigma)?;
+                Ok(op)
+            }
+            None => ShiftInvert::new(self.pattern, self.k, self.m, self.massed, sigma),
+        }
+    }
+
     /// Adds an exact pair unless it repeats (or is not orthogonal to) one found before.
     fn insert(&mut self, lambda: f64, phi: DVector<f64>) {
         let mut z = DVector::from_iterator(
@@ -278,7 +295,8 @@ impl Search<'_> {
                 .map(|(_, e)| e.gamma[d] * e.gamma[d])
                 .sum();
             let unfound = unfound_below.map_or(0.0, |l| self.unfound_bound(d, l));
-            (found + unfound) / self.totals[d]
+            // A share of the mass is at most the whole.
+            ((found + unfound) / self.totals[d]).min(1.0)
         })
     }
 
@@ -361,10 +379,12 @@ impl Search<'_> {
         if count > MAX_RESOLVED {
             return Ok(false);
         }
-        let mut op = ShiftInvert::new(self.pattern, self.k, self.m, self.massed, sigma)?;
+        let mut op = self.at(sigma)?;
         let nev = (count + 2).min(op.dim().saturating_sub(16)).max(1);
         let basis = (3 * nev).max(nev + 8).max(16);
-        let (lams, phis) = lanczos_nearest(&mut op, self.k, self.m, nev, basis, EXACT_TOL, 200)?;
+        let found = lanczos_nearest(&mut op, self.k, self.m, nev, basis, EXACT_TOL, 200);
+        self.shifted = Some(op);
+        let (lams, phis) = found?;
         for (l, p) in lams.into_iter().zip(phis) {
             self.insert(l, p);
         }
@@ -376,8 +396,9 @@ impl Search<'_> {
         if let Some(&(_, c)) = self.counts.iter().find(|(s, _)| *s == sigma) {
             return Ok(c);
         }
-        let op = ShiftInvert::new(self.pattern, self.k, self.m, self.massed, sigma)?;
+        let op = self.at(sigma)?;
         let c = sturm(&op)?;
+        self.shifted = Some(op);
         self.counts.push((sigma, c));
         Ok(c)
     }
@@ -400,9 +421,25 @@ impl Search<'_> {
     /// Ritz value is λ̃ (module docs, step 2).
     fn refine(&mut self, lambda: f64, ys: &[DVector<f64>]) -> Result<(), AnalysisError> {
         let sigma = lambda * (1.0 - SHIFT_OFFSET);
-        let mut op = ShiftInvert::new(self.pattern, self.k, self.m, self.massed, sigma)?;
+        let mut op = self.at(sigma)?;
         self.counts.push((sigma, sturm(&op)?));
-        let pairs = match inverse_iteration(&mut op, ys)? {
+        let pairs = self.exact_pairs(&mut op, ys);
+        self.shifted = Some(op);
+        for (l, p) in pairs? {
+            self.insert(l, p);
+        }
+        Ok(())
+    }
+
+    /// Exact pairs from the Ritz vectors `ys` with the operator `op` at its shift:
+    /// inverse iteration, else Lanczos for the pairs nearest the shift.
+    fn exact_pairs(
+        &self,
+        op: &mut ShiftInvert<'_>,
+        ys: &[DVector<f64>],
+    ) -> Result<Vec<(f64, DVector<f64>)>, AnalysisError> {
+        let sigma = op.sigma();
+        Ok(match inverse_iteration(op, ys)? {
             Some(pairs) => {
                 let mut out = Vec::with_capacity(pairs.len());
                 for (theta, z) in pairs {
@@ -421,15 +458,10 @@ impl Search<'_> {
             None => {
                 let nev = (ys.len() + 2).min(op.dim().saturating_sub(16)).max(1);
                 let basis = (3 * nev).max(nev + 8).max(16);
-                let (lams, phis) =
-                    lanczos_nearest(&mut op, self.k, self.m, nev, basis, EXACT_TOL, 200)?;
+                let (lams, phis) = lanczos_nearest(op, self.k, self.m, nev, basis, EXACT_TOL, 200)?;
                 lams.into_iter().zip(phis).collect()
             }
-        };
-        for (l, p) in pairs {
-            self.insert(l, p);
-        }
-        Ok(())
+        })
     }
 
     /// Whether a unit Ritz vector y of λ̃ lies (to 90 % of its norm²) in the span of
@@ -581,12 +613,17 @@ pub(crate) fn building_modes(
         moments,
         exact: Vec::new(),
         counts: Vec::new(),
+        shifted: None,
     };
     let cap = MAX_RITZ_VECTORS.min(massed.len());
     // The building's modes last found (their λ) and the space's size then.
     let mut last_set: Vec<f64> = Vec::new();
     let mut set_dim = 0;
     let mut last_result: Option<Found> = None;
+    // The most leading converged candidates seen, the space's size then, and the shifts
+    // of unconverged candidates refined.
+    let (mut best_prefix, mut progress_dim) = (0, 0);
+    let mut tried: Vec<f64> = Vec::new();
     loop {
         if !space.is_invariant() && space.dim() < cap {
             space.expand(|x, y| op0.apply(x, y))?;
@@ -595,11 +632,10 @@ pub(crate) fn building_modes(
         let ritz = space.ritz();
         let proj: Vec<DVector<f64>> = search.loads.iter().map(|s| space.project(s)).collect();
         // Candidates by ascending λ̃ (θ descending): the Ritz pairs with at least half
-        // the threshold along some direction, all converged, up to the `modes`-th with
-        // the threshold itself.
-        let mut wanted: Vec<(f64, DVector<f64>)> = Vec::new();
+        // the threshold along some direction, up to the `modes`-th with the threshold
+        // itself, and whether each has converged.
+        let mut wanted: Vec<(f64, DVector<f64>, bool)> = Vec::new();
         let mut strong = 0;
-        let mut converged = true;
         for c in 0..ritz.theta.len() {
             let theta = ritz.theta[c];
             if !(theta > 0.0) {
@@ -617,11 +653,7 @@ pub(crate) fn building_modes(
                 continue;
             }
             let (y, res) = space.vector(s.as_slice(), theta);
-            if !(res <= RITZ_TOL * theta) {
-                converged = false;
-                break;
-            }
-            wanted.push((1.0 / theta, y));
+            wanted.push((1.0 / theta, y, res <= RITZ_TOL * theta));
             if ratios
                 .iter()
                 .any(|&r| r >= BUILDING_MODE_MASS_RATIO * (1.0 - 1e-3))
@@ -632,19 +664,39 @@ pub(crate) fn building_modes(
                 }
             }
         }
-        if !converged && !last {
-            continue;
+        // The converged candidates up to the first that is not; all of them when the
+        // space has grown by STALL vectors without a new converged one, or is done.
+        let prefix = wanted.iter().take_while(|w| w.2).count();
+        if prefix > best_prefix {
+            best_prefix = prefix;
+            progress_dim = space.dim();
         }
-        // Exact pairs for the groups with a candidate not yet matched.
+        let stalled = last || space.dim() >= progress_dim + STALL;
+        let take = if stalled { wanted.len() } else { prefix };
+        if stalled {
+            progress_dim = space.dim();
+        }
+        // Exact pairs for the groups with a candidate not yet matched (an unconverged one
+        // once per λ̃).
+        let wanted = &wanted[..take];
         let mut i = 0;
         while i < wanted.len() {
             let mut j = i + 1;
             while j < wanted.len() && wanted[j].0 <= wanted[j - 1].0 * (1.0 + GROUP_GAP) {
                 j += 1;
             }
-            if wanted[i..j].iter().any(|(l, y)| !search.matched(y, *l)) {
-                let ys: Vec<DVector<f64>> = wanted[i..j].iter().map(|(_, y)| y.clone()).collect();
-                search.refine(wanted[i].0, &ys)?;
+            let group = &wanted[i..j];
+            let open = group.iter().any(|(l, y, _)| !search.matched(y, *l));
+            let fresh = group.iter().all(|w| w.2)
+                || !tried
+                    .iter()
+                    .any(|&t: &f64| (t - group[0].0).abs() <= 1e-3 * t);
+            if open && fresh {
+                if !group.iter().all(|w| w.2) {
+                    tried.push(group[0].0);
+                }
+                let ys: Vec<DVector<f64>> = group.iter().map(|w| w.1.clone()).collect();
+                search.refine(group[0].0, &ys)?;
             }
             i = j;
         }

@@ -53,22 +53,29 @@ impl<'a> ShiftInvert<'a> {
         massed: &'a [usize],
         sigma: f64,
     ) -> Result<Self, AnalysisError> {
-        let mut solver = SparseSolver::new(pattern)?;
-        if sigma == 0.0 {
-            solver.factor(pattern, k)?;
-        } else {
-            let mut ks = k.to_vec();
-            pattern.add_diagonal(m, -sigma, &mut ks);
-            solver.factor(pattern, &ks)?;
-        }
-        Ok(Self {
+        let mut op = Self {
             pattern,
             massed,
             sqrt_m: massed.iter().map(|&i| m[i].sqrt()).collect(),
-            solver,
+            solver: SparseSolver::new(pattern)?,
             sigma,
             full: vec![0.0; pattern.dim()],
-        })
+        };
+        op.shift(k, m, sigma)?;
+        Ok(op)
+    }
+
+    /// Factors K − σM for a new shift σ, reusing the symbolic analysis.
+    pub(crate) fn shift(&mut self, k: &[f64], m: &[f64], sigma: f64) -> Result<(), AnalysisError> {
+        self.sigma = sigma;
+        if sigma == 0.0 {
+            self.solver.factor(self.pattern, k)?;
+        } else {
+            let mut ks = k.to_vec();
+            self.pattern.add_diagonal(m, -sigma, &mut ks);
+            self.solver.factor(self.pattern, &ks)?;
+        }
+        Ok(())
     }
 
     /// The pattern of K.
