@@ -1,5 +1,5 @@
-//! `fem2rbd modal` and `fem2rbd fe` on frame3: the printed periods and mode characters,
-//! the written `nodes.csv` against OpenSees's LC1 elastic run at t = 2.0 s (results.md:
+//! `fem2rbd modal` and `fem2rbd fe` on frame3: the printed periods and mode characters
+//! (the building's modes by default, the lowest with `--lowest`), the written `nodes.csv` against OpenSees's LC1 elastic run at t = 2.0 s (results.md:
 //! node 312 ux/uy = +0.457/−1.740 mm), the summary, and bad input refused with nothing
 //! written.
 
@@ -17,10 +17,12 @@ fn gm(dir: &str, file: &str, pga: f64) -> String {
     )
 }
 
-#[test]
-fn modal_prints_frame3_periods_and_characters() {
+/// `fem2rbd modal ARGS` on the frame3 stand-in: its table rows (split on white space) and
+/// the whole text.
+fn frame3_modal(args: &[&str]) -> (Vec<Vec<String>>, String) {
     let out = bin()
-        .args(["modal", "--modes", "4", "--variant", "force"])
+        .arg("modal")
+        .args(args)
         .arg(root().join("data/frame3-standin/model.toml"))
         .output()
         .unwrap();
@@ -30,24 +32,36 @@ fn modal_prints_frame3_periods_and_characters() {
         String::from_utf8_lossy(&out.stderr)
     );
     let text = String::from_utf8(out.stdout).unwrap();
-    let rows: Vec<Vec<&str>> = text
+    let rows = text
         .lines()
         .skip(1)
         .take_while(|l| !l.is_empty())
-        .map(|l| l.split_whitespace().collect())
+        .map(|l| l.split_whitespace().map(String::from).collect())
         .collect();
+    (rows, text)
+}
+
+#[test]
+fn modal_lowest_prints_frame3_periods_and_characters() {
+    let (rows, text) = frame3_modal(&["--modes", "4", "--variant", "force", "--lowest"]);
     assert_eq!(rows.len(), 4, "{text}");
+    // mode, index, T, f, MX, MY, MZ, MRZ, character
     let expect = [
-        ("0.31600", "X"),
-        ("0.31599", "Y"),
-        ("0.18349", "vertical"),
-        ("0.18060", "torsion"),
+        ("1", "0.31600", "X"),
+        ("2", "0.31599", "Y"),
+        ("3", "0.18349", "vertical"),
+        ("4", "0.18060", "torsion"),
     ];
-    for (r, (t, c)) in rows.iter().zip(expect) {
-        assert_eq!((r[1], r[6]), (t, c), "{text}");
+    for (r, (i, t, c)) in rows.iter().zip(expect) {
+        assert_eq!(
+            (r[1].as_str(), r[2].as_str(), r[8].as_str()),
+            (i, t, c),
+            "{text}"
+        );
     }
-    // effective mass ratio of the X mode in X
-    assert_eq!(rows[0][3], "0.873", "{text}");
+    // effective mass ratio of the X mode in X; of the torsion mode in torsion
+    assert_eq!(rows[0][4], "0.873", "{text}");
+    assert_eq!(rows[3][7], "0.877", "{text}");
     // below the table: the sums, the X and Y modes, and the note that 87 % is under 90 %
     let summary: Vec<&str> = text.lines().skip(6).collect();
     assert!(
@@ -61,6 +75,47 @@ fn modal_prints_frame3_periods_and_characters() {
     assert!(summary[2].starts_with("under 90 % in X"), "{text}");
     assert!(
         summary[3].starts_with("largest in Y: mode 2, T = 0.31599 s"),
+        "{text}"
+    );
+    assert_eq!(summary[5], "the 4 lowest modes", "{text}");
+}
+
+/// By default the building's modes, numbered as in the whole spectrum: OpenSees lists
+/// frame3's modes as X, Y, vertical (3), torsion (4), vertical (5, 6), second X (7,
+/// 0.1055 s; tests/fixtures/opensees-frame3/results.md §2), and the vertical slab modes
+/// carry no lateral mass, so they are the ones skipped.
+#[test]
+fn modal_by_default_lists_frame3_building_modes_and_what_it_skips() {
+    let (rows, text) = frame3_modal(&["--modes", "4", "--variant", "force"]);
+    assert_eq!(rows.len(), 4, "{text}");
+    let expect = [
+        ("1", "0.31600", "X"),
+        ("2", "0.31599", "Y"),
+        ("4", "0.18060", "torsion"),
+        ("7", "0.10547", "X"),
+    ];
+    for (r, (i, t, c)) in rows.iter().zip(expect) {
+        assert_eq!(
+            (r[1].as_str(), r[2].as_str(), r[8].as_str()),
+            (i, t, c),
+            "{text}"
+        );
+    }
+    assert!(
+        text.contains("the building's modes: the 4 lowest with at least 1 % effective mass"),
+        "{text}"
+    );
+    // Index 3 and 5–6 are skipped: vertical slab modes without lateral mass.
+    let skipped = text.lines().find(|l| l.starts_with("skipped:")).unwrap();
+    assert!(
+        skipped.starts_with(
+            "skipped: 3 modes, index 3 (0.18060 s < T < 0.31599 s), 5–6 (0.10547 s < T < \
+             0.18060 s); together at most X 0.0000, Y 0.0000, torsion 0.0000"
+        ),
+        "{text}"
+    );
+    assert!(
+        skipped.ends_with("(none of them can be a building mode)"),
         "{text}"
     );
 }
@@ -91,17 +146,22 @@ fn modal_lists_a_cantilevers_closed_form_modes_and_their_whole_mass() {
         ),
     )
     .unwrap();
-    let out = bin()
-        .args(["modal", "--modes", "3", "--json"])
-        .arg(&model)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let modal = |extra: &[&str]| -> serde_json::Value {
+        let out = bin()
+            .args(["modal", "--modes", "3", "--json"])
+            .args(extra)
+            .arg(&model)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = modal(&["--lowest"]);
+    assert_eq!(v["selection"], "lowest");
     let t = |k: f64| 2.0 * std::f64::consts::PI * (m / k).sqrt();
     // local z is global X (vecxz), so X bends about Iy and Y about Iz
     let (tx, ty, tz) = (
@@ -120,6 +180,19 @@ fn modal_lists_a_cantilevers_closed_form_modes_and_their_whole_mass() {
     }
     assert_eq!(v["largest_effective_mass_mode"]["X"], 2);
     assert_eq!(v["largest_effective_mass_mode"]["Y"], 1);
+    // The building's modes: the two bending modes only (the axial mode carries no
+    // lateral mass, and a node on the axis no torsional mass), nothing skipped below.
+    let b = modal(&[]);
+    assert_eq!(b["selection"], "building");
+    let modes = b["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 2);
+    for (mode, (want, index)) in modes.iter().zip([(ty, 1), (tx, 2)]) {
+        assert_eq!(mode["index"], index);
+        let got = mode["period_s"].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-9 * want, "{got} vs {want}");
+        assert!(mode["residual"].as_f64().unwrap() < 1e-9);
+    }
+    assert_eq!(b["skipped"]["count"], 0);
 }
 
 #[test]
@@ -146,8 +219,9 @@ fn modal_json_gives_the_table_at_full_precision() {
     for (line, m) in table.lines().skip(1).zip(modes) {
         let cols: Vec<&str> = line.split_whitespace().collect();
         let t = m["period_s"].as_f64().unwrap();
-        assert_eq!(format!("{t:.5}"), cols[1], "{line}");
-        assert_eq!(m["character"].as_str().unwrap(), cols[6]);
+        assert_eq!(m["index"].as_u64().unwrap().to_string(), cols[1], "{line}");
+        assert_eq!(format!("{t:.5}"), cols[2], "{line}");
+        assert_eq!(m["character"].as_str().unwrap(), cols[8]);
         let f = m["frequency_hz"].as_f64().unwrap();
         assert!((f * t - 1.0).abs() < 1e-15);
     }

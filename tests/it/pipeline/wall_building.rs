@@ -367,7 +367,7 @@ fn wall_building_runs_in_fe_and_hybrid_modes() {
 #[test]
 fn wall_building_periods_match_opensees_on_the_exported_model() {
     use fem2rbd::export::{opensees_script, OpenSeesOptions};
-    use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings};
+    use fem2rbd::fe::analysis::modal::{modal_analysis, ModalSettings, ModeSelection};
     use fem2rbd::fe::build::{build_domain, BuildOptions};
     let model = building(&params(true)).unwrap();
     let n_modes = 6;
@@ -375,6 +375,7 @@ fn wall_building_periods_match_opensees_on_the_exported_model() {
     let modal = modal_analysis(
         &mut built.domain,
         &ModalSettings {
+            selection: ModeSelection::Lowest,
             modes: n_modes,
             ..Default::default()
         },

@@ -18,8 +18,9 @@
 //! * uniform: F_i ∝ m_i (the lumped mass of node i in the push direction);
 //! * triangular: F_i ∝ m_i (z_i − z_base) (an inverted triangle weighted by mass);
 //! * first mode: F_i ∝ m_i φ_i,d of the mode with the largest effective-mass ratio in
-//!   the push direction d among the computed modes, signed so that the control node moves
-//!   forward.
+//!   the push direction d among the building's modes computed (the initial modal
+//!   analysis's default selection, which skips local slab modes), signed so that the
+//!   control node moves forward.
 //!
 //! Units SI: m, N, kg.
 use std::collections::BTreeMap;
@@ -163,7 +164,8 @@ pub struct PushoverResult {
     pub control_height: f64,
     /// The normalised lateral loads `(node tag, F)` (ΣF = 1 N) in the push direction.
     pub pattern_loads: Vec<(u32, f64)>,
-    /// The mode whose shape the first-mode pattern follows (1-based), if used.
+    /// The mode whose shape the first-mode pattern follows, by its index in the whole
+    /// spectrum (1 = the longest period), if used.
     pub pattern_mode: Option<usize>,
     /// Total gravity load W = Σ|F_z| of the gravity loads (N).
     pub weight: f64,
@@ -281,7 +283,7 @@ fn raw_pattern(
             out.push((tag, f));
         }
     }
-    Ok((out, mode.map(|k| k + 1)))
+    Ok((out, mode.map(|k| modal.index[k])))
 }
 
 fn point(domain: &Domain, step: usize, control: usize, d: usize) -> CurvePoint {

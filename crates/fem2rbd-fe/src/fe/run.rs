@@ -3,7 +3,9 @@
 //! (`tests/fixtures/opensees-frame3/run_frame3.py`):
 //!
 //! 1. build the domain ([`build_domain`]) in the chosen element variant;
-//! 2. modal analysis on the initial stiffness (periods, and T1 for the default damping);
+//! 2. modal analysis on the initial stiffness: the building's modes (the default
+//!    [`crate::fe::analysis::modal::ModeSelection`]: local slab modes skipped), their
+//!    periods, and T1, the first of them, for the default damping;
 //! 3. gravity in `model.gravity.load_steps` load-control steps (NormDispIncr 1e-10, 50
 //!    iterations, Newton), then `loadConst` (gravity held, λ = 0, t = 0);
 //! 4. Rayleigh damping C = a0·M + a1·K_initial: the model's `[damping]` if given, else
@@ -46,7 +48,7 @@ pub struct RunOptions {
     pub record_nodes: Option<Vec<u32>>,
     /// Also record element damage flags.
     pub element_damage: bool,
-    /// Number of modes of the initial modal analysis (≥ 1).
+    /// Number of the building's modes of the initial modal analysis (≥ 1).
     pub modes: usize,
 }
 
@@ -132,7 +134,8 @@ pub fn prepare(model: &Model, build: &BuildOptions, modes: usize) -> Result<Prep
     })
 }
 
-/// Rayleigh damping of the model: its `[damping]` if given, else 5 % at T1 and T1/3.
+/// Rayleigh damping of the model: its `[damping]` if given, else 5 % at T1 and T1/3,
+/// `t1` the period of the first of the building's modes.
 pub(crate) fn damping_for(model: &Model, t1: f64) -> Result<RayleighDamping> {
     match model.rayleigh() {
         Some((a0, a1)) => Ok(RayleighDamping { a0, a1 }),

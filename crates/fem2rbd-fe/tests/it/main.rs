@@ -42,6 +42,7 @@ mod export {
 mod fe {
     mod analysis {
         mod algorithms;
+        mod building_modes;
         mod divergence;
         mod frame3;
         mod lanczos;

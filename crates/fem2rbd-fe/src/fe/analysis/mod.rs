@@ -20,9 +20,12 @@
 //! All sparse work goes through [`crate::fe::linalg`]: the matrix pattern and the
 //! symbolic LU are computed once per analysis and reused by every iteration and step.
 pub mod algorithm;
+pub mod building_modes;
 pub mod lanczos;
 pub mod modal;
 pub mod rayleigh;
+mod ritz;
+mod shift_invert;
 pub mod static_analysis;
 pub mod transient;
 

@@ -7,4 +7,4 @@ pub mod pattern;
 pub mod solver;
 
 pub use pattern::{SparsePattern, StiffnessKind};
-pub use solver::{SolverError, SolverStats, SparseLu, SparseSolver};
+pub use solver::{Inertia, SolverError, SolverStats, SparseLu, SparseSolver};

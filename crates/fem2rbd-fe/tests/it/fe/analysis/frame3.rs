@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use fe_analysis_support::{ElasticFrame, Props};
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::analysis::rayleigh::RayleighDamping;
 use fem2rbd_fe::fe::analysis::static_analysis::{load_control, LoadControl};
 use fem2rbd_fe::fe::analysis::transient::{
@@ -186,6 +186,7 @@ fn frame3_periods_match_opensees() {
         let r = modal_analysis(
             &mut d,
             &ModalSettings {
+                selection: ModeSelection::Lowest,
                 modes: 9,
                 stiffness: StiffnessKind::Initial,
                 method,
@@ -210,6 +211,7 @@ fn rust_lc1(t_end: f64) -> (Vec<f64>, f64, Vec<[f64; 4]>) {
     let modal = modal_analysis(
         &mut d,
         &ModalSettings {
+            selection: ModeSelection::Lowest,
             modes: 9,
             ..Default::default()
         },

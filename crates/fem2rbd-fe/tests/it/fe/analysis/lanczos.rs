@@ -4,7 +4,7 @@
 //! exported model of a full-scale frame. The 7-story 6 × 4-bay frame of the shell-wall
 //! issue (6 594 DOF) is `#[ignore]`d: run it with
 //! `cargo test --release -p fem2rbd-fe --test it fe::analysis::lanczos -- --ignored --nocapture`.
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::build::{build_domain, BuildOptions, Variant};
 use fem2rbd_fe::fe::domain::Domain;
 use fem2rbd_fe::fe::element::{ElasticBeam3d, ElasticProps};
@@ -23,6 +23,7 @@ const LANCZOS: EigenMethod = EigenMethod::Lanczos {
 
 fn settings(modes: usize, method: EigenMethod) -> ModalSettings {
     ModalSettings {
+        selection: ModeSelection::Lowest,
         modes,
         stiffness: StiffnessKind::Initial,
         method,

@@ -3,7 +3,7 @@
 use super::support as fe_analysis_support;
 
 use fe_analysis_support::{cantilever, grid_frame, square};
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::linalg::StiffnessKind;
 
 const SUBSPACE: EigenMethod = EigenMethod::SubspaceIteration {
@@ -13,6 +13,7 @@ const SUBSPACE: EigenMethod = EigenMethod::SubspaceIteration {
 
 fn settings(modes: usize, method: EigenMethod) -> ModalSettings {
     ModalSettings {
+        selection: ModeSelection::Lowest,
         modes,
         stiffness: StiffnessKind::Initial,
         method,

@@ -8,7 +8,7 @@ use super::support as fe_analysis_support;
 use std::f64::consts::PI;
 
 use fe_analysis_support::{square, ElasticFrame, FailMode, Failing, Props};
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::analysis::rayleigh::RayleighDamping;
 use fem2rbd_fe::fe::analysis::transient::{
     run_transient, RecordSettings, StepControl, StopReason, TransientResult, TransientSettings,
@@ -191,6 +191,7 @@ fn rayleigh_log_decrement_at_anchor_periods() {
     let modal = modal_analysis(
         &mut d,
         &ModalSettings {
+            selection: ModeSelection::Lowest,
             modes: 2,
             stiffness: StiffnessKind::Initial,
             method: EigenMethod::DenseCondensed,

@@ -11,7 +11,7 @@
 use std::process::Command;
 
 use fem2rbd_fe::export::{opensees_script, OpenSeesOptions};
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, EigenMethod, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::build::{build_domain, BuildOptions};
 use fem2rbd_fe::fe::linalg::{SparsePattern, StiffnessKind};
 use fem2rbd_fe::fe::shell::model_shell_stiffness;
@@ -159,6 +159,7 @@ fn portal_frame_with_wall_panel_periods_match_opensees() {
         let modal = modal_analysis(
             &mut whole.domain,
             &ModalSettings {
+                selection: ModeSelection::Lowest,
                 modes: 3,
                 method,
                 ..Default::default()
@@ -201,6 +202,7 @@ fn portal_frame_with_wall_newmark_matches_modal_superposition() {
     let modal = modal_analysis(
         &mut built.domain,
         &ModalSettings {
+            selection: ModeSelection::Lowest,
             modes,
             method: EigenMethod::DenseCondensed,
             ..Default::default()

@@ -14,7 +14,7 @@
 //! Debug profile: about 1 s for the periods, ~30 s for the LC1 window (2 cores shared).
 use std::path::PathBuf;
 
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::analysis::transient::StopReason;
 use fem2rbd_fe::fe::build::{build_domain, BuildOptions};
 use fem2rbd_fe::fe::run::{mode_character, run_ground_motion, ModeCharacter, RunOptions};
@@ -52,6 +52,7 @@ fn case1_periods_match_opensees_and_the_paper() {
     let modal = modal_analysis(
         &mut built.domain,
         &ModalSettings {
+            selection: ModeSelection::Lowest,
             modes: 9,
             ..Default::default()
         },

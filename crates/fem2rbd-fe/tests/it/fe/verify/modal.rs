@@ -5,7 +5,7 @@
 use super::support as fe_verify_support;
 
 use fe_verify_support::frame3;
-use fem2rbd_fe::fe::analysis::modal::{modal_analysis, ModalSettings};
+use fem2rbd_fe::fe::analysis::modal::{modal_analysis, ModalSettings, ModeSelection};
 use fem2rbd_fe::fe::build::{build_domain, BuildOptions, Variant};
 use fem2rbd_fe::fe::run::{mode_character, ModeCharacter};
 
@@ -29,6 +29,7 @@ fn frame3_periods_within_half_percent_of_opensees_in_all_variants() {
         let modal = modal_analysis(
             &mut built.domain,
             &ModalSettings {
+                selection: ModeSelection::Lowest,
                 modes: 9,
                 ..Default::default()
             },
