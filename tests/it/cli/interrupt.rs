@@ -23,6 +23,42 @@ fn temporaries(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// Starts `fem2rbd --quiet ARGS`, waits (at most 120 s) until `started()` says the command
+/// is writing, sends it `signal`, and returns its exit code and stderr.
+fn interrupt_when(
+    args: &[&std::ffi::OsStr],
+    started: impl Fn() -> bool,
+    signal: &str,
+) -> (Option<i32>, String) {
+    let mut child = Command::new(BIN)
+        .arg("--quiet")
+        .args(args)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while !started() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "{args:?}: no temporary output appeared"
+        );
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("{args:?} ended before it was interrupted: {status}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let killed = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    (
+        output.status.code(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
 /// Starts a long scene over an existing `p.csv`, sends `signal` once the temporary output
 /// exists, and returns the exit code and stderr.
 fn interrupt_scene(signal: &str) -> (Option<i32>, String, tempfile::TempDir) {
@@ -46,39 +82,23 @@ fn interrupt_scene(signal: &str) -> (Option<i32>, String, tempfile::TempDir) {
     .unwrap();
     let out = w.path().join("p.csv");
     fs::write(&out, "the earlier output\n").unwrap();
-    let mut child = Command::new(BIN)
-        .args(["--quiet", "scene"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
-    while temporaries(w.path()).is_empty() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(120),
-            "no temporary output appeared"
-        );
-        if let Some(status) = child.try_wait().unwrap() {
-            panic!("the scene ended before it was interrupted: {status}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let killed = Command::new("kill")
-        .args([&format!("-{signal}"), &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let output = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    let (code, stderr) = interrupt_when(
+        &[
+            "scene".as_ref(),
+            scene.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ],
+        || !temporaries(w.path()).is_empty(),
+        signal,
+    );
     assert_eq!(
         fs::read_to_string(&out).unwrap(),
         "the earlier output\n",
         "{stderr}"
     );
     assert_eq!(temporaries(w.path()), Vec::<String>::new(), "{stderr}");
-    (output.status.code(), stderr, w)
+    (code, stderr, w)
 }
 
 #[test]
@@ -212,40 +232,24 @@ fn interrupt_vtk_export(signal: &str) -> (Option<i32>, String) {
     );
     assert_eq!(hidden(&out), Vec::<String>::new());
 
-    let mut child = Command::new(BIN)
-        .args(["--quiet", "export", "vtk"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&pvd)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let t0 = Instant::now();
-    loop {
-        let staged: usize = hidden(&out)
+    let staged_files = || -> usize {
+        hidden(&out)
             .iter()
             .filter_map(|n| fs::read_dir(out.join(n)).ok())
             .map(|d| d.count())
-            .sum();
-        if staged >= 5 {
-            break;
-        }
-        assert!(
-            t0.elapsed() < Duration::from_secs(120),
-            "no staged frames appeared"
-        );
-        if let Some(status) = child.try_wait().unwrap() {
-            panic!("the export ended before it was interrupted: {status}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let killed = Command::new("kill")
-        .args([&format!("-{signal}"), &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let output = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+            .sum()
+    };
+    let (code, stderr) = interrupt_when(
+        &[
+            "export".as_ref(),
+            "vtk".as_ref(),
+            run.as_os_str(),
+            "-o".as_ref(),
+            pvd.as_os_str(),
+        ],
+        || staged_files() >= 5,
+        signal,
+    );
     assert_eq!(hidden(&out), Vec::<String>::new(), "{stderr}");
     for (path, bytes) in &earlier {
         assert_eq!(&fs::read(path).unwrap(), bytes, "{path}: {stderr}");
@@ -255,7 +259,7 @@ fn interrupt_vtk_export(signal: &str) -> (Option<i32>, String) {
         4,
         "the earlier frames and marker only: {stderr}"
     );
-    (output.status.code(), stderr)
+    (code, stderr)
 }
 
 #[test]
