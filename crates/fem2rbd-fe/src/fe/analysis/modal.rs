@@ -637,7 +637,7 @@ fn shift_invert_lanczos(
     max_restarts: usize,
 ) -> Result<(Vec<f64>, Vec<DVector<f64>>), AnalysisError> {
     let massed = massed_equations(m);
-    let mut op = ShiftInvert::new(pattern, k, m, &massed, 0.0)?;
+    let mut op = ShiftInvert::new(pattern, k, m, &massed, 0.0)?.checked();
     lanczos_nearest(
         &mut op,
         k,
