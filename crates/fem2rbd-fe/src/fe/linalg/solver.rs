@@ -487,23 +487,7 @@ impl SparseSolver {
     /// Solves `A x = b` in place (`rhs` holds b on entry, x on exit) for the matrix of the
     /// last [`SparseSolver::factor`].
     pub fn solve(&mut self, pattern: &SparsePattern, rhs: &mut [f64]) -> Result<(), SolverError> {
-        if !self.factored {
-            return Err(SolverError::NotFactored);
-        }
-        if self.n == 0 {
-            return Ok(());
-        }
-        if self.symmetric_ok && !self.lu_current {
-            let b = rhs.to_vec();
-            let omega = self.refined(pattern, &b, rhs);
-            if omega <= BERR_ACCEPT {
-                self.stats.refined_solves += 1;
-                return Ok(());
-            }
-            rhs.copy_from_slice(&b);
-            self.factor_lu(pattern)?;
-        }
-        self.lu.as_mut().expect("factored by factor_lu").solve(rhs)
+        self.solve_accepting(pattern, rhs, Acceptance::BackwardError)
     }
 
     /// As [`SparseSolver::solve`] for an iteration that checks its own accuracy (the
@@ -511,11 +495,22 @@ impl SparseSolver {
     /// refinement is kept even when its backward error stays above 64 ε. Near an
     /// eigenvalue K − σM is nearly singular and refinement stalls; the LU fallback would
     /// buy nothing such an iteration needs, at a cost (over 9 GB on a 130 000-equation
-    /// frame). The LU serves only when the symmetric factors are not finite.
+    /// frame). A solution that is not finite is [`SolverError::Singular`].
     pub fn solve_unchecked(
         &mut self,
         pattern: &SparsePattern,
         rhs: &mut [f64],
+    ) -> Result<(), SolverError> {
+        self.solve_accepting(pattern, rhs, Acceptance::Finite)
+    }
+
+    /// The symmetric solve with iterative refinement, its result judged by `acceptance`;
+    /// the LU when the symmetric factors are unusable or already replaced.
+    fn solve_accepting(
+        &mut self,
+        pattern: &SparsePattern,
+        rhs: &mut [f64],
+        acceptance: Acceptance,
     ) -> Result<(), SolverError> {
         if !self.factored {
             return Err(SolverError::NotFactored);
@@ -525,12 +520,29 @@ impl SparseSolver {
         }
         if self.symmetric_ok && !self.lu_current {
             let b = rhs.to_vec();
-            self.refined(pattern, &b, rhs);
-            if rhs.iter().all(|x| x.is_finite()) {
-                return Ok(());
+            let omega = self.refined(pattern, &b, rhs);
+            match acceptance {
+                Acceptance::BackwardError if omega <= BERR_ACCEPT => {
+                    self.stats.refined_solves += 1;
+                    return Ok(());
+                }
+                Acceptance::BackwardError => {
+                    rhs.copy_from_slice(&b);
+                    self.factor_lu(pattern)?;
+                }
+                Acceptance::Finite if rhs.iter().all(|x| x.is_finite()) => return Ok(()),
+                Acceptance::Finite => return Err(SolverError::Singular),
             }
-            return Err(SolverError::Singular);
         }
-        self.solve(pattern, rhs)
+        self.lu.as_mut().expect("factored by factor_lu").solve(rhs)
     }
+}
+
+/// When [`SparseSolver`] accepts the refined symmetric solution.
+#[derive(Clone, Copy, Debug)]
+enum Acceptance {
+    /// Its componentwise backward error is at most 64 ε; otherwise the LU solves.
+    BackwardError,
+    /// It is finite (the caller checks its own accuracy).
+    Finite,
 }
