@@ -63,8 +63,8 @@ fn main() {
              Debian 12 bookworm), \
              or check every extension against the new version's \
              btSequentialImpulseConstraintSolver (the tests named in each file's header: \
-             tests/it/physics/stock_bullet.rs, tests/it/ruin/speed.rs, \
-             tests/it/physics/jointsolve.rs) and add the version to CHECKED_BULLET_VERSIONS \
+             tests/it/bullet/stock_bullet.rs, tests/it/ruin/speed.rs, \
+             tests/it/bullet/jointsolve.rs) and add the version to CHECKED_BULLET_VERSIONS \
              in bullet-sys/build.rs.",
             lib.version,
             CHECKED_BULLET_VERSIONS.join(", ")

@@ -23,7 +23,7 @@ scen() { # name model mode extra-physics-lines
         -e "s|^stop_at_rest = true|stop_at_rest = false\ntime_limit_s = 4.0|" \
         data/frame3/lc5.toml > "$T/$1.toml"
 }
-scen phys3 data/frame3/model.toml physics
+scen phys3 data/frame3/model.toml rigid
 scen hyb3 data/frame3/model.toml hybrid
 mkdir -p "$T/m" && cp "$T/frame4.toml" "$T/m/frame4.toml"
 sed -e "s|^model = .*|model = \"$T/m/frame4.toml\"|" "$T/hyb3.toml" > "$T/hyb4.toml"

@@ -292,7 +292,7 @@ pub struct Body {
     /// Half extents, m.
     pub half_extents: [f64; 3],
     /// Undeformed pose.
-    pub pose0: crate::physics::Pose,
+    pub pose0: crate::bullet::Pose,
     /// Mass, kg (0 for passive).
     pub mass_kg: f64,
     /// Passive (kinematic foundation).

@@ -11,13 +11,13 @@
 //! ```
 //!
 //! The structural stages (`model`, `motion`, `fe`, `collapse`, `export`) are the
-//! `fem2rbd-fe` crate and the Bullet wrapper (`physics`) is the `fem2rbd-bullet` crate;
+//! `fem2rbd-fe` crate and the Bullet wrapper (`bullet`) is the `fem2rbd-bullet` crate;
 //! both are re-exported here under their module names. Units are SI throughout
 //! (m, kg, s, N, Pa). `unsafe` code lives only in `bullet-sys` and `fem2rbd-bullet`.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub use fem2rbd_bullet as physics;
+pub use fem2rbd_bullet as bullet;
 pub use fem2rbd_fe::{collapse, export, fe, model, motion};
 
 pub mod body;

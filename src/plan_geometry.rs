@@ -7,7 +7,7 @@
 //! * areas of unions and intersections of projections are counted on a square raster
 //!   (cell = the smallest plan-AABB side of the measured projections / [`CELLS_PER_SIDE`];
 //!   a cell counts when its centre lies inside), exact to about one cell along the edges.
-use crate::physics::Pose;
+use crate::bullet::Pose;
 use crate::ruin::stage::to_isometry;
 use nalgebra::{Point3, Vector3};
 

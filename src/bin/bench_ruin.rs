@@ -25,7 +25,7 @@
 //!
 //! The 7-story building of docs/performance.md: `bash scripts/ruin-speed.sh`.
 use anyhow::{bail, Context, Result};
-use fem2rbd::physics::{profile_read, profile_start, profile_stop, ProfileZone};
+use fem2rbd::bullet::{profile_read, profile_start, profile_stop, ProfileZone};
 use fem2rbd::pipeline::scenario::{JointSolveSpec, Scenario, SweepSpec};
 use fem2rbd::pipeline::{run, Progress};
 use std::cell::Cell;

@@ -23,7 +23,7 @@ fn long_version() -> &'static str {
         format!(
             "{} (Bullet {}, double precision, Debian libbullet)",
             env!("CARGO_PKG_VERSION"),
-            fem2rbd::physics::LINKED_BULLET_PKG_VERSION
+            fem2rbd::bullet::LINKED_BULLET_PKG_VERSION
         )
     });
     &TEXT

@@ -7,8 +7,8 @@
 
 use super::{RigidBox, Role};
 use crate::body::{Body, BodyId};
+use crate::bullet::Pose;
 use crate::model::Model;
-use crate::physics::Pose;
 use nalgebra::UnitQuaternion;
 
 /// The model's bodies: mapped boxes then foundation blocks (module docs).

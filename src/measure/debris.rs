@@ -3,11 +3,11 @@
 //! the deepest interpenetration of two bodies (module docs of [`crate::measure`]).
 use super::floors::{base_level, floor_index, mass_centroid, slab_floors};
 use crate::body::Body;
+use crate::bullet::Pose;
 use crate::output::summary::{
     r6, Extent, FloorMeasure, Footprint, Interpenetration, RuinMeasures, SlabOverlap,
     INTERPENETRATION_COUNTED_M,
 };
-use crate::physics::Pose;
 use crate::plan_geometry::{corners, intersection_area, projection, union_area};
 use crate::ruin::stage::to_isometry;
 use nalgebra::Vector3;

@@ -4,8 +4,8 @@
 //! most of the way down ([`floors_down`]).
 use crate::body::Body;
 use crate::body::Role;
+use crate::bullet::Pose;
 use crate::output::summary::{r6, FloorsDown};
-use crate::physics::Pose;
 use crate::plan_geometry::corners;
 use std::collections::BTreeMap;
 

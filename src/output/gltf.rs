@@ -53,11 +53,11 @@ use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::Path;
 
-/// A body pose at one keyframe ([`crate::physics::Pose`]): position of the box centre (m,
+/// A body pose at one keyframe ([`crate::bullet::Pose`]): position of the box centre (m,
 /// Z-up world frame) and the unit quaternion `[w, x, y, z]` that rotates the body frame
 /// into the world frame. The quaternion need not be normalised nor sign-continuous; the
 /// writer does both.
-pub use crate::physics::Pose;
+pub use crate::bullet::Pose;
 
 /// The element type given to the ground box's material.
 pub(crate) const GROUND_TYPE: &str = "Ground";
@@ -357,7 +357,7 @@ pub(crate) const RUN_GROUND_MARGIN_M: f64 = 2.0;
 ///   displacement, m, one per frame).
 pub fn run_scene(
     bodies: &[BodyInfo],
-    frames: &[(f64, Vec<crate::physics::Pose>)],
+    frames: &[(f64, Vec<crate::bullet::Pose>)],
     ground_m: &[[f64; 3]],
 ) -> Result<AnimatedScene> {
     ensure!(

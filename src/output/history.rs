@@ -35,8 +35,8 @@
 //! Numbers use fixed decimals (times 4, lengths 6, ratios 8, quaternions 8), so the same
 //! run gives the same bytes.
 use crate::body::BodyId;
+use crate::bullet::Pose;
 use crate::output::csv_text::field;
-use crate::physics::Pose;
 use std::fmt::Write as _;
 
 /// `history.csv` header.

@@ -2,8 +2,8 @@
 //! keyframes (from the FE state, up to Tc) then the ruin stage's frames (after Tc).
 //! Columns `t,name,x,y,z,qw,qx,qy,qz`: time s (4 decimals), position m (6 decimals),
 //! unit quaternion (8 decimals); rows by time, then body order.
+use crate::bullet::Pose;
 use crate::output::csv_text::field;
-use crate::physics::Pose;
 use std::fmt::Write as _;
 
 /// Header line.

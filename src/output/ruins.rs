@@ -3,8 +3,8 @@
 //! (6 decimals), orientation as a unit quaternion (8 decimals), `at_rest` 1/0 (the ruin
 //! stage's rest test per body; `-` when no ruin stage ran).
 use crate::body::BodyId;
+use crate::bullet::Pose;
 use crate::output::csv_text::field;
-use crate::physics::Pose;
 use std::fmt::Write as _;
 
 /// Header line of `ruins.csv`.

@@ -14,10 +14,10 @@
 //! Numbers come back as written: times to 4 decimals (s), lengths to 6 (m), quaternions
 //! and ratios to 8.
 use crate::body::BodyId;
+use crate::bullet::Pose;
 use crate::output::history::{BodyRow, BODIES_HEADER, HISTORY_HEADER};
 use crate::output::summary::RunSummary;
 use crate::output::{keyframes, ruins};
-use crate::physics::Pose;
 use std::path::{Path, PathBuf};
 
 /// Largest accepted |‖q‖ − 1| of a quaternion read from a file. The writers round unit

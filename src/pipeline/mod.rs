@@ -41,6 +41,7 @@ pub mod scenario;
 pub mod strengths;
 pub mod write;
 
+use crate::bullet::{Pose, Velocity};
 use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
 use crate::fe::build::{BuildOptions, BuiltDomain};
@@ -53,7 +54,6 @@ use crate::mapping::handoff::{GroundState, Handoff, NodeState};
 use crate::mapping::{self, MapOptions};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
-use crate::physics::{Pose, Velocity};
 use crate::ruin::connection::GroupStrength;
 use crate::ruin::ground::GroundSpec;
 use crate::ruin::groups::group_strengths_for;
@@ -247,8 +247,8 @@ pub fn stage_settings(sc: &Scenario) -> StageSettings {
     s.joints.warmstart = p.joint_warmstart;
     s.joints.iterations = p.joint_iterations;
     s.joints.solve = match p.joint_solve {
-        scenario::JointSolveSpec::Pgs => crate::physics::JointSolve::Pgs,
-        scenario::JointSolveSpec::Direct => crate::physics::JointSolve::Direct,
+        scenario::JointSolveSpec::Pgs => crate::bullet::JointSolve::Pgs,
+        scenario::JointSolveSpec::Direct => crate::bullet::JointSolve::Direct,
     };
     s.joints.solve_regularisation = p.joint_solve_regularisation;
     s.ruin.axial_rows = p.axial_rows;
@@ -835,7 +835,7 @@ fn build_stage(
 /// connections, every body at its start pose at t = 0, the scenario's moving ground), with
 /// `adjust` applied to its settings, not yet run: for checks that drive the same stage in
 /// two ways (e.g. the shim's solver against Bullet's stock one,
-/// [`crate::physics::WorldSettings::stock_solver`]). The scenario must be rigid-only with
+/// [`crate::bullet::WorldSettings::stock_solver`]). The scenario must be rigid-only with
 /// `connections = "formula"` (the default of that mode).
 pub fn rigid_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> Result<RuinStage> {
     if sc.mode != Mode::Rigid || sc.physics.connections != ConnectionModel::Formula {

@@ -125,8 +125,8 @@ fn bcb() -> PhysicsSpec {
         joint_warmstart: s.joints.warmstart,
         joint_iterations: s.joints.iterations,
         joint_solve: match s.joints.solve {
-            crate::physics::JointSolve::Pgs => JointSolveSpec::Pgs,
-            crate::physics::JointSolve::Direct => JointSolveSpec::Direct,
+            crate::bullet::JointSolve::Pgs => JointSolveSpec::Pgs,
+            crate::bullet::JointSolve::Direct => JointSolveSpec::Direct,
         },
         joint_solve_regularisation: s.joints.solve_regularisation,
         axial_rows: s.ruin.axial_rows,

@@ -164,46 +164,46 @@ pub enum JointRowsSpec {
 }
 
 /// How the solver sweeps its Gauss–Seidel iterations (`[physics.experimental] sweep`,
-/// [`crate::physics::Sweep`]): every choice gives the same bits; the others are for
+/// [`crate::bullet::Sweep`]): every choice gives the same bits; the others are for
 /// `bench_ruin`'s before/after (docs/performance.md, "Ruin stage").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SweepSpec {
-    /// The lean sweep over packed copies of the joint rows ([`crate::physics::Sweep::Packed`]).
+    /// The lean sweep over packed copies of the joint rows ([`crate::bullet::Sweep::Packed`]).
     Packed,
-    /// Bullet 3.24's own sweep ([`crate::physics::Sweep::Bullet`]).
+    /// Bullet 3.24's own sweep ([`crate::bullet::Sweep::Bullet`]).
     Bullet,
-    /// Bullet's sweep without its empty per-iteration walk ([`crate::physics::Sweep::Lean`]).
+    /// Bullet's sweep without its empty per-iteration walk ([`crate::bullet::Sweep::Lean`]).
     Lean,
     /// The packed sweep with the joints' set-up on the solver threads
-    /// ([`crate::physics::Sweep::PackedThreads`]).
+    /// ([`crate::bullet::Sweep::PackedThreads`]).
     Threads,
 }
 
 impl SweepSpec {
     /// The solver's sweep.
-    pub fn sweep(self) -> crate::physics::Sweep {
+    pub fn sweep(self) -> crate::bullet::Sweep {
         match self {
-            SweepSpec::Packed => crate::physics::Sweep::Packed,
-            SweepSpec::Bullet => crate::physics::Sweep::Bullet,
-            SweepSpec::Lean => crate::physics::Sweep::Lean,
-            SweepSpec::Threads => crate::physics::Sweep::PackedThreads,
+            SweepSpec::Packed => crate::bullet::Sweep::Packed,
+            SweepSpec::Bullet => crate::bullet::Sweep::Bullet,
+            SweepSpec::Lean => crate::bullet::Sweep::Lean,
+            SweepSpec::Threads => crate::bullet::Sweep::PackedThreads,
         }
     }
 
     /// The choice of a sweep.
-    pub fn of(sweep: crate::physics::Sweep) -> SweepSpec {
+    pub fn of(sweep: crate::bullet::Sweep) -> SweepSpec {
         match sweep {
-            crate::physics::Sweep::Packed => SweepSpec::Packed,
-            crate::physics::Sweep::Bullet => SweepSpec::Bullet,
-            crate::physics::Sweep::Lean => SweepSpec::Lean,
-            crate::physics::Sweep::PackedThreads => SweepSpec::Threads,
+            crate::bullet::Sweep::Packed => SweepSpec::Packed,
+            crate::bullet::Sweep::Bullet => SweepSpec::Bullet,
+            crate::bullet::Sweep::Lean => SweepSpec::Lean,
+            crate::bullet::Sweep::PackedThreads => SweepSpec::Threads,
         }
     }
 }
 
 /// How the joints' bilateral rows are solved at each substep
-/// (`crate::physics::JointSolve`, docs/ruin-numerics.md, "A direct solve").
+/// (`crate::bullet::JointSolve`, docs/ruin-numerics.md, "A direct solve").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum JointSolveSpec {

@@ -7,6 +7,7 @@
 //! runs (left out with `timing = false`).
 use super::error::{PipelineError, Result};
 use super::{RunRecord, TcReason};
+use crate::bullet::Pose;
 use crate::measure::{
     energy_summary, first_contact, floors_down, instantaneous_at_end, ruin_measures, unsettled,
 };
@@ -25,7 +26,6 @@ use crate::output::summary::{
     TcKind, WallTimes,
 };
 use crate::output::AnimationError;
-use crate::physics::Pose;
 use crate::ruin::connection::ConnectionState;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -17,7 +17,7 @@
 //! * **Ground level**: the top of the passive foundations (the base; else the lowest
 //!   active corner) plus the ground's final vertical displacement (`history.csv`).
 use super::{BodyInfo, RunFolder};
-use crate::physics::Pose;
+use crate::bullet::Pose;
 use crate::plan_geometry::{corners, hull};
 use std::collections::BTreeSet;
 

@@ -175,7 +175,7 @@ pub fn parse(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::Pose;
+    use crate::bullet::Pose;
 
     fn bodies() -> Vec<BodyInfo> {
         ["Column:1:1", "Beam:1:2", "Slab:1:3"]

@@ -3,8 +3,8 @@
 //! (`connections.csv`) and the model's geometric scale (`summary.json` `scale`).
 use super::{RescueError, Result};
 use crate::body::{BodyId, BodyType};
+use crate::bullet::Pose;
 use crate::output::run_folder::{parse_bodies, parse_ruins, RunFolderError};
-use crate::physics::Pose;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 use std::path::Path;

@@ -236,7 +236,7 @@ pub struct RuinSettings {
     pub spring_damping: f64,
     /// Let Bullet cap each plastic spring's stiffness at m/(16·h²) and its damping at m/h
     /// per substep (`setStiffness(i, k, limitIfNeeded = true)`, Bullet's default, which
-    /// Blender and hence BCB use; see [`crate::physics::Spring::limit_if_needed`]). On:
+    /// Blender and hence BCB use; see [`crate::bullet::Spring::limit_if_needed`]). On:
     /// BCB's k = P/(L·tol2D) is applied as N·m/rad on the angular axes too, which for
     /// small bodies is far beyond what explicit stepping at 200 substeps/s can carry
     /// (frame3's 1/4-scale members: ω·h up to ~50 uncapped); uncapped, the springs of

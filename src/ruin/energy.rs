@@ -40,7 +40,7 @@
 //!
 //! The ledger assumes constant gravity; during a warm-up ([`super::stage::StageSettings`])
 //! the gravity work is not V's change and the dissipated column is not meaningful.
-use crate::physics::{Pose, Velocity};
+use crate::bullet::{Pose, Velocity};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// Mass properties of one dynamic body for the ledger.

@@ -9,7 +9,7 @@ use super::pass::two_way_axial::AxialBreak;
 use super::pass::BodyState;
 use super::record::StageError;
 use super::world::{to_isometry, RuinWorld};
-use crate::physics::{Pose, Velocity};
+use crate::bullet::{Pose, Velocity};
 use nalgebra::Isometry3;
 
 /// The installed traces.

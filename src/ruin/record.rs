@@ -6,7 +6,7 @@ use super::energy::EnergyFrame;
 use super::monitor::StateCounts;
 use super::rest::RestSpeed;
 use super::RuinError;
-use crate::physics::{PhysicsError, Pose, Velocity};
+use crate::bullet::{PhysicsError, Pose, Velocity};
 use std::time::Duration;
 
 /// Errors of the ruin stage.
@@ -128,13 +128,13 @@ pub struct RuinResult {
     /// The solver's island batches over the run (how much of the work the largest island
     /// holds, which bounds the island-parallel speed-up); `None` for a world of Bullet's
     /// stock classes, whose solver keeps no such statistics
-    /// ([`crate::physics::WorldSettings::stock_solver`]).
-    pub islands: Option<crate::physics::IslandStats>,
+    /// ([`crate::bullet::WorldSettings::stock_solver`]).
+    pub islands: Option<crate::bullet::IslandStats>,
     /// Dynamic bodies asleep at the end (0 unless sleeping is on).
     pub sleeping_at_end: usize,
     /// The direct joint solve's mode and counts over the run
     /// ([`crate::ruin::settings::JointSettings::solve`]).
-    pub joint_solve: crate::physics::JointSolveStats,
+    pub joint_solve: crate::bullet::JointSolveStats,
 }
 
 /// Energy and speed figures of a run ([`super::energy`]; the bounds of docs/ruin-numerics.md).

@@ -27,7 +27,7 @@
 //!   would sink into the ground.
 //!
 //! Pure bookkeeping: the stage applies the lifts with
-//! [`crate::physics::World::set_collision_with`].
+//! [`crate::bullet::World::set_collision_with`].
 
 use std::collections::BTreeMap;
 

@@ -6,7 +6,7 @@ use super::connection::{BodyCapacity, GroupStrength, RuinSettings};
 use super::monitor::{AngleRule, FeDamage};
 use super::rest::RestTest;
 use super::BodyGeom;
-use crate::physics::{SolverSettings, Velocity, WorldSettings};
+use crate::bullet::{SolverSettings, Velocity, WorldSettings};
 use nalgebra::Isometry3;
 use std::collections::BTreeMap;
 
@@ -152,7 +152,7 @@ pub struct PlasticSettings {
     pub spring_rest_at_onset: bool,
     /// A ductile bending row ([`super::connection::ConnectionSpec::ductile`]) that yielded
     /// in a substep is locked again at its present rotation before it is re-enabled
-    /// ([`crate::physics::World::relock_constraint`]): the hinge keeps its plastic
+    /// ([`crate::bullet::World::relock_constraint`]): the hinge keeps its plastic
     /// rotation, as a rigid–plastic hinge does. `false` (the first FE-derived version): the
     /// row keeps its lock at the start pose, so after yielding it drives the hinge back
     /// with the velocity bias ERP·θ/h up to its full moment — a motor that feeds energy
@@ -191,7 +191,7 @@ pub struct JointSettings {
     /// How the connections' locked rows correct their error ([`JointRows`]).
     pub rows: JointRows,
     /// Warm start of the connections' generic rows, 0..=1
-    /// ([`crate::physics::World::set_joint_warmstart`]): each row's Gauss–Seidel solve
+    /// ([`crate::bullet::World::set_joint_warmstart`]): each row's Gauss–Seidel solve
     /// starts from this share of its impulse in the last substep. 0 (BCB/Bullet): every
     /// joint row starts from zero in every substep, as Bullet 3.24's
     /// `btSequentialImpulseConstraintSolver::convertJoint` does (it warm-starts contacts
@@ -204,11 +204,11 @@ pub struct JointSettings {
     /// `solver_iterations`). `None` (BCB): the world's `solver_iterations`.
     pub iterations: Option<u32>,
     /// How the joints' bilateral rows are solved at each substep
-    /// ([`crate::physics::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
-    /// ([`crate::physics::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
+    /// ([`crate::bullet::World::set_joint_solve`]): Bullet's projected Gauss–Seidel
+    /// ([`crate::bullet::JointSolve::Pgs`], BCB), or first a sparse LDLᵀ solve of the
     /// linear system those iterations converge to, (A + diag(Cᵢ/Dᵢ)) λ = rhsᵢ/Dᵢ − Jᵢ·Δv₀
-    /// ([`crate::physics::JointSolve::Direct`]; docs/ruin-numerics.md, "A direct solve").
-    pub solve: crate::physics::JointSolve,
+    /// ([`crate::bullet::JointSolve::Direct`]; docs/ruin-numerics.md, "A direct solve").
+    pub solve: crate::bullet::JointSolve,
     /// Regularisation ε of the direct solve (ε·Aᵢᵢ added to each diagonal entry: a relative
     /// CFM ε on every row), [0, 1]; default 1e-3 (docs/ruin-numerics.md, "A direct solve").
     pub solve_regularisation: f64,
@@ -232,13 +232,13 @@ pub struct TouchSettings {
 /// same bits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedSettings {
-    /// Solver threads (island-parallel solving, `crate::physics::speed`): the same bytes for
+    /// Solver threads (island-parallel solving, `crate::bullet::speed`): the same bytes for
     /// any number. Default the machine's cores (as the FE); `fem2rbd run --threads`.
     pub solver_threads: usize,
-    /// The solver's sweep ([`crate::physics::World::set_sweep`]): every kind gives the same
-    /// bits. Default [`crate::physics::Sweep::Packed`]; `[physics.experimental] sweep`
+    /// The solver's sweep ([`crate::bullet::World::set_sweep`]): every kind gives the same
+    /// bits. Default [`crate::bullet::Sweep::Packed`]; `[physics.experimental] sweep`
     /// selects another (for `bench_ruin`'s before/after).
-    pub sweep: crate::physics::Sweep,
+    pub sweep: crate::bullet::Sweep,
 }
 
 /// The error correction of the connections' locked (generic) rows.
@@ -253,7 +253,7 @@ pub enum JointRows {
     /// effective inverse mass K (1/m_a + 1/m_b along a linear axis, 1/I_a + 1/I_b about an
     /// angular one, passive partners 0), ω = √(k·K), x = ω·h and c = 2·ζ·√(k/K),
     /// ERP = x/(x + 2ζ) and, since Bullet's joint rows take CFM relative to K
-    /// ([`crate::physics::World::set_constraint_param`]), CFM = 1/(x·(x + 2ζ)).
+    /// ([`crate::bullet::World::set_constraint_param`]), CFM = 1/(x·(x + 2ζ)).
     /// k along the normal E·A/L, across it G·A/L, about the cross axes E·I/L, about the
     /// normal G·J/L (A = h·w the contact area, I = w·h³/12 or h·w³/12, J ≈ h·w·(h² + w²)/12,
     /// L the centre distance, G = E/(2(1 + ν)), ν = 0.2). An implicit spring–damper is
@@ -270,7 +270,7 @@ pub enum JointRows {
 
 /// The largest relative CFM a member row is given ([`member_row_erp_cfm`]). Bullet 3.24
 /// updates a joint row by Δλ = rhs − C·λ − D·(J·Δv) with its CFM C unscaled
-/// (`gResolveSingleConstraintRowGeneric_scalar_reference`; `crate::physics::jointsolve`
+/// (`gResolveSingleConstraintRowGeneric_scalar_reference`; `crate::bullet::jointsolve`
 /// module docs). The row's own impulse enters its next value with the factor −C, so the
 /// sweeps diverge when C ≥ 1. On frame3 with elastic slab panels, the slab–column angular
 /// rows (k ≈ 10² N·m/rad on a 6.25 kg column piece) got C = 1.4–1.6, and the first
@@ -347,8 +347,8 @@ impl Default for JointSettings {
             rows: JointRows::Locked,
             warmstart: 0.0,
             iterations: None,
-            solve: crate::physics::JointSolve::Pgs,
-            solve_regularisation: crate::physics::jointsolve::DEFAULT_REGULARISATION,
+            solve: crate::bullet::JointSolve::Pgs,
+            solve_regularisation: crate::bullet::jointsolve::DEFAULT_REGULARISATION,
         }
     }
 }
@@ -368,7 +368,7 @@ impl Default for SpeedSettings {
     fn default() -> Self {
         SpeedSettings {
             solver_threads: crate::fe::domain::default_threads(),
-            sweep: crate::physics::Sweep::Packed,
+            sweep: crate::bullet::Sweep::Packed,
         }
     }
 }

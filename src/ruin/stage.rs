@@ -48,7 +48,7 @@ use super::pass::{BodyState, Passes};
 use super::rest::RestSpeed;
 use super::world::RuinWorld;
 use super::RuinError;
-use crate::physics::{BodyHandle, ConstraintHandle, Pose, Velocity, World};
+use crate::bullet::{BodyHandle, ConstraintHandle, Pose, Velocity, World};
 use std::time::Instant;
 
 /// A built ruin stage: the world, the passes that step it, the observers and the clock.

@@ -8,7 +8,7 @@ use super::energy::MassProps;
 use super::ground::GroundSpec;
 use super::record::StageError;
 use super::rest::RestBody;
-use crate::physics::{BodyHandle, ConstraintHandle, Pose, Velocity, World};
+use crate::bullet::{BodyHandle, ConstraintHandle, Pose, Velocity, World};
 use nalgebra::{Isometry3, Quaternion, Translation3, UnitQuaternion};
 
 /// The Bullet world of a ruin stage and what is in it.

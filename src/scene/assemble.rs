@@ -3,7 +3,7 @@
 use super::format::*;
 use super::locate::{array_element_lines, ArrayLines};
 use super::SceneError;
-use crate::physics::{
+use crate::bullet::{
     BodyHandle, BodyKind, BoxDesc, ConstraintDesc, ConstraintHandle, ConstraintKind, Pose,
     SolverSettings, Spring, Velocity, World, WorldSettings,
 };
@@ -373,7 +373,7 @@ fn validate(f: &SceneFile, loc: &Locator) -> Result<Scene> {
     if !(substep.is_finite() && substep > 0.0) {
         bail!("substep {substep} s must be finite and > 0");
     }
-    let num_substeps = crate::physics::whole_substeps(f.duration, substep)
+    let num_substeps = crate::bullet::whole_substeps(f.duration, substep)
         .map_err(|e| SceneError::Invalid(format!("duration: {e}")))?;
     // Resource bound (docs/reliability.md): a scene of 1e9 s would run for days.
     crate::model::limits::check(

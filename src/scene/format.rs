@@ -57,7 +57,7 @@ pub(crate) struct WorldSpec {
 }
 
 /// `"world.solver"`: each field overrides the preset's value (see
-/// [`crate::physics::SolverSettings`] for meanings).
+/// [`crate::bullet::SolverSettings`] for meanings).
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct SolverSpec {
@@ -185,7 +185,7 @@ pub(crate) struct SpringSpec {
     /// [N·s/m] or [N·m·s/rad]; default 0.
     #[serde(default)]
     pub damping: f64,
-    /// Bullet's `limitIfNeeded` for this spring (see [`crate::physics::Spring`]); default
+    /// Bullet's `limitIfNeeded` for this spring (see [`crate::bullet::Spring`]); default
     /// false (the exact stiffness, as pybullet's `changeConstraint` gives it).
     #[serde(default)]
     pub limit_if_needed: bool,

@@ -42,7 +42,7 @@
 //!   0.08, slop 1e-5, warm starting 0.1, residual threshold 1e-7, batch size 0, solver mode
 //!   276 = warm starting | SIMD | two friction directions, gDbvtMargin 0, box margin 0.001).
 //!   `gravity` [m/s²] defaults to (0, 0, −9.81) (z up). `solver` overrides any field of
-//!   [`crate::physics::SolverSettings`] by name. `dbvt_margin` and
+//!   [`crate::bullet::SolverSettings`] by name. `dbvt_margin` and
 //!   `contact_breaking_threshold` \[m\] are Bullet's **process-global** variables.
 //!   `default_margin` \[m\] is every body's collision margin unless it gives its own.
 //! * **duration** \[s\] and exactly one of **substep** \[s\] or **substeps_per_second**: the
@@ -126,11 +126,11 @@ pub enum SceneError {
         /// "the Bullet world", a body or a constraint.
         item: String,
         /// Bullet's error.
-        error: crate::physics::PhysicsError,
+        error: crate::bullet::PhysicsError,
     },
     /// Stepping the world or reading its state failed.
     #[error(transparent)]
-    Step(#[from] crate::physics::PhysicsError),
+    Step(#[from] crate::bullet::PhysicsError),
     /// Values outside their plausible ranges or bodies that start inside each other
     /// ([`plausibility`]), without `--allow-unusual`.
     #[error(

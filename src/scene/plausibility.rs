@@ -31,8 +31,8 @@
 //! normals and the 9 cross products of their edges; Gottschalk, Lin & Manocha,
 //! "OBBTree", SIGGRAPH 1996).
 use super::assemble::Scene;
+use crate::bullet::{BodyKind, BoxDesc};
 use crate::model::plausibility::{Range, Slip, Unusual};
-use crate::physics::{BodyKind, BoxDesc};
 
 /// The depth \[m\] by which two bodies may start inside each other (module docs).
 pub const OVERLAP_TOLERANCE: f64 = 0.01;

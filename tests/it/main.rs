@@ -34,7 +34,7 @@ pub(crate) mod output {
     mod gltf_validator;
     mod gltf_vtk;
 }
-mod physics {
+mod bullet {
     mod jointsolve;
     mod pybullet_debris;
     mod pybullet_scenes;

@@ -82,13 +82,13 @@ pub fn column_pieces(
 /// A Generic6Dof constraint locked in all six axes between `a` and `b`, pivot at `pivot_a`
 /// in A's frame and `pivot_b` in B's frame, no collisions between the two.
 pub fn locked_joint(
-    w: &mut fem2rbd::physics::World,
-    a: fem2rbd::physics::BodyHandle,
-    b: fem2rbd::physics::BodyHandle,
+    w: &mut fem2rbd::bullet::World,
+    a: fem2rbd::bullet::BodyHandle,
+    b: fem2rbd::bullet::BodyHandle,
     pivot_a: [f64; 3],
     pivot_b: [f64; 3],
-) -> fem2rbd::physics::ConstraintHandle {
-    use fem2rbd::physics::{ConstraintDesc, ConstraintKind, Pose};
+) -> fem2rbd::bullet::ConstraintHandle {
+    use fem2rbd::bullet::{ConstraintDesc, ConstraintKind, Pose};
     let mut d = ConstraintDesc::new(
         ConstraintKind::Generic6Dof {
             use_linear_reference_frame_a: true,
@@ -108,14 +108,14 @@ pub fn locked_joint(
 /// [`locked_joint`] with its pivot at the lower box's centre. Returns (light, heavy, top
 /// link).
 pub fn hanging_chain(
-    w: &mut fem2rbd::physics::World,
+    w: &mut fem2rbd::bullet::World,
     x: f64,
 ) -> (
-    fem2rbd::physics::BodyHandle,
-    fem2rbd::physics::BodyHandle,
-    fem2rbd::physics::ConstraintHandle,
+    fem2rbd::bullet::BodyHandle,
+    fem2rbd::bullet::BodyHandle,
+    fem2rbd::bullet::ConstraintHandle,
 ) {
-    use fem2rbd::physics::{BoxDesc, Pose};
+    use fem2rbd::bullet::{BoxDesc, Pose};
     let anchor = w
         .add_box(&BoxDesc::fixed([0.1; 3], Pose::at([x, 0.0, 5.0])))
         .unwrap();

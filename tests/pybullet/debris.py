@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""pybullet side of the debris-phase cross-check (tests/it/physics/pybullet_debris.rs).
+"""pybullet side of the debris-phase cross-check (tests/it/bullet/pybullet_debris.rs).
 
 Reads a scene written by the Rust test (JSON: gravity, substep, number of substeps, solver
 iterations, a static ground box and dynamic boxes with their poses, linear and angular

@@ -8,7 +8,7 @@
 //! in order, runs the batches' Gauss–Seidel iterations (the bulk of the work: 100 sweeps
 //! over every row) on up to n threads, and finishes them in order. A batch does exactly the
 //! arithmetic of Bullet's sequential solver, so the results are the same bytes for every n
-//! (`tests/it/physics/speed.rs`). The speed-up is bounded by the largest batch: an intact
+//! (`tests/it/ruin/speed.rs`). The speed-up is bounded by the largest batch: an intact
 //! building is one island ([`IslandStats::largest_share`]).
 //!
 //! Debian's Bullet is built without `BT_THREADSAFE`: `btCreateDefaultTaskScheduler()` returns

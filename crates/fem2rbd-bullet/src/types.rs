@@ -230,7 +230,7 @@ pub struct ConstraintDesc {
     /// substep in which any one of its rows' impulse |λ| reaches it (so it scales with the
     /// substep: a force F breaks it when F·h ≥ threshold). Bullet also clamps every row's
     /// impulse to ±threshold, so in its last substep the joint transmits at most the
-    /// threshold (`tests/it/physics/world.rs` checks both). `f64::INFINITY` = unbreakable.
+    /// threshold (`tests/it/bullet/world.rs` checks both). `f64::INFINITY` = unbreakable.
     pub breaking_impulse_threshold: f64,
     /// `addConstraint(c, true)`: no contacts between the two bodies.
     pub disable_collisions_between: bool,

@@ -1,7 +1,7 @@
 //! Build step 2: the members' boxes.
 
 use super::ground::Extent;
-use crate::physics::{BoxDesc, World};
+use crate::bullet::{BoxDesc, World};
 use crate::ruin::energy::MassProps;
 use crate::ruin::record::StageError;
 use crate::ruin::rest::RestBody;

@@ -2,7 +2,7 @@
 //! Bullet constraints, each with its starting state; the plastic springs' stability cap
 //! per body and the member rows' ERP and CFM.
 
-use crate::physics::{BodyHandle, ConstraintDesc, ConstraintKind, ConstraintParam, Spring, World};
+use crate::bullet::{BodyHandle, ConstraintDesc, ConstraintKind, ConstraintParam, Spring, World};
 use crate::ruin::connection::{
     build_connections_with, ConnectionSpec, ConnectionState, ConstraintClass as SpecKind,
     ConstraintSpec,

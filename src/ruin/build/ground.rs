@@ -1,7 +1,7 @@
 //! Build step 1: the ground box (`crate::ruin::ground`; BCB's `Ground_Motion` object,
 //! docs/bcb.md §6 and §11.6).
 
-use crate::physics::{BoxDesc, Pose, World};
+use crate::bullet::{BoxDesc, Pose, World};
 use crate::ruin::ground::GroundSpec;
 use crate::ruin::record::StageError;
 use crate::ruin::settings::BodySettings;

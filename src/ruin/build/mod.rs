@@ -42,7 +42,7 @@ use super::settings::{StageInput, StageSettings};
 use super::stage::{bad, Clock, RuinStage};
 use super::world::{to_pose, RuinWorld};
 use super::RuinError;
-use crate::physics::{Velocity, World};
+use crate::bullet::{Velocity, World};
 
 /// Builds the stage (module docs). Errors name the body, group or setting at fault.
 pub(crate) fn build(

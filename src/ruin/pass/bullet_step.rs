@@ -1,6 +1,6 @@
 //! Pass: Bullet's step.
 
-use crate::physics::World;
+use crate::bullet::World;
 use crate::ruin::record::StageError;
 use std::time::{Duration, Instant};
 

@@ -1,6 +1,6 @@
 //! Pass (connection rule): ductile bending rows yield instead of breaking.
 
-use crate::physics::ConstraintHandle;
+use crate::bullet::ConstraintHandle;
 use crate::ruin::connection::{ConnectionState, BENDING_ROWS};
 use crate::ruin::monitor::Monitor;
 use crate::ruin::record::StageError;
@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 /// Bullet disabled in it (their impulse reached the plastic moment's impulse): the row
 /// carries its capacity and yields, as a plastic hinge. Before it is enabled the row is
 /// re-locked ([`crate::ruin::stage::PlasticSettings::hinge_keeps_rotation`]): at its present
-/// rotation ([`crate::physics::World::relock_constraint`]), or by a return mapping that
+/// rotation ([`crate::bullet::World::relock_constraint`]), or by a return mapping that
 /// keeps the rotation error of its first yield
 /// ([`crate::ruin::stage::PlasticSettings::hinge_return_mapping`], [`Self::relock`]).
 pub(crate) struct DuctileRows {

@@ -1,6 +1,6 @@
 //! Pass: gravity warm-up ([`crate::ruin::stage::StageSettings::warmup_s`]).
 
-use crate::physics::World;
+use crate::bullet::World;
 use crate::ruin::record::StageError;
 
 /// Grows gravity from 0 to its full value g over the warm-up time T after the start: in

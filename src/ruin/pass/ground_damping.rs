@@ -1,7 +1,7 @@
 //! Pass: mass-proportional damping relative to the moving ground
 //! ([`crate::ruin::stage::StageSettings::ground_damping_per_s`]).
 
-use crate::physics::Velocity;
+use crate::bullet::Velocity;
 use crate::ruin::record::StageError;
 use crate::ruin::world::RuinWorld;
 

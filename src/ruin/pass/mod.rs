@@ -35,7 +35,7 @@ pub(crate) mod sleep;
 pub(crate) mod speed_bound;
 pub(crate) mod two_way_axial;
 
-use crate::physics::{Pose, Velocity};
+use crate::bullet::{Pose, Velocity};
 
 /// The input bodies' poses and velocities at one instant, input order.
 pub(crate) struct BodyState {

@@ -1,7 +1,7 @@
 //! Pass: the connection monitor (BCB's per-frame elastic → plastic → broken check,
 //! `crate::ruin::monitor`).
 
-use crate::physics::Pose;
+use crate::bullet::Pose;
 use crate::ruin::connection::ConstraintClass;
 use crate::ruin::monitor::{Monitor, StateChange};
 use crate::ruin::record::StageError;

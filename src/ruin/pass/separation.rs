@@ -8,7 +8,7 @@ use crate::ruin::separation::{Other, Separation, Until};
 use crate::ruin::world::RuinWorld;
 
 /// Lets a pair of bodies that a connection held together touch again (Bullet's collision
-/// exemption is lifted, [`crate::physics::World::set_collision_with`]) once the
+/// exemption is lifted, [`crate::bullet::World::set_collision_with`]) once the
 /// connections that justify the exemption no longer hold: every constraint disabled
 /// ([`Until::Broken`]), every rigid (generic) row disabled ([`Until::Yielded`]), or for a
 /// piece on a foundation block and the ground, its axial row no longer carrying

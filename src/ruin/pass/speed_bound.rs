@@ -1,7 +1,7 @@
 //! Pass: the largest body speed (the speed bound of docs/ruin-numerics.md).
 
 use super::BodyState;
-use crate::physics::Velocity;
+use crate::bullet::Velocity;
 use crate::ruin::world::RuinWorld;
 
 /// After every substep, the largest centre speed |v| of any dynamic body so far (m/s),

@@ -1294,10 +1294,10 @@ fn allow_unusual_runs_an_overlapping_scene() {
 #[test]
 fn names_with_commas_quotes_and_newlines_round_trip_through_the_run_folder() {
     use fem2rbd::body::BodyId;
+    use fem2rbd::bullet::Pose;
     use fem2rbd::output::history::{bodies_csv, BodyRow};
     use fem2rbd::output::keyframes::keyframes_csv;
     use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
-    use fem2rbd::physics::Pose;
     // Type names and material groups with a comma, a quote, a newline.
     let ids = [
         BodyId::element("Col,umn".into(), "a,b", 2),
@@ -1423,7 +1423,7 @@ proptest! {
     fn run_folder_never_panics(line in 1usize..4, junk in "[a-z0-9,\"\n\r. -]{0,60}") {
         use fem2rbd::output::history::{bodies_csv, BodyRow};
         use fem2rbd::output::run_folder::{parse_bodies, parse_keyframes};
-        use fem2rbd::physics::Pose;
+        use fem2rbd::bullet::Pose;
         let ids: Vec<fem2rbd::body::BodyId> =
             (0..3).map(|i| fem2rbd::body::BodyId::element("Column".into(), "1", i)).collect();
         let rows: Vec<BodyRow> = (0..3).map(|i| BodyRow {

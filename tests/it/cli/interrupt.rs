@@ -3,10 +3,10 @@
 //! `.run.tmp-PID` folder; SIGINT or SIGTERM while they work removes the temporary, leaves
 //! the earlier output byte for byte, and ends the process with 128 + the signal.
 use fem2rbd::body::BodyId;
+use fem2rbd::bullet::Pose;
 use fem2rbd::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use fem2rbd::output::keyframes::keyframes_csv;
 use fem2rbd::output::ruins::{ruins_csv, RuinRow};
-use fem2rbd::physics::Pose;
 use std::fs;
 use std::path::Path;
 use std::process::{Command, Stdio};

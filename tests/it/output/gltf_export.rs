@@ -14,7 +14,7 @@
 use super::gltf_common as common;
 
 use common::Glb;
-use fem2rbd::physics::Pose;
+use fem2rbd::bullet::Pose;
 use fem2rbd::pipeline::{self, write, Scenario, Silent};
 use serde_json::Value;
 use std::path::{Path, PathBuf};

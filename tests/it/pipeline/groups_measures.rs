@@ -1,8 +1,8 @@
 //! The pipeline's building blocks against closed-form values: group strengths read from
 //! frame3's sections and materials; plan projections, union and intersection areas of the
 //! summary's ruin measures.
+use fem2rbd::bullet::Pose;
 use fem2rbd::model::Model;
-use fem2rbd::physics::Pose;
 use fem2rbd::plan_geometry::{hull, intersection_area, projection, union_area};
 use fem2rbd::ruin::groups::{group_inputs, group_strengths, FOUNDATION_GROUP};
 

@@ -128,7 +128,7 @@ fn connections_given_bring_their_presets_rows() {
 /// the option and the body.
 #[test]
 fn threads_traces_and_sweep_reach_the_stage_as_values() {
-    use fem2rbd::physics::Sweep;
+    use fem2rbd::bullet::Sweep;
     use fem2rbd::pipeline::rigid_only_stage;
     use fem2rbd::pipeline::scenario::SweepSpec;
     use fem2rbd::ruin::stage::BodyTraceSettings;

@@ -12,10 +12,10 @@
 //! along y at (−1.0, −1.5), slab 4 lies on slab 2 near (1.2, 1.1), beam 5 lies along y
 //! at (3.5, −1.0). Timeline: FE keyframes 0 … 1.0 s (Tc), ruin-stage frames to 2.0 s.
 use fem2rbd::body::BodyId;
+use fem2rbd::bullet::Pose;
 use fem2rbd::output::history::{bodies_csv, history_csv, BodyRow, HistoryFrame};
 use fem2rbd::output::keyframes::keyframes_csv;
 use fem2rbd::output::ruins::{ruins_csv, RuinRow};
-use fem2rbd::physics::Pose;
 use fem2rbd::plot::geometry::View;
 use fem2rbd::plot::ruin::RuinFigure;
 use fem2rbd::plot::{self, style, RunFolder};

@@ -4,7 +4,7 @@
 //! inequalities, for every cell the box cuts and every tenth of the others. The
 //! tolerance is 0.015 (a plane cut moves the lattice count by at most a few 1/48 layers
 //! of points, far less on average). Needs `python3` with numpy (`bash scripts/setup.sh`).
-use fem2rbd::physics::Pose;
+use fem2rbd::bullet::Pose;
 use fem2rbd::rescue::occupancy::cube_box_overlap;
 use fem2rbd::rescue::RuinBox;
 use std::io::Write;

@@ -3,9 +3,9 @@
 #![allow(dead_code)]
 
 use fem2rbd::body::{BodyId, BodyType};
+use fem2rbd::bullet::Pose;
 use fem2rbd::output::history::{bodies_csv, BodyRow};
 use fem2rbd::output::ruins::{ruins_csv, RuinRow};
-use fem2rbd::physics::Pose;
 use fem2rbd::rescue::{analyse, Analysis, Ruin, Sizes};
 use std::path::Path;
 

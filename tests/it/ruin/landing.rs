@@ -2,7 +2,7 @@
 //! column pieces): how much of the landing the column passes on to the floor above, and
 //! how fast, against the solver's iterations and substep (docs/ruin-numerics.md, "Landings").
 
-use fem2rbd::physics::JointSolve;
+use fem2rbd::bullet::JointSolve;
 use fem2rbd::ruin::axial::{AxialRows, COMPRESSION_SIGN};
 use fem2rbd::ruin::connection::GroupStrength;
 use fem2rbd::ruin::ground::GroundSpec;

@@ -1,8 +1,8 @@
 //! Speed options of the ruin stage (docs/performance.md, "Ruin stage"): the island-parallel
 //! solver gives the same bytes for any thread count, and sleeping bodies wake when hit.
 
+use fem2rbd::bullet::{BodyKind, BoxDesc, ParallelCounts, Pose, Sweep, World, WorldSettings};
 use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
-use fem2rbd::physics::{BodyKind, BoxDesc, ParallelCounts, Pose, Sweep, World, WorldSettings};
 use fem2rbd::ruin::connection::{ConnectionState, GroupStrength, Tolerances};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{
@@ -86,7 +86,7 @@ fn wall() -> (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory) {
 type Scene = (Vec<BodyGeom>, Vec<f64>, Vec<GroupStrength>, GroundHistory);
 type SceneFn = fn() -> Scene;
 
-fn run_towers(threads: usize, batch: u32) -> (RuinResult, fem2rbd::physics::IslandStats) {
+fn run_towers(threads: usize, batch: u32) -> (RuinResult, fem2rbd::bullet::IslandStats) {
     let (r, s, _, _) = run_scene(towers(), threads, batch, Sweep::Packed);
     (r, s)
 }
@@ -100,7 +100,7 @@ fn run_scene(
     sweep: Sweep,
 ) -> (
     RuinResult,
-    fem2rbd::physics::IslandStats,
+    fem2rbd::bullet::IslandStats,
     usize,
     ParallelCounts,
 ) {

@@ -5,8 +5,8 @@
 //! time after Coulomb friction has brought it below the test's bounds, with either speed
 //! measure, and a box sliding without friction never; two runs are identical.
 
+use fem2rbd::bullet::Velocity;
 use fem2rbd::motion::{Baseline, GroundHistory, GroundMotion, Record};
-use fem2rbd::physics::Velocity;
 use fem2rbd::ruin::connection::{GroupStrength, RuinSettings};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::rest::{RestSpeed, RestTest};

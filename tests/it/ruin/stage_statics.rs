@@ -3,7 +3,7 @@
 //! and a cantilever breaks exactly when the bending moment at its root exceeds the
 //! moment its bending row's breaking impulse stands for.
 
-use fem2rbd::physics::Velocity;
+use fem2rbd::bullet::Velocity;
 use fem2rbd::ruin::connection::{ConnectionState, ConstraintRole, GroupStrength};
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::monitor::FeDamage;

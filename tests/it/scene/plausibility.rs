@@ -1,6 +1,6 @@
 //! The start-overlap depth and the ranges of `fem2rbd scene`'s plausibility check
 //! (`src/scene/plausibility.rs`), against hand-computed depths.
-use fem2rbd::physics::{BodyKind, BoxDesc, Pose, Velocity};
+use fem2rbd::bullet::{BodyKind, BoxDesc, Pose, Velocity};
 use fem2rbd::scene::plausibility::penetration_depth;
 
 fn boxed(position: [f64; 3], half: [f64; 3], orientation: [f64; 4]) -> BoxDesc {

@@ -1,5 +1,5 @@
 //! Whole-world checks of the Bullet layer against closed-form physics.
-use fem2rbd::physics::*;
+use fem2rbd::bullet::*;
 
 const G: f64 = 9.81;
 

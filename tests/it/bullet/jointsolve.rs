@@ -1,7 +1,7 @@
 //! The direct (sparse LDLᵀ) solve of the joints' bilateral rows
 //! (`World::set_joint_solve`, the shim's `DirectJointSolver`) against closed forms, and
 //! its determinism across solver threads.
-use fem2rbd::physics::*;
+use fem2rbd::bullet::*;
 
 const G: f64 = 9.81;
 const H: f64 = 1.0 / 200.0;

@@ -18,7 +18,7 @@
 //!   (`DirectJointSolver`) are features stock Bullet does not have: they change the
 //!   iterates, so they are off (the rigid-only defaults: warm start 0, projected
 //!   Gauss–Seidel). A stock world refuses them.
-use fem2rbd::physics::Sweep;
+use fem2rbd::bullet::Sweep;
 
 /// Simulated seconds of LC5 compared: the first second of the time-compressed record
 /// leaves every connection elastic; by 3 s the frame has collapsed (connections plastic
@@ -104,7 +104,7 @@ fn the_shims_solver_gives_stock_bullets_bits_on_frame3() {
 /// A stock world refuses what stock Bullet cannot do, naming it, and accepts what it does.
 #[test]
 fn a_stock_world_refuses_the_shims_solver_features() {
-    use fem2rbd::physics::{JointSolve, World, WorldSettings};
+    use fem2rbd::bullet::{JointSolve, World, WorldSettings};
     let mut w = World::new(&WorldSettings {
         stock_solver: true,
         ..WorldSettings::default()

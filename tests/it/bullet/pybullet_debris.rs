@@ -22,7 +22,7 @@
 //!
 //! Needs `python3` with pybullet==3.2.7 and numpy (scripts/setup.sh installs them).
 
-use fem2rbd::physics::{Pose, Velocity, WorldSettings};
+use fem2rbd::bullet::{Pose, Velocity, WorldSettings};
 use fem2rbd::ruin::connection::RuinSettings;
 use fem2rbd::ruin::ground::GroundSpec;
 use fem2rbd::ruin::stage::{to_pose, RuinStage, StageInput, StageSettings, StopRule};
