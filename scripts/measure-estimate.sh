@@ -4,7 +4,7 @@
 # (/usr/bin/time -v), release build. Prints one line per case:
 #   case  est_s  wall_s  cpu_s  est/wall  est/cpu  est_mib  rss_mib  est/rss
 # Usage: cargo build --release && scripts/measure-estimate.sh [CASE...]
-# Cases: fe3 fe3-1step fe3-elastic fe4 wall phys3 hyb3 hyb4 scene (default: all).
+# Cases: fe3 fe3-1step fe3-elastic fe4 wall phys3 hyb3 hyb4 scene lc5 (default: all).
 set -u
 cd "$(dirname "$0")/.."
 B=${FEM2RBD:-target/release/fem2rbd}
@@ -25,6 +25,9 @@ scen() { # name model mode extra-physics-lines
 }
 scen phys3 data/frame3/model.toml rigid
 scen hyb3 data/frame3/model.toml hybrid
+# LC5 as shipped: the hybrid run to rest, with its rescue analysis.
+sed -e "s|^model = .*|model = \"$(pwd)/data/frame3/model.toml\"|" -e "s|\.\./ground-motions|$(pwd)/$G|" \
+    -e "s|^output = .*|output = \"$T/out-lc5\"|" data/frame3/lc5.toml > "$T/lc5.toml"
 mkdir -p "$T/m" && cp "$T/frame4.toml" "$T/m/frame4.toml"
 sed -e "s|^model = .*|model = \"$T/m/frame4.toml\"|" "$T/hyb3.toml" > "$T/hyb4.toml"
 sed -i "s|^output = .*|output = \"$T/out-hyb4\"|" "$T/hyb4.toml"
@@ -52,7 +55,7 @@ run_case() { # name, estimate command..., -- run command...
 
 want() { [ $# -eq 0 ] && return 0; for c in "${CASES[@]}"; do [ "$c" = "$1" ] && return 0; done; return 1; }
 CASES=("$@")
-[ ${#CASES[@]} -eq 0 ] && CASES=(fe3 fe3-1step fe3-elastic fe4 wall phys3 hyb3 hyb4 scene)
+[ ${#CASES[@]} -eq 0 ] && CASES=(fe3 fe3-1step fe3-elastic fe4 wall phys3 hyb3 hyb4 scene lc5)
 for c in "${CASES[@]}"; do
     case $c in
     fe3) run_case fe3 $B fe data/frame3/model.toml $GM --duration 3 --out "$T/fe" --estimate \
@@ -67,6 +70,7 @@ for c in "${CASES[@]}"; do
             -- $B --quiet fe tests/fixtures/wall-layered-1x6.toml $GM --duration 1 --out "$T/fe" ;;
     phys3) run_case phys3 $B run "$T/phys3.toml" --estimate -- $B --quiet run "$T/phys3.toml" ;;
     hyb3) run_case hyb3 $B run "$T/hyb3.toml" --estimate -- $B --quiet run "$T/hyb3.toml" ;;
+    lc5) run_case lc5 $B run "$T/lc5.toml" --estimate -- $B --quiet run "$T/lc5.toml" ;;
     hyb4) run_case hyb4 $B run "$T/hyb4.toml" --estimate -- $B --quiet run "$T/hyb4.toml" ;;
     scene) sed 's/"duration": 2.0/"duration": 20.0/' data/scenes/pile.json > "$T/pile.json"
         run_case scene $B scene "$T/pile.json" --out "$T/pile.csv" --estimate \

@@ -21,6 +21,18 @@
 //! * T_ruin = n_sub · (k_body · n_body + k_conn · n_conn · i_solver) — every Bullet
 //!   substep costs in proportion to the bodies and to the connections times the solver
 //!   iterations (each connection's constraint rows are visited once per iteration);
+//! * T_rescue = k_cell · n_cell — the rescue analysis of the ruin (`crate::rescue`) over
+//!   n_cell grid cells, estimated before the run from the building: its plan footprint
+//!   L_x × L_y and height H (the undeformed active boxes) and the default cell h (0.1 m
+//!   full scale, at the model's scale) with the grid's open-air pad p (the rescuer's
+//!   width plus two cells), as the larger of a ruin spread by the planning rule's 2H/3 on
+//!   every side (docs/rescue.md) with a pile of H/3,
+//!   n = (L_x + 4H/3 + 2p)(L_y + 4H/3 + 2p)(H/3 + p)/h³, and the building left standing,
+//!   n = (L_x + 2p)(L_y + 2p)(H + p)/h³; at most the grid's own bound
+//!   ([`crate::rescue::grid::MAX_BYTES`] over [`crate::rescue::grid::BYTES_PER_CELL`]).
+//!   Measured spreads, summed over both sides in x and y: 0.46 H and 1.24 H on frame3
+//!   LC5, 1.57 H and 1.95 H on the library stand-in; piles 0.37 H and 0.33 H
+//!   (docs/reliability.md, "Time and memory estimate");
 //! * T₀ the process start and the model and record reading.
 //!
 //! A debug build (`cfg(debug_assertions)`) multiplies by [`DEBUG_FACTOR`]. The FE stage of
@@ -31,7 +43,9 @@
 //! 8 · (recorded values) + b_body · n_body + b_conn · n_conn, the recorded values being
 //! the FE history the run keeps (`fe`: 6 per node per recorded step and the CSV text;
 //! `run`: 25 keyframes/s of 7 pose values per body and 12 node-state values per node) and
-//! the ground history (9 values per sample).
+//! the ground history (9 values per sample). The rescue analysis runs after the ruin
+//! stage while the run's record is held, so its [`crate::rescue::grid::BYTES_PER_CELL`] ·
+//! n_cell adds to the rest.
 use crate::model::{ElementKind, Model, SectionKind};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -52,6 +66,8 @@ pub const K_CAP_S: f64 = 1.0e-5;
 pub const K_BODY_S: f64 = 8.0e-6;
 /// Bullet cost per connection per solver iteration per substep, s.
 pub const K_CONN_S: f64 = 1.0e-7;
+/// Rescue analysis cost per grid cell, s.
+pub const K_CELL_S: f64 = 1.0e-6;
 /// Debug build over release build, wall time.
 pub const DEBUG_FACTOR: f64 = 3.0;
 
@@ -92,6 +108,8 @@ pub struct Size {
     pub bodies: u64,
     /// Connections between bodies.
     pub connections: u64,
+    /// Grid cells of the rescue analysis of the ruin (module docs; 0 without a ruin).
+    pub rescue_cells: u64,
 }
 
 impl Size {
@@ -161,6 +179,8 @@ pub struct Estimate {
     pub capacity_s: f64,
     /// Ruin stage, s.
     pub ruin_s: f64,
+    /// Rescue analysis of the ruin, s.
+    pub rescue_s: f64,
     /// Total wall time, s (one core; this build's profile).
     pub seconds: f64,
     /// Peak resident memory, bytes.
@@ -183,6 +203,7 @@ pub fn estimate(size: &Size, work: &Work) -> Estimate {
     let ruin_s = work.substeps as f64
         * (K_BODY_S * s.bodies as f64
             + K_CONN_S * s.connections as f64 * work.solver_iterations as f64);
+    let rescue_s = K_CELL_S * s.rescue_cells as f64;
     let factor = if cfg!(debug_assertions) {
         DEBUG_FACTOR
     } else {
@@ -204,12 +225,14 @@ pub fn estimate(size: &Size, work: &Work) -> Estimate {
         } else {
             0.0
         }
-        + recorded;
+        + recorded
+        + crate::rescue::grid::BYTES_PER_CELL as f64 * s.rescue_cells as f64;
     Estimate {
         fe_s: fe_s * factor,
         capacity_s: capacity_s * factor,
         ruin_s: ruin_s * factor,
-        seconds: (T0_S + fe_s + capacity_s + ruin_s) * factor,
+        rescue_s: rescue_s * factor,
+        seconds: (T0_S + fe_s + capacity_s + ruin_s + rescue_s) * factor,
         peak_bytes: peak,
     }
 }
@@ -253,6 +276,9 @@ impl fmt::Display for Estimate {
         if self.ruin_s > 0.0 {
             parts.push(format!("ruin stage {}", show_seconds(self.ruin_s)));
         }
+        if self.rescue_s > 0.0 {
+            parts.push(format!("rescue analysis {}", show_seconds(self.rescue_s)));
+        }
         if !parts.is_empty() {
             write!(f, " ({})", parts.join(", "))?;
         }
@@ -290,6 +316,7 @@ pub fn for_scenario(
             crate::ruin::search::find_contacts(&pipeline::geoms(&bodies), &settings.ruin.search)?;
         size.bodies = bodies.len() as u64;
         size.connections = contacts.len() as u64;
+        size.rescue_cells = rescue_cells(&bodies, model.scale);
         if sc.physics.connections == ConnectionModel::Fe {
             capacity_passes = if sc.mode == Mode::Hybrid { 2 } else { 1 };
         }
@@ -315,6 +342,34 @@ pub fn for_scenario(
     Ok((size, work, estimate(&size, &work)))
 }
 
+/// The rescue analysis' grid cells for the ruin of `bodies` (module docs: T_rescue) at
+/// the model's `scale`.
+pub fn rescue_cells(bodies: &[crate::body::Body], scale: f64) -> u64 {
+    use crate::rescue::person::{DEFAULT_CELL_M, DEFAULT_RESCUER_M};
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for b in bodies.iter().filter(|b| !b.passive) {
+        for c in crate::plan_geometry::corners(&b.pose0, b.half_extents) {
+            for d in 0..3 {
+                lo[d] = lo[d].min(c[d]);
+                hi[d] = hi[d].max(c[d]);
+            }
+        }
+    }
+    if !(lo[0].is_finite() && hi[0].is_finite()) {
+        return 0;
+    }
+    let h = DEFAULT_CELL_M * scale;
+    let pad = DEFAULT_RESCUER_M * scale + 2.0 * h;
+    let (lx, ly, height) = (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    let reach = 2.0 * height / 3.0;
+    let spread =
+        (lx + 2.0 * reach + 2.0 * pad) * (ly + 2.0 * reach + 2.0 * pad) * (height / 3.0 + pad);
+    let standing = (lx + 2.0 * pad) * (ly + 2.0 * pad) * (height + pad);
+    let cells = spread.max(standing) / (h * h * h);
+    let bound = crate::rescue::grid::MAX_BYTES / crate::rescue::grid::BYTES_PER_CELL;
+    (cells.ceil() as u64).min(bound)
+}
+
 /// Size, work and estimate of a JSON scene (`fem2rbd scene`): its bodies and constraints
 /// (each constraint counted as a connection) over its substeps.
 pub fn for_scene(scene: &crate::scene::Scene, frames_every: Option<u64>) -> (Size, Work, Estimate) {
@@ -333,23 +388,105 @@ pub fn for_scene(scene: &crate::scene::Scene, frames_every: Option<u64>) -> (Siz
 }
 
 /// A one-line report of size, work and estimate (`--estimate`), `key=value` separated by
-/// spaces: `seconds=… peak_mib=… fe_s=… capacity_s=… ruin_s=… dofs=… fiber_states=…
-/// shell_points=… bodies=… connections=… fe_steps=… substeps=… iterations=…`.
+/// spaces: `seconds=… peak_mib=… fe_s=… capacity_s=… ruin_s=… rescue_s=… dofs=…
+/// fiber_states=… shell_points=… bodies=… connections=… rescue_cells=… fe_steps=…
+/// substeps=… iterations=…`.
 pub fn report(size: &Size, work: &Work, e: &Estimate) -> String {
     format!(
-        "seconds={:.3} peak_mib={:.1} fe_s={:.3} capacity_s={:.3} ruin_s={:.3} dofs={} fiber_states={} shell_points={} bodies={} connections={} fe_steps={} substeps={} iterations={}",
+        "seconds={:.3} peak_mib={:.1} fe_s={:.3} capacity_s={:.3} ruin_s={:.3} rescue_s={:.3} dofs={} fiber_states={} shell_points={} bodies={} connections={} rescue_cells={} fe_steps={} substeps={} iterations={}",
         e.seconds,
         e.peak_bytes / 1048576.0,
         e.fe_s,
         e.capacity_s,
         e.ruin_s,
+        e.rescue_s,
         size.dofs,
         size.fiber_states,
         size.shell_points,
         size.bodies,
         size.connections,
+        size.rescue_cells,
         work.fe_steps,
         work.substeps,
         work.solver_iterations
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::{Body, BodyId, BodyType, Role};
+    use crate::bullet::Pose;
+
+    fn column(x: f64, passive: bool) -> Body {
+        Body {
+            id: BodyId::element(BodyType::Column, "1", 1),
+            kind: Some(Role::Column),
+            half_extents: [0.5, 0.5, 1.5],
+            pose0: Pose {
+                position: [x, 0.0, 1.5],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            },
+            mass_kg: if passive { 0.0 } else { 1000.0 },
+            passive,
+        }
+    }
+
+    #[test]
+    fn rescue_cells_of_one_column_spread_by_two_thirds_of_its_height() {
+        // 1 × 1 × 3 m at full scale: h = 0.1 m, pad = 0.6 + 0.2 = 0.8 m; spread by 2 m on
+        // each side, (1 + 4 + 1.6)² · (1 + 0.8) = 78.408 m³, beats standing
+        // 2.6² · 3.8 = 25.688 m³.
+        // A passive box 100 m away does not widen it.
+        let bodies = [column(0.0, false), column(100.0, true)];
+        assert_eq!(rescue_cells(&bodies, 1.0), 78_408);
+        // At scale 1/4 every length and the cell shrink alike: the same cells.
+        let quarter = Body {
+            half_extents: [0.125, 0.125, 0.375],
+            pose0: Pose {
+                position: [0.0, 0.0, 0.375],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            },
+            ..column(0.0, false)
+        };
+        assert_eq!(rescue_cells(&[quarter], 0.25), 78_408);
+        assert_eq!(rescue_cells(&[column(0.0, true)], 1.0), 0);
+    }
+
+    #[test]
+    fn a_tall_mast_spreads_and_a_wide_low_block_stands() {
+        let block = |he: [f64; 3]| Body {
+            half_extents: he,
+            pose0: Pose {
+                position: [0.0, 0.0, he[2]],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            },
+            ..column(0.0, false)
+        };
+        // 0.4 × 0.4 × 30 m: spread 42² · 10.8 = 19 051.2 m³, standing 2.0² · 30.8 = 123.2 m³.
+        assert_eq!(rescue_cells(&[block([0.2, 0.2, 15.0])], 1.0), 19_051_200);
+        // 100 × 100 × 3 m: standing 101.6² · 3.8 = 39 225.728 m³, spread 105.6² · 1.8
+        // = 20 072.448 m³.
+        assert_eq!(rescue_cells(&[block([50.0, 50.0, 1.5])], 1.0), 39_225_728);
+    }
+
+    #[test]
+    fn the_rescue_analysis_adds_its_cells_to_time_and_memory() {
+        let size = Size {
+            rescue_cells: 1_000_000,
+            ..Default::default()
+        };
+        let e = estimate(&size, &Work::default());
+        let factor = if cfg!(debug_assertions) {
+            DEBUG_FACTOR
+        } else {
+            1.0
+        };
+        assert!((e.rescue_s - K_CELL_S * 1e6 * factor).abs() < 1e-12);
+        assert!((e.seconds - (T0_S + K_CELL_S * 1e6) * factor).abs() < 1e-9);
+        assert_eq!(
+            e.peak_bytes,
+            M0_B + crate::rescue::grid::BYTES_PER_CELL as f64 * 1e6
+        );
+    }
 }
