@@ -476,19 +476,44 @@ pub(crate) fn load_inputs(
 /// variant, the initial modal analysis, gravity applied and held). The FE-derived
 /// connection strengths read its gravity state; the FE stage then runs the time history
 /// on it.
-pub(crate) fn fe_domain(sc: &Scenario, model: &Model) -> Result<Prepared> {
-    prepare(model, &fe_build(sc), RunOptions::default().modes).map_err(|error| PipelineError::Fe {
-        stage: "building the FE domain",
-        error: Box::new(error),
+pub(crate) fn fe_domain(settings: &FeStageSettings, model: &Model) -> Result<Prepared> {
+    prepare(model, &settings.build, RunOptions::default().modes).map_err(|error| {
+        PipelineError::Fe {
+            stage: "building the FE domain",
+            error: Box::new(error),
+        }
     })
 }
 
-fn fe_build(sc: &Scenario) -> BuildOptions {
-    BuildOptions {
-        variant: sc.variant,
-        concrete_integration: sc.concrete_integration,
-        threads: sc.threads,
-        ..Default::default()
+/// What the FE stage takes of a scenario, resolved for its model and record.
+pub(crate) struct FeStageSettings {
+    /// The domain's element variant, concrete integration and threads.
+    pub build: BuildOptions,
+    /// Time step, s.
+    pub dt: f64,
+    /// End of the time history, s: the scenario's `duration`, or the record's.
+    pub end_s: f64,
+    /// The collapse criterion at the model's scale.
+    pub criterion: crate::collapse::Criterion,
+    /// Whether the time history stops when the criterion is met (the hybrid mode).
+    pub stop_at_tc: bool,
+}
+
+impl FeStageSettings {
+    /// The settings of scenario `sc` on its loaded `inputs`.
+    pub(crate) fn of(sc: &Scenario, inputs: &Inputs) -> Self {
+        FeStageSettings {
+            build: BuildOptions {
+                variant: sc.variant,
+                concrete_integration: sc.concrete_integration,
+                threads: sc.threads,
+                ..Default::default()
+            },
+            dt: sc.dt,
+            end_s: sc.duration.unwrap_or_else(|| inputs.motion.duration_s()),
+            criterion: sc.criterion.resolve(inputs.model.scale),
+            stop_at_tc: sc.mode == Mode::Hybrid,
+        }
     }
 }
 
@@ -514,15 +539,14 @@ pub(crate) struct FeStageOutput {
 /// ground motion, the collapse monitor observing every converged step; in the hybrid mode
 /// it stops when the criterion is met. Keyframes of the nodal state every 1/25 s.
 pub(crate) fn fe_stage(
-    sc: &Scenario,
+    settings: &FeStageSettings,
     inputs: &Inputs,
     prepared: Prepared,
     progress: &dyn Progress,
 ) -> Result<FeStageOutput> {
     let model = &inputs.model;
     let gm = &inputs.motion;
-    let criterion = sc.criterion.resolve(model.scale);
-    let mut monitor = CollapseMonitor::new(model, criterion)?;
+    let mut monitor = CollapseMonitor::new(model, settings.criterion)?;
     let node_index = |t: &u32| -> Result<usize> {
         prepared
             .built
@@ -542,15 +566,15 @@ pub(crate) fn fe_stage(
         .iter()
         .map(|n| node_index(&n.tag))
         .collect::<Result<_>>()?;
-    let t_end = sc.duration.unwrap_or_else(|| gm.duration_s());
+    let t_end = settings.end_s;
     let options = RunOptions {
-        build: fe_build(sc),
-        dt: sc.dt,
+        build: settings.build,
+        dt: settings.dt,
         duration: Some(t_end),
         every: usize::MAX,
         ..Default::default()
     };
-    let stop_at_tc = sc.mode == Mode::Hybrid;
+    let stop_at_tc = settings.stop_at_tc;
     let mut frames: Vec<(f64, Vec<NodeState>)> = Vec::new();
     let mut next_frame = 1u64;
     progress.stage("fe", 0.0, t_end);
@@ -688,10 +712,10 @@ pub(crate) struct HandoffOutput {
 
 /// The hand-off: every FE keyframe and the end state posed as rigid bodies (absolute:
 /// the ground's displacement plus the FE's relative state; foundations move with the
-/// ground), with the instantaneous velocities at the end, or the paper's secant through
-/// the last keyframe before it.
+/// ground), with the instantaneous velocities at the end, or (`velocity`) the paper's
+/// secant through the last keyframe before it.
 pub(crate) fn hand_off(
-    sc: &Scenario,
+    velocity: VelocityHandoff,
     inputs: &Inputs,
     handoff: &Handoff,
     fe: &FeStageOutput,
@@ -709,7 +733,7 @@ pub(crate) fn hand_off(
         &fe.end_state,
         &ground_at(&inputs.ground, tc),
     )?;
-    if sc.velocity == VelocityHandoff::Secant {
+    if velocity == VelocityHandoff::Secant {
         let (t_prev, prev) = frames
             .iter()
             .rev()
@@ -888,8 +912,9 @@ pub(crate) fn run_perturbed(
     // the rigid mode the undamaged capacities at them.
     let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
     let push = PushSettings::default();
+    let fe_settings = FeStageSettings::of(sc, &inputs);
     let domain = if sc.mode != Mode::Rigid || fe_strengths {
-        Some(fe_domain(sc, &inputs.model)?)
+        Some(fe_domain(&fe_settings, &inputs.model)?)
     } else {
         None
     };
@@ -919,7 +944,7 @@ pub(crate) fn run_perturbed(
         let handoff = Handoff::new(&inputs.model, &inputs.mapping)
             .map_err(|e| PipelineError::HandOff(Box::new(e)))?;
         let prepared = domain.expect("the FE modes build the domain");
-        let fe = fe_stage(sc, &inputs, prepared, progress)?;
+        let fe = fe_stage(&fe_settings, &inputs, prepared, progress)?;
         rec.fe_wall = fe.wall;
         rec.fe_end_s = Some(fe.end_s);
         let decision = collapse_decision(&fe);
@@ -929,7 +954,7 @@ pub(crate) fn run_perturbed(
             frames,
             poses,
             mut velocities,
-        } = hand_off(sc, &inputs, &handoff, &fe)?;
+        } = hand_off(sc.velocity, &inputs, &handoff, &fe)?;
         rec.fe_frames = frames;
         rec.final_poses = poses.clone();
         if sc.mode == Mode::Fe || rec.tc_s.is_none() {
