@@ -20,7 +20,6 @@
 //!   open to the air) and the first solid cell of that path (where to start) with the side
 //!   it was entered from.
 use super::voids::{Field, Void};
-use std::collections::VecDeque;
 
 /// No route.
 pub const UNREACHED: u32 = u32::MAX;
@@ -84,17 +83,42 @@ struct Found {
     first: Vec<u32>,
 }
 
-/// 0/1 breadth-first search: `cost_of(q)` the cost of entering cell `q` (`None`: not
-/// passable), starting from the cells on the grid's sides and top; `mark` (breach: the
-/// solid cells) names the cells whose first one along each route is kept; `trace` keeps the
-/// step into each cell.
-fn search(
-    field: &Field,
-    cost_of: impl Fn(usize) -> Option<u32>,
-    mark: Option<&dyn Fn(usize) -> bool>,
-    trace: bool,
-) -> Found {
+/// A cell a search cannot enter (its step cost in the low bits of a [`classes`] entry is
+/// 0 or 1 otherwise).
+const BLOCKED: u8 = 2;
+/// The low bits of a [`classes`] entry: the cost of entering the cell, or [`BLOCKED`].
+const COST_BITS: u8 = 3;
+
+/// Each cell's class for a search: the cost of entering it (`cost_of`: 0, 1, or `None`
+/// for [`BLOCKED`]) in the low two bits, and above them the grid faces it lies on
+/// ([`Grid::faces`](super::grid::Grid::faces) shifted by 2), so that a search steps
+/// to its neighbours without dividing an index into (i, j, k).
+fn classes(field: &Field, cost_of: impl Fn(usize, usize, usize) -> Option<u32>) -> Vec<u8> {
     let g = &field.grid;
+    let [nx, ny, nz] = g.n;
+    let mut class = Vec::with_capacity(g.len());
+    for j in 0..ny {
+        for i in 0..nx {
+            let col = g.column(i, j);
+            for k in 0..nz {
+                let idx = col * nz + k;
+                let cost = match cost_of(idx, col, k) {
+                    Some(c) => c as u8,
+                    None => BLOCKED,
+                };
+                class.push(cost | (g.faces(i, j, k) << 2));
+            }
+        }
+    }
+    class
+}
+
+/// 0/1 breadth-first search over cells classed by [`classes`], starting from the cells
+/// on the grid's sides and top; `mark` (breach: the cells of cost 1, the solid ones) keeps
+/// the first such cell along each route; `trace` keeps the step into each cell.
+fn search(field: &Field, class: &[u8], mark: bool, trace: bool) -> Found {
+    let g = &field.grid;
+    let [nx, ny, nz] = g.n;
     let mut cost = vec![UNREACHED; g.len()];
     let mut side = vec![NO_SIDE; g.len()];
     let mut from = if trace {
@@ -103,78 +127,97 @@ fn search(
         Vec::new()
     };
     // The first marked cell of the route (breach: the first solid cell).
-    let mut first = if mark.is_some() {
+    let mut first = if mark {
         vec![u32::MAX; g.len()]
     } else {
         Vec::new()
     };
-    let mark = |q: usize| mark.is_some_and(|m| m(q));
     // Two first-in-first-out queues, one per cost level (Dial's buckets for costs 0 and
     // 1): the cells of the level being settled, and those of the next. Within a level the
     // cells are settled breadth first, so a route through free cells (cost 0) takes the
-    // fewest steps from where the level was entered, not a meander.
-    let mut level: VecDeque<usize> = VecDeque::new();
-    let mut next: VecDeque<usize> = VecDeque::new();
-    for idx in 0..g.len() {
-        if !g.on_open_boundary(idx) {
-            continue;
-        }
-        let Some(c) = cost_of(idx) else { continue };
-        cost[idx] = c;
-        if c > 0 {
-            side[idx] = boundary_code(field, idx);
-        }
-        if mark(idx) {
-            first[idx] = idx as u32;
-        }
-        if c == 0 {
-            level.push_back(idx);
-        } else {
-            next.push_back(idx);
+    // fewest steps from where the level was entered, not a meander. Each queue is a list
+    // read from its head.
+    let mut level: Vec<u32> = Vec::new();
+    let mut next: Vec<u32> = Vec::new();
+    // The cells on the sides and the top, in index order.
+    for j in 0..ny {
+        for i in 0..nx {
+            let side_column = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+            let col = g.column(i, j);
+            let ks = if side_column { 0 } else { nz - 1 };
+            for k in ks..nz {
+                let idx = col * nz + k;
+                let c = class[idx] & COST_BITS;
+                if c == BLOCKED {
+                    continue;
+                }
+                cost[idx] = u32::from(c);
+                if c > 0 {
+                    side[idx] = boundary_code(field, idx);
+                    if mark {
+                        first[idx] = idx as u32;
+                    }
+                    next.push(idx as u32);
+                } else {
+                    level.push(idx as u32);
+                }
+            }
         }
     }
-    // Cells are settled in order of cost; a cell may be queued more than once and the
-    // stale entries are skipped by the cost test.
-    let mut done = vec![false; g.len()];
+    let step = g.steps();
+    // Cells are settled in order of cost, `at` the cost of the level; a cell may be
+    // queued once per cost it was given, and an entry whose cell has since been given a
+    // lower cost (and settled at it) is skipped.
+    let mut at = 0u32;
+    let mut head = 0usize;
     loop {
-        let Some(c) = level.pop_front() else {
+        let Some(&c) = level.get(head) else {
             if next.is_empty() {
                 break;
             }
             std::mem::swap(&mut level, &mut next);
+            next.clear();
+            head = 0;
+            at += 1;
             continue;
         };
-        if done[c] {
+        head += 1;
+        let c = c as usize;
+        if cost[c] < at {
             continue;
         }
-        done[c] = true;
-        for (q, axis, sign) in g.neighbours(c) {
-            if done[q] {
+        let faces = class[c] >> 2;
+        for (s, offset) in step.iter().enumerate() {
+            if faces & (1 << s) != 0 {
                 continue;
             }
-            let Some(step) = cost_of(q) else { continue };
-            let nc = cost[c] + step;
+            let q = c.wrapping_add_signed(*offset);
+            let enter = class[q] & COST_BITS;
+            if enter == BLOCKED {
+                continue;
+            }
+            let nc = at + u32::from(enter);
             if nc < cost[q] {
                 cost[q] = nc;
-                side[q] = if step > 0 && side[c] == NO_SIDE {
-                    step_code(axis, sign)
+                side[q] = if enter > 0 && side[c] == NO_SIDE {
+                    s as u8
                 } else {
                     side[c]
                 };
-                if !first.is_empty() {
-                    first[q] = if first[c] == u32::MAX && mark(q) {
+                if mark {
+                    first[q] = if first[c] == u32::MAX && enter > 0 {
                         q as u32
                     } else {
                         first[c]
                     };
                 }
                 if trace {
-                    from[q] = step_code(axis, sign);
+                    from[q] = s as u8;
                 }
-                if step == 0 {
-                    level.push_back(q);
+                if enter == 0 {
+                    level.push(q as u32);
                 } else {
-                    next.push_back(q);
+                    next.push(q as u32);
                 }
             }
         }
@@ -190,15 +233,11 @@ fn search(
 /// The routes of a body of diameter `width`, m.
 pub fn routes(field: &Field, width: f64) -> Routes {
     let r = 0.5 * width;
-    let found = search(
-        field,
-        |q| {
-            let free = !field.solid[q] && field.clearance[q] as f64 >= r;
-            free.then(|| u32::from(field.covered(q)))
-        },
-        None,
-        true,
-    );
+    let class = classes(field, |q, col, k| {
+        let free = !field.solid[q] && field.clearance[q] as f64 >= r;
+        free.then(|| u32::from(k < field.top[col]))
+    });
+    let found = search(field, &class, false, true);
     Routes {
         cost: found.cost,
         side: found.side,
@@ -260,13 +299,8 @@ pub struct BreachField {
 
 /// The breach field of `field`.
 pub fn breach_field(field: &Field) -> BreachField {
-    let solid = |q: usize| field.solid[q];
-    let found = search(
-        field,
-        |q| Some(u32::from(field.solid[q])),
-        Some(&solid),
-        false,
-    );
+    let class = classes(field, |q, _, _| Some(u32::from(field.solid[q])));
+    let found = search(field, &class, true, false);
     BreachField {
         cost: found.cost,
         side: found.side,

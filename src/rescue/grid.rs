@@ -113,6 +113,27 @@ impl Grid {
         })
     }
 
+    /// The index offsets of the 6 face neighbours, in the order of
+    /// [`neighbours`](Self::neighbours): −x, +x, −y, +y, −z, +z.
+    pub fn steps(&self) -> [isize; 6] {
+        let z = 1isize;
+        let x = self.n[2] as isize;
+        let y = (self.n[2] * self.n[0]) as isize;
+        [-x, x, -y, y, -z, z]
+    }
+
+    /// The grid faces cell (i, j, k) lies on, as bits in the order of
+    /// [`steps`](Self::steps) (bit `s` set: the neighbour of step `s` lies outside).
+    #[inline]
+    pub fn faces(&self, i: usize, j: usize, k: usize) -> u8 {
+        u8::from(i == 0)
+            | u8::from(i + 1 == self.n[0]) << 1
+            | u8::from(j == 0) << 2
+            | u8::from(j + 1 == self.n[1]) << 3
+            | u8::from(k == 0) << 4
+            | u8::from(k + 1 == self.n[2]) << 5
+    }
+
     /// Whether cell `idx` lies on a side face or the top face of the grid (where open air
     /// goes on).
     pub fn on_open_boundary(&self, idx: usize) -> bool {
@@ -196,4 +217,39 @@ pub fn grid_over(ruin: &Ruin, h: f64, margin: f64, cell_full_m: f64) -> Result<O
         h,
         n: n64.map(|v| v as usize),
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a 3 × 4 × 2 grid: the steps are ∓1 cell along each axis, and a cell's face bits
+    /// mark exactly the steps that would leave the grid.
+    #[test]
+    fn steps_and_faces_match_the_neighbours() {
+        let g = Grid {
+            origin: [0.0; 3],
+            h: 1.0,
+            n: [3, 4, 2],
+        };
+        // Index (j·3 + i)·2 + k: a step in x is 2 cells, in y 6, in z 1.
+        assert_eq!(g.steps(), [-2, 2, -6, 6, -1, 1]);
+        assert_eq!(g.faces(0, 0, 0), 0b01_0101);
+        assert_eq!(g.faces(1, 1, 1), 0b10_0000);
+        assert_eq!(g.faces(1, 2, 0), 0b01_0000);
+        assert_eq!(g.faces(2, 3, 1), 0b10_1010);
+        for idx in 0..g.len() {
+            let [i, j, k] = g.ijk(idx);
+            let faces = g.faces(i, j, k);
+            let inside: Vec<(usize, usize)> = (0..6)
+                .filter(|s| faces & (1 << s) == 0)
+                .map(|s| (idx.wrapping_add_signed(g.steps()[s]), s))
+                .collect();
+            let want: Vec<(usize, usize)> = g
+                .neighbours(idx)
+                .map(|(q, d, sign)| (q, 2 * d + usize::from(sign > 0)))
+                .collect();
+            assert_eq!(inside, want, "cell {idx}");
+        }
+    }
 }
