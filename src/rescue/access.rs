@@ -19,6 +19,7 @@
 //!   each void (× h: the least debris thickness along a 6-connected path; 0 for a void
 //!   open to the air) and the first solid cell of that path (where to start) with the side
 //!   it was entered from.
+use super::grid::Grid;
 use super::voids::{Field, Void};
 
 /// No route.
@@ -62,20 +63,38 @@ pub(crate) fn boundary_code(field: &Field, idx: usize) -> u8 {
 }
 
 /// Routes of a body of diameter `width` (m, at the model's scale): per cell the crawl
-/// length in covered cells, the entry side and the step that reached it.
+/// length in covered cells, the entry side and the step that reached it. Held in the
+/// search's layered order ([`Grid::layered`](super::grid::Grid::layered)); read them by
+/// cell index.
 #[derive(Debug, Clone)]
 pub struct Routes {
-    /// Covered cells along the best route ([`UNREACHED`] if none).
-    pub cost: Vec<u32>,
-    /// Entry side code per cell.
-    pub side: Vec<u8>,
-    /// The step code (`axis · 2 + (sign > 0)`) of the step into each cell along its best
-    /// route ([`NO_SIDE`]: a route starts there); [`super::route`] follows them back.
-    pub from: Vec<u8>,
+    grid: Grid,
+    cost: Vec<u32>,
+    side: Vec<u8>,
+    from: Vec<u8>,
 }
 
-/// What a search found: per cell its cost, entry side, the step into it (empty unless
-/// traced) and the first marked cell of its route (empty unless marking).
+impl Routes {
+    /// Covered cells along the best route to cell `idx` ([`UNREACHED`] if none).
+    pub fn cost(&self, idx: usize) -> u32 {
+        self.cost[self.grid.layered(idx)]
+    }
+
+    /// The entry side code of the best route to cell `idx`.
+    pub fn side(&self, idx: usize) -> u8 {
+        self.side[self.grid.layered(idx)]
+    }
+
+    /// The step code (`axis · 2 + (sign > 0)`) of the step into cell `idx` along its best
+    /// route ([`NO_SIDE`]: a route starts there); [`super::route`] follows them back.
+    pub fn from(&self, idx: usize) -> u8 {
+        self.from[self.grid.layered(idx)]
+    }
+}
+
+/// What a search found, per cell in layered order: its cost, entry side, the step into it
+/// (empty unless traced) and the first marked cell of its route (its layered index; empty
+/// unless marking).
 struct Found {
     cost: Vec<u32>,
     side: Vec<u8>,
@@ -89,36 +108,41 @@ const BLOCKED: u8 = 2;
 /// The low bits of a [`classes`] entry: the cost of entering the cell, or [`BLOCKED`].
 const COST_BITS: u8 = 3;
 
-/// Each cell's class for a search: the cost of entering it (`cost_of`: 0, 1, or `None`
-/// for [`BLOCKED`]) in the low two bits, and above them the grid faces it lies on
-/// ([`Grid::faces`](super::grid::Grid::faces) shifted by 2), so that a search steps
-/// to its neighbours without dividing an index into (i, j, k).
+/// Each cell's class for a search, in layered order ([`Grid::layered`]): the cost of
+/// entering it (`cost_of(index, column, k)`: 0, 1, or `None` for [`BLOCKED`]) in the low
+/// two bits, and above them the grid faces it lies on ([`Grid::faces`] shifted by 2), so
+/// that a search steps to its neighbours without dividing an index into (i, j, k).
+///
+/// Why layers: a search floods the open air from the grid's top face down, a whole layer
+/// of columns at a time; cells stored column by column would put each cell of such a
+/// layer on a memory line of its own, cells stored layer by layer put them side by side.
 fn classes(field: &Field, cost_of: impl Fn(usize, usize, usize) -> Option<u32>) -> Vec<u8> {
     let g = &field.grid;
     let [nx, ny, nz] = g.n;
-    let mut class = Vec::with_capacity(g.len());
+    let columns = g.columns();
+    let mut class = vec![BLOCKED; g.len()];
     for j in 0..ny {
         for i in 0..nx {
             let col = g.column(i, j);
             for k in 0..nz {
-                let idx = col * nz + k;
-                let cost = match cost_of(idx, col, k) {
+                let cost = match cost_of(col * nz + k, col, k) {
                     Some(c) => c as u8,
                     None => BLOCKED,
                 };
-                class.push(cost | (g.faces(i, j, k) << 2));
+                class[k * columns + col] = cost | (g.faces(i, j, k) << 2);
             }
         }
     }
     class
 }
 
-/// 0/1 breadth-first search over cells classed by [`classes`], starting from the cells
-/// on the grid's sides and top; `mark` (breach: the cells of cost 1, the solid ones) keeps
+/// 0/1 breadth-first search over cells classed by [`classes`] (all in layered order),
+/// starting from the cells on the grid's sides and top (in cell index order); `mark` (breach: the cells of cost 1, the solid ones) keeps
 /// the first such cell along each route; `trace` keeps the step into each cell.
 fn search(field: &Field, class: &[u8], mark: bool, trace: bool) -> Found {
     let g = &field.grid;
     let [nx, ny, nz] = g.n;
+    let columns = g.columns();
     let mut cost = vec![UNREACHED; g.len()];
     let mut side = vec![NO_SIDE; g.len()];
     let mut from = if trace {
@@ -146,25 +170,25 @@ fn search(field: &Field, class: &[u8], mark: bool, trace: bool) -> Found {
             let col = g.column(i, j);
             let ks = if side_column { 0 } else { nz - 1 };
             for k in ks..nz {
-                let idx = col * nz + k;
-                let c = class[idx] & COST_BITS;
+                let l = k * columns + col;
+                let c = class[l] & COST_BITS;
                 if c == BLOCKED {
                     continue;
                 }
-                cost[idx] = u32::from(c);
+                cost[l] = u32::from(c);
                 if c > 0 {
-                    side[idx] = boundary_code(field, idx);
+                    side[l] = boundary_code(field, col * nz + k);
                     if mark {
-                        first[idx] = idx as u32;
+                        first[l] = l as u32;
                     }
-                    next.push(idx as u32);
+                    next.push(l as u32);
                 } else {
-                    level.push(idx as u32);
+                    level.push(l as u32);
                 }
             }
         }
     }
-    let step = g.steps();
+    let step = g.layered_steps();
     // Cells are settled in order of cost, `at` the cost of the level; a cell may be
     // queued once per cost it was given, and an entry whose cell has since been given a
     // lower cost (and settled at it) is skipped.
@@ -239,6 +263,7 @@ pub fn routes(field: &Field, width: f64) -> Routes {
     });
     let found = search(field, &class, false, true);
     Routes {
+        grid: field.grid,
         cost: found.cost,
         side: found.side,
         from: found.from,
@@ -264,7 +289,7 @@ pub struct Access {
 pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
     let mut best: Option<(f32, u32, usize)> = None;
     for &c in &void.cells {
-        let cost = routes.cost[c];
+        let cost = routes.cost(c);
         if cost == UNREACHED {
             continue;
         }
@@ -279,22 +304,39 @@ pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
     }
     best.map(|(_, cost, c)| Access {
         route_m: cost as f64 * field.grid.h,
-        entry: side_name(routes.side[c]),
+        entry: side_name(routes.side(c)),
         cell: c,
         path_m: super::route::polyline(field, routes, c),
     })
 }
 
 /// The breach field: per cell the least solid cells from open air, the first of them and
-/// the side it was entered from.
+/// the side it was entered from (held in layered order, read by cell index).
 #[derive(Debug, Clone)]
 pub struct BreachField {
-    /// Solid cells crossed.
-    pub cost: Vec<u32>,
-    /// Entry side code of the first solid cell.
-    pub side: Vec<u8>,
-    /// The first solid cell of the route (`u32::MAX`: none).
-    pub first: Vec<u32>,
+    grid: Grid,
+    cost: Vec<u32>,
+    side: Vec<u8>,
+    first: Vec<u32>,
+}
+
+impl BreachField {
+    /// Solid cells crossed on the way to cell `idx`.
+    pub fn cost(&self, idx: usize) -> u32 {
+        self.cost[self.grid.layered(idx)]
+    }
+
+    /// Entry side code of the first solid cell on the way to cell `idx`.
+    pub fn side(&self, idx: usize) -> u8 {
+        self.side[self.grid.layered(idx)]
+    }
+
+    /// The first solid cell (its index) on the way to cell `idx`; `None` when the way
+    /// crosses none.
+    pub fn first(&self, idx: usize) -> Option<usize> {
+        let l = self.first[self.grid.layered(idx)];
+        (l != u32::MAX).then(|| self.grid.unlayered(l as usize))
+    }
 }
 
 /// The breach field of `field`.
@@ -302,6 +344,7 @@ pub fn breach_field(field: &Field) -> BreachField {
     let class = classes(field, |q, _, _| Some(u32::from(field.solid[q])));
     let found = search(field, &class, true, false);
     BreachField {
+        grid: field.grid,
         cost: found.cost,
         side: found.side,
         first: found.first,
@@ -325,14 +368,14 @@ pub fn breach(field: &Field, b: &BreachField, void: &Void) -> Breach {
         .cells
         .iter()
         .copied()
-        .min_by_key(|&c| (b.cost[c], c))
+        .min_by_key(|&c| (b.cost(c), c))
         .expect("a void has cells");
-    let first = b.first[c];
+    let first = b.first(c);
     Breach {
-        thickness_m: b.cost[c] as f64 * field.grid.h,
-        at_m: (first != u32::MAX).then(|| field.grid.centre(field.grid.ijk(first as usize))),
-        side: if first != u32::MAX {
-            side_name(b.side[c])
+        thickness_m: b.cost(c) as f64 * field.grid.h,
+        at_m: first.map(|f| field.grid.centre(field.grid.ijk(f))),
+        side: if first.is_some() {
+            side_name(b.side(c))
         } else {
             ""
         },

@@ -113,17 +113,32 @@ impl Grid {
         })
     }
 
-    /// The index offsets of the 6 face neighbours, in the order of
+    /// The index of cell `idx` with the cells laid out layer by layer (`k` slowest, then
+    /// `j`, `i` fastest): `k · columns + column`. The access searches keep their cells
+    /// so ([`super::access`]).
+    #[inline]
+    pub fn layered(&self, idx: usize) -> usize {
+        (idx % self.n[2]) * self.columns() + idx / self.n[2]
+    }
+
+    /// The cell index of layered index `l` (the inverse of [`layered`](Self::layered)).
+    #[inline]
+    pub fn unlayered(&self, l: usize) -> usize {
+        (l % self.columns()) * self.n[2] + l / self.columns()
+    }
+
+    /// The layered index offsets of the 6 face neighbours, in the order of
     /// [`neighbours`](Self::neighbours): −x, +x, −y, +y, −z, +z.
-    pub fn steps(&self) -> [isize; 6] {
-        let z = 1isize;
-        let x = self.n[2] as isize;
-        let y = (self.n[2] * self.n[0]) as isize;
+    pub fn layered_steps(&self) -> [isize; 6] {
+        let x = 1isize;
+        let y = self.n[0] as isize;
+        let z = self.columns() as isize;
         [-x, x, -y, y, -z, z]
     }
 
     /// The grid faces cell (i, j, k) lies on, as bits in the order of
-    /// [`steps`](Self::steps) (bit `s` set: the neighbour of step `s` lies outside).
+    /// [`layered_steps`](Self::layered_steps) (bit `s` set: the neighbour of step `s` lies
+    /// outside).
     #[inline]
     pub fn faces(&self, i: usize, j: usize, k: usize) -> u8 {
         u8::from(i == 0)
@@ -223,27 +238,36 @@ pub fn grid_over(ruin: &Ruin, h: f64, margin: f64, cell_full_m: f64) -> Result<O
 mod tests {
     use super::*;
 
-    /// On a 3 × 4 × 2 grid: the steps are ∓1 cell along each axis, and a cell's face bits
-    /// mark exactly the steps that would leave the grid.
+    /// On a 3 × 4 × 2 grid: the layered index runs through a layer's 12 columns before
+    /// the next layer, the steps are ∓1 cell along each axis in that order, and a cell's
+    /// face bits mark exactly the steps that would leave the grid.
     #[test]
-    fn steps_and_faces_match_the_neighbours() {
+    fn layered_steps_and_faces_match_the_neighbours() {
         let g = Grid {
             origin: [0.0; 3],
             h: 1.0,
             n: [3, 4, 2],
         };
-        // Index (j·3 + i)·2 + k: a step in x is 2 cells, in y 6, in z 1.
-        assert_eq!(g.steps(), [-2, 2, -6, 6, -1, 1]);
+        // Cell (i, j, k) = (2, 1, 1): index (1·3 + 2)·2 + 1 = 11, layered 1·12 + 5 = 17.
+        assert_eq!(g.layered(11), 17);
+        assert_eq!(g.unlayered(17), 11);
+        // A step in x is 1, in y 3, in z 12.
+        assert_eq!(g.layered_steps(), [-1, 1, -3, 3, -12, 12]);
         assert_eq!(g.faces(0, 0, 0), 0b01_0101);
         assert_eq!(g.faces(1, 1, 1), 0b10_0000);
         assert_eq!(g.faces(1, 2, 0), 0b01_0000);
         assert_eq!(g.faces(2, 3, 1), 0b10_1010);
+        let mut seen = vec![false; g.len()];
         for idx in 0..g.len() {
+            let l = g.layered(idx);
+            assert!(!seen[l], "layered index {l} twice");
+            seen[l] = true;
+            assert_eq!(g.unlayered(l), idx);
             let [i, j, k] = g.ijk(idx);
             let faces = g.faces(i, j, k);
             let inside: Vec<(usize, usize)> = (0..6)
                 .filter(|s| faces & (1 << s) == 0)
-                .map(|s| (idx.wrapping_add_signed(g.steps()[s]), s))
+                .map(|s| (g.unlayered(l.wrapping_add_signed(g.layered_steps()[s])), s))
                 .collect();
             let want: Vec<(usize, usize)> = g
                 .neighbours(idx)
