@@ -15,11 +15,12 @@ use super::{RescueError, Result};
 
 /// Peak memory of the analysis per cell, bytes: the occupancy (fraction f32, owner u32,
 /// the best overlap f32 while it is built), the solid flag, the clearance (f32) and the
-/// squared distance (f32) it is made from, the chamber label and roof (u32 each), the
-/// rescuer's and the camera's routes and the breach field (cost u32, side u8, and
-/// during each search its first-cell u32 and done flag) beside them on a second thread,
-/// and the standing building's occupancy for the story losses. Measured: 60 bytes per
-/// cell of peak resident memory on the standing library building (docs/rescue.md §5b).
+/// squared distance (f32) it is made from, the chamber label and roof (u32 each), and
+/// the access searches, two at a time (the rescuer's then the camera's on one thread,
+/// the breach field on the other): each its cell classes (u8), cost (u32), side and step
+/// (u8 each) or first cell (u32), and its queues of u32 indices. The standing building
+/// for the story losses is gridded a few rows at a time. Measured: 45 bytes per cell of
+/// peak resident memory on the library ruin (docs/rescue.md §5b).
 pub const BYTES_PER_CELL: u64 = 64;
 /// The most memory a grid may take whatever the machine has: 16 GiB.
 pub const MAX_BYTES: u64 = 16 << 30;

@@ -248,7 +248,16 @@ pub struct Occupancy {
 
 /// The occupancy of `grid` by the active (non-passive) `boxes` at their final poses.
 pub fn occupancy(grid: &Grid, boxes: &[RuinBox]) -> Occupancy {
-    let len = grid.len();
+    occupancy_rows(grid, boxes, 0..grid.n[1])
+}
+
+/// The occupancy of the cells of `grid` in the rows `rows` (`j` in that range, every `i`
+/// and `k`): entry `idx − grid.index(0, rows.start, 0)` of each array is cell `idx`. Each
+/// cell's value is the same as in the whole grid's [`occupancy`] (the boxes are taken in
+/// the same order, the cells' centres from the same grid).
+pub fn occupancy_rows(grid: &Grid, boxes: &[RuinBox], rows: std::ops::Range<usize>) -> Occupancy {
+    let base = grid.index(0, rows.start, 0);
+    let len = rows.len() * grid.n[0] * grid.n[2];
     let mut fraction = vec![0.0f32; len];
     let mut best = vec![0.0f32; len];
     let mut owner = vec![u32::MAX; len];
@@ -279,7 +288,7 @@ pub fn occupancy(grid: &Grid, boxes: &[RuinBox]) -> Occupancy {
         else {
             continue;
         };
-        for j in j0..j1 {
+        for j in j0.max(rows.start)..j1.min(rows.end) {
             for i in i0..i1 {
                 for k in k0..k1 {
                     let cc = grid.centre([i, j, k]);
@@ -289,7 +298,7 @@ pub fn occupancy(grid: &Grid, boxes: &[RuinBox]) -> Occupancy {
                         continue;
                     }
                     let f = (v / cell_volume) as f32;
-                    let idx = grid.index(i, j, k);
+                    let idx = grid.index(i, j, k) - base;
                     fraction[idx] = (fraction[idx] + f).min(1.0);
                     if f > best[idx] {
                         best[idx] = f;
