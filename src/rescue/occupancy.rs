@@ -353,6 +353,57 @@ mod tests {
         assert!((v - leg.powi(3) / 6.0).abs() < 1e-12, "{v}");
     }
 
+    /// A box over x 0.5–2.0, y 0.5–3.5, z 0.5–1.5 m on a grid of 3 × 4 × 2 unit cells
+    /// from the origin: a cell's fraction is the product of its overlaps along the axes
+    /// (x 0.5, 1, 0; y 0.5, 1, 1, 0.5; z 0.5, 0.5). Rows 1–2 alone hold those cells' values
+    /// at their offset from row 1, and rows 0–1 and 2–3 laid end to end are the whole grid's
+    /// arrays, bit for bit.
+    #[test]
+    fn rows_of_the_grid_hold_the_cells_of_the_whole() {
+        let grid = Grid {
+            origin: [0.0; 3],
+            h: 1.0,
+            n: [3, 4, 2],
+        };
+        let pose = crate::physics::Pose::at([1.25, 2.0, 1.0]);
+        let b = RuinBox {
+            id: "Slab:1:1".parse().unwrap(),
+            passive: false,
+            pose0: pose,
+            pose,
+            half_extents: [0.75, 1.5, 0.5],
+        };
+        let boxes = [b];
+        let rows = occupancy_rows(&grid, &boxes, 1..3);
+        assert_eq!(rows.fraction.len(), 12);
+        let base = grid.index(0, 1, 0);
+        let at = |i, j, k| grid.index(i, j, k) - base;
+        for (i, j, k, want) in [
+            (1, 1, 0, 0.5),
+            (0, 2, 1, 0.25),
+            (1, 2, 1, 0.5),
+            (0, 1, 0, 0.25),
+            (2, 1, 0, 0.0),
+        ] {
+            let f = rows.fraction[at(i, j, k)] as f64;
+            assert!((f - want).abs() < 1e-6, "cell ({i}, {j}, {k}): {f}");
+            let owner = if want > 0.0 { 0 } else { u32::MAX };
+            assert_eq!(rows.owner[at(i, j, k)], owner);
+        }
+        let whole = occupancy(&grid, &boxes);
+        let (a, z) = (
+            occupancy_rows(&grid, &boxes, 0..2),
+            occupancy_rows(&grid, &boxes, 2..4),
+        );
+        let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&[a.fraction, z.fraction].concat()),
+            bits(&whole.fraction)
+        );
+        assert_eq!([a.owner, z.owner].concat(), whole.owner);
+        assert!((whole.fraction[grid.index(0, 0, 0)] as f64 - 0.125).abs() < 1e-6);
+    }
+
     fn rotated(ax: f64, az: f64) -> [V; 3] {
         let (ca, sa, cz, sz) = (ax.cos(), ax.sin(), az.cos(), az.sin());
         // R = Rz(az) · Rx(ax); columns are the box axes.
