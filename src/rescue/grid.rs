@@ -19,8 +19,9 @@ use super::{RescueError, Result};
 /// the access searches, two at a time (the rescuer's then the camera's on one thread,
 /// the breach field on the other): each its cell classes (u8), cost (u32), side and step
 /// (u8 each) or first cell (u32), and its queues of u32 indices. The standing building
-/// for the story losses is gridded a few rows at a time. Measured: 45 bytes per cell of
-/// peak resident memory on the library ruin (docs/rescue.md §5b).
+/// for the story losses is gridded a few rows at a time. Measured: 51 bytes per cell of
+/// peak resident memory on the standing library building, 45 on its ruin
+/// (docs/rescue.md §5b).
 pub const BYTES_PER_CELL: u64 = 64;
 /// The most memory a grid may take whatever the machine has: 16 GiB.
 pub const MAX_BYTES: u64 = 16 << 30;
