@@ -1,7 +1,7 @@
 //! Benchmark of the rescue analysis (`fem2rbd voids`, src/rescue/): the wall time of the
-//! whole analysis of a run folder's ruin at the default sizes (the access searches on a
-//! second thread, as `fem2rbd voids` runs it), and of its steps one by one on the calling
-//! thread, so that the slowest step shows.
+//! whole analysis of a run folder's ruin at the default sizes (on two threads, as
+//! `fem2rbd voids` runs it), and of its steps one by one on the calling thread, so that
+//! the slowest step shows.
 //!
 //! ```text
 //! cargo run --release --bin bench_rescue -- RUN_DIR [--rounds N] [--cell M]
@@ -17,7 +17,7 @@ use fem2rbd::rescue::access::{breach_field, routes};
 use fem2rbd::rescue::grid::grid_over;
 use fem2rbd::rescue::occupancy::occupancy;
 use fem2rbd::rescue::person::DEFAULT_CELL_M;
-use fem2rbd::rescue::stories::story_losses;
+use fem2rbd::rescue::stories::{standing_shelter, story_losses_from};
 use fem2rbd::rescue::voids::{find_voids, Field};
 use fem2rbd::rescue::{analyse, Ruin, Sizes};
 use std::time::Instant;
@@ -102,6 +102,12 @@ fn main() -> Result<()> {
         t.elapsed().as_secs_f64()
     );
     let t = Instant::now();
+    let before = standing_shelter(&ruin, grid.h, sizes.cell_m)?;
+    println!(
+        "standing building's shelter (its occupancy): {:6.3} s",
+        t.elapsed().as_secs_f64()
+    );
+    let t = Instant::now();
     let field = Field::new(grid, occ);
     println!(
         "field (distance transform): {:6.3} s",
@@ -134,7 +140,7 @@ fn main() -> Result<()> {
         t.elapsed().as_secs_f64()
     );
     let t = Instant::now();
-    let stories = story_losses(&ruin, &field, sizes.cell_m)?;
+    let stories = story_losses_from(&ruin, &field, &before);
     println!(
         "story losses ({} stories): {:6.3} s",
         stories.len(),

@@ -19,8 +19,8 @@
 //!   each void (× h: the least debris thickness along a 6-connected path; 0 for a void
 //!   open to the air) and the first solid cell of that path (where to start) with the side
 //!   it was entered from.
+use super::grid::Grid;
 use super::voids::{Field, Void};
-use std::collections::VecDeque;
 
 /// No route.
 pub const UNREACHED: u32 = u32::MAX;
@@ -63,20 +63,38 @@ pub(crate) fn boundary_code(field: &Field, idx: usize) -> u8 {
 }
 
 /// Routes of a body of diameter `width` (m, at the model's scale): per cell the crawl
-/// length in covered cells, the entry side and the step that reached it.
+/// length in covered cells, the entry side and the step that reached it. Held in the
+/// search's layered order ([`Grid::layered`](super::grid::Grid::layered)); read them by
+/// cell index.
 #[derive(Debug, Clone)]
 pub struct Routes {
-    /// Covered cells along the best route ([`UNREACHED`] if none).
-    pub cost: Vec<u32>,
-    /// Entry side code per cell.
-    pub side: Vec<u8>,
-    /// The step code (`axis · 2 + (sign > 0)`) of the step into each cell along its best
-    /// route ([`NO_SIDE`]: a route starts there); [`super::route`] follows them back.
-    pub from: Vec<u8>,
+    grid: Grid,
+    cost: Vec<u32>,
+    side: Vec<u8>,
+    from: Vec<u8>,
 }
 
-/// What a search found: per cell its cost, entry side, the step into it (empty unless
-/// traced) and the first marked cell of its route (empty unless marking).
+impl Routes {
+    /// Covered cells along the best route to cell `idx` ([`UNREACHED`] if none).
+    pub fn cost(&self, idx: usize) -> u32 {
+        self.cost[self.grid.layered(idx)]
+    }
+
+    /// The entry side code of the best route to cell `idx`.
+    pub fn side(&self, idx: usize) -> u8 {
+        self.side[self.grid.layered(idx)]
+    }
+
+    /// The step code (`axis · 2 + (sign > 0)`) of the step into cell `idx` along its best
+    /// route ([`NO_SIDE`]: a route starts there); [`super::route`] follows them back.
+    pub fn from(&self, idx: usize) -> u8 {
+        self.from[self.grid.layered(idx)]
+    }
+}
+
+/// What a search found, per cell in layered order: its cost, entry side, the step into it
+/// (empty unless traced) and the first marked cell of its route (its layered index; empty
+/// unless marking).
 struct Found {
     cost: Vec<u32>,
     side: Vec<u8>,
@@ -84,17 +102,47 @@ struct Found {
     first: Vec<u32>,
 }
 
-/// 0/1 breadth-first search: `cost_of(q)` the cost of entering cell `q` (`None`: not
-/// passable), starting from the cells on the grid's sides and top; `mark` (breach: the
-/// solid cells) names the cells whose first one along each route is kept; `trace` keeps the
-/// step into each cell.
-fn search(
-    field: &Field,
-    cost_of: impl Fn(usize) -> Option<u32>,
-    mark: Option<&dyn Fn(usize) -> bool>,
-    trace: bool,
-) -> Found {
+/// A cell a search cannot enter (its step cost in the low bits of a [`classes`] entry is
+/// 0 or 1 otherwise).
+const BLOCKED: u8 = 2;
+/// The low bits of a [`classes`] entry: the cost of entering the cell, or [`BLOCKED`].
+const COST_BITS: u8 = 3;
+
+/// Each cell's class for a search, in layered order ([`Grid::layered`]): the cost of
+/// entering it (`cost_of(index, column, k)`: 0, 1, or `None` for [`BLOCKED`]) in the low
+/// two bits, and above them the grid faces it lies on ([`Grid::faces`] shifted by 2), so
+/// that a search steps to its neighbours without dividing an index into (i, j, k).
+///
+/// Why layers: a search floods the open air from the grid's top face down, a whole layer
+/// of columns at a time; cells stored column by column would put each cell of such a
+/// layer on a memory line of its own, cells stored layer by layer put them side by side.
+fn classes(field: &Field, cost_of: impl Fn(usize, usize, usize) -> Option<u32>) -> Vec<u8> {
     let g = &field.grid;
+    let [nx, ny, nz] = g.n;
+    let columns = g.columns();
+    let mut class = vec![BLOCKED; g.len()];
+    for j in 0..ny {
+        for i in 0..nx {
+            let col = g.column(i, j);
+            for k in 0..nz {
+                let cost = match cost_of(col * nz + k, col, k) {
+                    Some(c) => c as u8,
+                    None => BLOCKED,
+                };
+                class[k * columns + col] = cost | (g.faces(i, j, k) << 2);
+            }
+        }
+    }
+    class
+}
+
+/// 0/1 breadth-first search over cells classed by [`classes`] (all in layered order),
+/// starting from the cells on the grid's sides and top (in cell index order); `mark` (breach: the cells of cost 1, the solid ones) keeps
+/// the first such cell along each route; `trace` keeps the step into each cell.
+fn search(field: &Field, class: &[u8], mark: bool, trace: bool) -> Found {
+    let g = &field.grid;
+    let [nx, ny, nz] = g.n;
+    let columns = g.columns();
     let mut cost = vec![UNREACHED; g.len()];
     let mut side = vec![NO_SIDE; g.len()];
     let mut from = if trace {
@@ -103,78 +151,97 @@ fn search(
         Vec::new()
     };
     // The first marked cell of the route (breach: the first solid cell).
-    let mut first = if mark.is_some() {
+    let mut first = if mark {
         vec![u32::MAX; g.len()]
     } else {
         Vec::new()
     };
-    let mark = |q: usize| mark.is_some_and(|m| m(q));
     // Two first-in-first-out queues, one per cost level (Dial's buckets for costs 0 and
     // 1): the cells of the level being settled, and those of the next. Within a level the
     // cells are settled breadth first, so a route through free cells (cost 0) takes the
-    // fewest steps from where the level was entered, not a meander.
-    let mut level: VecDeque<usize> = VecDeque::new();
-    let mut next: VecDeque<usize> = VecDeque::new();
-    for idx in 0..g.len() {
-        if !g.on_open_boundary(idx) {
-            continue;
-        }
-        let Some(c) = cost_of(idx) else { continue };
-        cost[idx] = c;
-        if c > 0 {
-            side[idx] = boundary_code(field, idx);
-        }
-        if mark(idx) {
-            first[idx] = idx as u32;
-        }
-        if c == 0 {
-            level.push_back(idx);
-        } else {
-            next.push_back(idx);
+    // fewest steps from where the level was entered, not a meander. Each queue is a list
+    // read from its head.
+    let mut level: Vec<u32> = Vec::new();
+    let mut next: Vec<u32> = Vec::new();
+    // The cells on the sides and the top, in index order.
+    for j in 0..ny {
+        for i in 0..nx {
+            let side_column = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+            let col = g.column(i, j);
+            let ks = if side_column { 0 } else { nz - 1 };
+            for k in ks..nz {
+                let l = k * columns + col;
+                let c = class[l] & COST_BITS;
+                if c == BLOCKED {
+                    continue;
+                }
+                cost[l] = u32::from(c);
+                if c > 0 {
+                    side[l] = boundary_code(field, col * nz + k);
+                    if mark {
+                        first[l] = l as u32;
+                    }
+                    next.push(l as u32);
+                } else {
+                    level.push(l as u32);
+                }
+            }
         }
     }
-    // Cells are settled in order of cost; a cell may be queued more than once and the
-    // stale entries are skipped by the cost test.
-    let mut done = vec![false; g.len()];
+    let step = g.layered_steps();
+    // Cells are settled in order of cost, `at` the cost of the level; a cell may be
+    // queued once per cost it was given, and an entry whose cell has since been given a
+    // lower cost (and settled at it) is skipped.
+    let mut at = 0u32;
+    let mut head = 0usize;
     loop {
-        let Some(c) = level.pop_front() else {
+        let Some(&c) = level.get(head) else {
             if next.is_empty() {
                 break;
             }
             std::mem::swap(&mut level, &mut next);
+            next.clear();
+            head = 0;
+            at += 1;
             continue;
         };
-        if done[c] {
+        head += 1;
+        let c = c as usize;
+        if cost[c] < at {
             continue;
         }
-        done[c] = true;
-        for (q, axis, sign) in g.neighbours(c) {
-            if done[q] {
+        let faces = class[c] >> 2;
+        for (s, offset) in step.iter().enumerate() {
+            if faces & (1 << s) != 0 {
                 continue;
             }
-            let Some(step) = cost_of(q) else { continue };
-            let nc = cost[c] + step;
+            let q = c.wrapping_add_signed(*offset);
+            let enter = class[q] & COST_BITS;
+            if enter == BLOCKED {
+                continue;
+            }
+            let nc = at + u32::from(enter);
             if nc < cost[q] {
                 cost[q] = nc;
-                side[q] = if step > 0 && side[c] == NO_SIDE {
-                    step_code(axis, sign)
+                side[q] = if enter > 0 && side[c] == NO_SIDE {
+                    s as u8
                 } else {
                     side[c]
                 };
-                if !first.is_empty() {
-                    first[q] = if first[c] == u32::MAX && mark(q) {
+                if mark {
+                    first[q] = if first[c] == u32::MAX && enter > 0 {
                         q as u32
                     } else {
                         first[c]
                     };
                 }
                 if trace {
-                    from[q] = step_code(axis, sign);
+                    from[q] = s as u8;
                 }
-                if step == 0 {
-                    level.push_back(q);
+                if enter == 0 {
+                    level.push(q as u32);
                 } else {
-                    next.push_back(q);
+                    next.push(q as u32);
                 }
             }
         }
@@ -190,16 +257,13 @@ fn search(
 /// The routes of a body of diameter `width`, m.
 pub fn routes(field: &Field, width: f64) -> Routes {
     let r = 0.5 * width;
-    let found = search(
-        field,
-        |q| {
-            let free = !field.solid[q] && field.clearance[q] as f64 >= r;
-            free.then(|| u32::from(field.covered(q)))
-        },
-        None,
-        true,
-    );
+    let class = classes(field, |q, col, k| {
+        let free = !field.solid[q] && field.clearance[q] as f64 >= r;
+        free.then(|| u32::from(k < field.top[col]))
+    });
+    let found = search(field, &class, false, true);
     Routes {
+        grid: field.grid,
         cost: found.cost,
         side: found.side,
         from: found.from,
@@ -225,7 +289,7 @@ pub struct Access {
 pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
     let mut best: Option<(f32, u32, usize)> = None;
     for &c in &void.cells {
-        let cost = routes.cost[c];
+        let cost = routes.cost(c);
         if cost == UNREACHED {
             continue;
         }
@@ -240,34 +304,47 @@ pub fn access(field: &Field, routes: &Routes, void: &Void) -> Option<Access> {
     }
     best.map(|(_, cost, c)| Access {
         route_m: cost as f64 * field.grid.h,
-        entry: side_name(routes.side[c]),
+        entry: side_name(routes.side(c)),
         cell: c,
         path_m: super::route::polyline(field, routes, c),
     })
 }
 
 /// The breach field: per cell the least solid cells from open air, the first of them and
-/// the side it was entered from.
+/// the side it was entered from (held in layered order, read by cell index).
 #[derive(Debug, Clone)]
 pub struct BreachField {
-    /// Solid cells crossed.
-    pub cost: Vec<u32>,
-    /// Entry side code of the first solid cell.
-    pub side: Vec<u8>,
-    /// The first solid cell of the route (`u32::MAX`: none).
-    pub first: Vec<u32>,
+    grid: Grid,
+    cost: Vec<u32>,
+    side: Vec<u8>,
+    first: Vec<u32>,
+}
+
+impl BreachField {
+    /// Solid cells crossed on the way to cell `idx`.
+    pub fn cost(&self, idx: usize) -> u32 {
+        self.cost[self.grid.layered(idx)]
+    }
+
+    /// Entry side code of the first solid cell on the way to cell `idx`.
+    pub fn side(&self, idx: usize) -> u8 {
+        self.side[self.grid.layered(idx)]
+    }
+
+    /// The first solid cell (its index) on the way to cell `idx`; `None` when the way
+    /// crosses none.
+    pub fn first(&self, idx: usize) -> Option<usize> {
+        let l = self.first[self.grid.layered(idx)];
+        (l != u32::MAX).then(|| self.grid.unlayered(l as usize))
+    }
 }
 
 /// The breach field of `field`.
 pub fn breach_field(field: &Field) -> BreachField {
-    let solid = |q: usize| field.solid[q];
-    let found = search(
-        field,
-        |q| Some(u32::from(field.solid[q])),
-        Some(&solid),
-        false,
-    );
+    let class = classes(field, |q, _, _| Some(u32::from(field.solid[q])));
+    let found = search(field, &class, true, false);
     BreachField {
+        grid: field.grid,
         cost: found.cost,
         side: found.side,
         first: found.first,
@@ -291,14 +368,14 @@ pub fn breach(field: &Field, b: &BreachField, void: &Void) -> Breach {
         .cells
         .iter()
         .copied()
-        .min_by_key(|&c| (b.cost[c], c))
+        .min_by_key(|&c| (b.cost(c), c))
         .expect("a void has cells");
-    let first = b.first[c];
+    let first = b.first(c);
     Breach {
-        thickness_m: b.cost[c] as f64 * field.grid.h,
-        at_m: (first != u32::MAX).then(|| field.grid.centre(field.grid.ijk(first as usize))),
-        side: if first != u32::MAX {
-            side_name(b.side[c])
+        thickness_m: b.cost(c) as f64 * field.grid.h,
+        at_m: first.map(|f| field.grid.centre(field.grid.ijk(f))),
+        side: if first.is_some() {
+            side_name(b.side(c))
         } else {
             ""
         },

@@ -57,33 +57,61 @@ fn transform_line(f: &[f64], d: &mut [f64], v: &mut [usize], z: &mut [f64]) {
 
 /// The squared distance (cells²) from every cell of `grid` to the nearest cell with
 /// `feature` set.
+///
+/// The passes along x and y take their lines a plane at a time: the lines of a plane
+/// (all `k` for one `j`, or for one `i`) lie side by side in memory, so they are copied
+/// out and back together, a run of `nz` cells at each step along the line, instead of
+/// one cell a memory line apart at a time. Each line's transform is the same.
 pub fn squared_distance(grid: &Grid, feature: &[bool]) -> Vec<f32> {
     let [nx, ny, nz] = grid.n;
     let mut out: Vec<f32> = feature.iter().map(|&s| if s { 0.0 } else { FAR }).collect();
     let m = nx.max(ny).max(nz);
     let (mut f, mut d) = (vec![0.0f64; m], vec![0.0f64; m]);
     let (mut v, mut z) = (vec![0usize; m], vec![0.0f64; m + 1]);
-    // Along z (contiguous), then x, then y.
-    for axis in [2usize, 0, 1] {
+    // Along z (contiguous).
+    for col in out.chunks_mut(nz) {
+        for (ft, o) in f.iter_mut().zip(col.iter()) {
+            *ft = *o as f64;
+        }
+        transform_line(&f[..nz], &mut d[..nz], &mut v[..nz], &mut z[..nz + 1]);
+        for (o, dt) in col.iter_mut().zip(d.iter()) {
+            *o = *dt as f32;
+        }
+    }
+    // Along x, then y: a plane of `nz` lines at a time, `block[k · n + t]` the cell `t`
+    // of line `k`.
+    let mut block = vec![0.0f32; nz * m];
+    for axis in [0usize, 1] {
         let n = grid.n[axis];
-        let (a, b) = match axis {
-            2 => (nx, ny),
-            0 => (ny, nz),
-            _ => (nx, nz),
-        };
-        for p in 0..a {
-            for q in 0..b {
-                let at = |t: usize| match axis {
-                    2 => grid.index(p, q, t),
-                    0 => grid.index(t, p, q),
-                    _ => grid.index(p, t, q),
-                };
-                for t in 0..n {
-                    f[t] = out[at(t)] as f64;
+        let planes = if axis == 0 { ny } else { nx };
+        for p in 0..planes {
+            let at = |t: usize| {
+                if axis == 0 {
+                    grid.index(t, p, 0)
+                } else {
+                    grid.index(p, t, 0)
+                }
+            };
+            for t in 0..n {
+                let run = &out[at(t)..at(t) + nz];
+                for (k, o) in run.iter().enumerate() {
+                    block[k * n + t] = *o;
+                }
+            }
+            for k in 0..nz {
+                let line = &mut block[k * n..(k + 1) * n];
+                for (ft, o) in f.iter_mut().zip(line.iter()) {
+                    *ft = *o as f64;
                 }
                 transform_line(&f[..n], &mut d[..n], &mut v[..n], &mut z[..n + 1]);
-                for t in 0..n {
-                    out[at(t)] = d[t] as f32;
+                for (o, dt) in line.iter_mut().zip(d.iter()) {
+                    *o = *dt as f32;
+                }
+            }
+            for t in 0..n {
+                let a = at(t);
+                for (k, o) in out[a..a + nz].iter_mut().enumerate() {
+                    *o = block[k * n + t];
                 }
             }
         }

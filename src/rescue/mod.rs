@@ -29,9 +29,10 @@
 //! * [`ensemble`]: over an ensemble's members, the plan map of the chance of a survivable
 //!   void, the spread of the measures and the voids that recur in one place.
 //!
-//! The access searches run on a second thread beside the chambers and the story losses;
-//! each reads the classified grid only and writes its own result, and everything else
-//! runs in a fixed order: the same run folder gives the same bytes.
+//! Two threads: the standing building's occupancy (for the story losses) beside the
+//! ruin's, then the rescuer's and the camera's searches beside the chambers, the story
+//! losses and the breach search. Each reads its input only and writes its own result,
+//! and everything else runs in a fixed order: the same run folder gives the same bytes.
 pub mod access;
 pub mod boxes;
 pub mod distance;

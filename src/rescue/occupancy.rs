@@ -35,135 +35,205 @@ fn sub(a: V, b: V) -> V {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// The cube `[-a, a]³` as outward counter-clockwise faces.
-fn cube(a: f64) -> Vec<Vec<V>> {
-    let m = -a;
-    vec![
-        vec![[a, m, m], [a, a, m], [a, a, a], [a, m, a]],
-        vec![[m, m, m], [m, m, a], [m, a, a], [m, a, m]],
-        vec![[m, a, m], [m, a, a], [a, a, a], [a, a, m]],
-        vec![[m, m, m], [a, m, m], [a, m, a], [m, m, a]],
-        vec![[m, m, a], [a, m, a], [a, a, a], [m, a, a]],
-        vec![[m, m, m], [m, a, m], [a, a, m], [a, m, m]],
-    ]
+/// A convex polyhedron as its faces' vertex lists laid end to end: face `f` is
+/// `verts[starts[f]..starts[f + 1]]`, outward counter-clockwise.
+#[derive(Debug, Clone, Default)]
+struct Polyhedron {
+    verts: Vec<V>,
+    starts: Vec<usize>,
 }
 
-/// The convex polyhedron `faces` clipped to the half-space `n·x ≤ d` (`n` a unit vector);
-/// `tol` is the length below which two points are one.
-fn clip(faces: &[Vec<V>], n: V, d: f64, tol: f64) -> Vec<Vec<V>> {
-    let mut out = Vec::with_capacity(faces.len() + 1);
-    let mut cap: Vec<V> = Vec::new();
-    for f in faces {
-        let mut poly = Vec::with_capacity(f.len() + 2);
-        for i in 0..f.len() {
-            let (p, q) = (f[i], f[(i + 1) % f.len()]);
-            let (sp, sq) = (dot(n, p) - d, dot(n, q) - d);
-            if sp <= 0.0 {
-                poly.push(p);
-                if sp >= -tol {
-                    cap.push(p);
+impl Polyhedron {
+    fn clear(&mut self) {
+        self.verts.clear();
+        self.starts.clear();
+        self.starts.push(0);
+    }
+
+    fn faces(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    fn face(&self, f: usize) -> &[V] {
+        &self.verts[self.starts[f]..self.starts[f + 1]]
+    }
+
+    /// Ends the face begun after the last one ended.
+    fn close_face(&mut self) {
+        self.starts.push(self.verts.len());
+    }
+
+    /// Drops the face begun after the last one ended.
+    fn drop_open_face(&mut self) {
+        self.verts
+            .truncate(*self.starts.last().expect("starts holds 0"));
+    }
+
+    fn open_face_len(&self) -> usize {
+        self.verts.len() - self.starts.last().expect("starts holds 0")
+    }
+}
+
+/// The clip's working storage, reused from cell to cell so that clipping allocates
+/// nothing once it has grown to the largest cut.
+#[derive(Debug, Clone, Default)]
+pub struct Clipper {
+    poly: Polyhedron,
+    out: Polyhedron,
+    cap: Vec<V>,
+    keyed: Vec<(f64, V)>,
+}
+
+impl Clipper {
+    /// Sets the polyhedron to the cube `[-a, a]³`.
+    fn cube(&mut self, a: f64) {
+        let m = -a;
+        let faces: [[V; 4]; 6] = [
+            [[a, m, m], [a, a, m], [a, a, a], [a, m, a]],
+            [[m, m, m], [m, m, a], [m, a, a], [m, a, m]],
+            [[m, a, m], [m, a, a], [a, a, a], [a, a, m]],
+            [[m, m, m], [a, m, m], [a, m, a], [m, m, a]],
+            [[m, m, a], [a, m, a], [a, a, a], [m, a, a]],
+            [[m, m, m], [m, a, m], [a, a, m], [a, m, m]],
+        ];
+        self.poly.clear();
+        for f in faces {
+            self.poly.verts.extend_from_slice(&f);
+            self.poly.close_face();
+        }
+    }
+
+    /// Clips the polyhedron to the half-space `n·x ≤ d` (`n` a unit vector); `tol` is
+    /// the length below which two points are one.
+    fn clip(&mut self, n: V, d: f64, tol: f64) {
+        let out = &mut self.out;
+        out.clear();
+        let cap = &mut self.cap;
+        cap.clear();
+        for fi in 0..self.poly.faces() {
+            let f = self.poly.face(fi);
+            for i in 0..f.len() {
+                let (p, q) = (f[i], f[(i + 1) % f.len()]);
+                let (sp, sq) = (dot(n, p) - d, dot(n, q) - d);
+                if sp <= 0.0 {
+                    out.verts.push(p);
+                    if sp >= -tol {
+                        cap.push(p);
+                    }
+                }
+                if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
+                    let t = sp / (sp - sq);
+                    let x = [
+                        p[0] + t * (q[0] - p[0]),
+                        p[1] + t * (q[1] - p[1]),
+                        p[2] + t * (q[2] - p[2]),
+                    ];
+                    out.verts.push(x);
+                    cap.push(x);
                 }
             }
-            if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
-                let t = sp / (sp - sq);
-                let x = [
-                    p[0] + t * (q[0] - p[0]),
-                    p[1] + t * (q[1] - p[1]),
-                    p[2] + t * (q[2] - p[2]),
-                ];
-                poly.push(x);
-                cap.push(x);
+            if out.open_face_len() >= 3 {
+                out.close_face();
+            } else {
+                out.drop_open_face();
             }
         }
-        if poly.len() >= 3 {
-            out.push(poly);
-        }
-    }
-    if cap.len() >= 3 {
-        // Order the cut's points counter-clockwise about +n (its outward normal).
-        let m = cap
-            .iter()
-            .fold([0.0; 3], |s, p| [s[0] + p[0], s[1] + p[1], s[2] + p[2]]);
-        let m = m.map(|v| v / cap.len() as f64);
-        let helper = if n[0].abs() < 0.9 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let u = cross(n, helper);
-        let un = dot(u, u).sqrt();
-        let u = u.map(|c| c / un);
-        let v = cross(n, u);
-        let mut keyed: Vec<(f64, V)> = cap
-            .iter()
-            .map(|p| {
+        if cap.len() >= 3 {
+            // Order the cut's points counter-clockwise about +n (its outward normal).
+            let m = cap
+                .iter()
+                .fold([0.0; 3], |s, p| [s[0] + p[0], s[1] + p[1], s[2] + p[2]]);
+            let m = m.map(|v| v / cap.len() as f64);
+            let helper = if n[0].abs() < 0.9 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            };
+            let u = cross(n, helper);
+            let un = dot(u, u).sqrt();
+            let u = u.map(|c| c / un);
+            let v = cross(n, u);
+            let keyed = &mut self.keyed;
+            keyed.clear();
+            keyed.extend(cap.iter().map(|p| {
                 let r = sub(*p, m);
                 (dot(r, v).atan2(dot(r, u)), *p)
-            })
-            .collect();
-        keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut ring: Vec<V> = Vec::with_capacity(keyed.len());
-        for (_, p) in keyed {
-            let near = |q: &V| dot(sub(p, *q), sub(p, *q)) <= tol * tol;
-            if !ring.last().is_some_and(near) {
-                ring.push(p);
+            }));
+            keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let near = |p: V, q: V| dot(sub(p, q), sub(p, q)) <= tol * tol;
+            let ring0 = out.verts.len();
+            for &(_, p) in keyed.iter() {
+                if out.verts.len() == ring0 || !near(p, out.verts[out.verts.len() - 1]) {
+                    out.verts.push(p);
+                }
+            }
+            while out.verts.len() - ring0 > 1
+                && near(out.verts[ring0], out.verts[out.verts.len() - 1])
+            {
+                out.verts.pop();
+            }
+            if out.open_face_len() >= 3 {
+                out.close_face();
+            } else {
+                out.drop_open_face();
             }
         }
-        while ring.len() > 1 && {
-            let (a, b) = (ring[0], ring[ring.len() - 1]);
-            dot(sub(a, b), sub(a, b)) <= tol * tol
-        } {
-            ring.pop();
-        }
-        if ring.len() >= 3 {
-            out.push(ring);
-        }
+        std::mem::swap(&mut self.poly, &mut self.out);
     }
-    out
-}
 
-/// The volume enclosed by outward counter-clockwise `faces`.
-fn volume(faces: &[Vec<V>]) -> f64 {
-    let mut v = 0.0;
-    for f in faces {
-        for i in 1..f.len() - 1 {
-            v += dot(f[0], cross(f[i], f[i + 1]));
+    /// The volume enclosed by the polyhedron.
+    fn volume(&self) -> f64 {
+        let mut v = 0.0;
+        for fi in 0..self.poly.faces() {
+            let f = self.poly.face(fi);
+            for i in 1..f.len() - 1 {
+                v += dot(f[0], cross(f[i], f[i + 1]));
+            }
         }
+        v / 6.0
     }
-    v / 6.0
+
+    /// The volume (m³) of the intersection of the cube of edge `h` centred at the origin
+    /// with the box of centre `c` (relative to the cube's centre), unit axes `axes` and
+    /// half extents `e`.
+    pub fn overlap(&mut self, h: f64, c: V, axes: [V; 3], e: V) -> f64 {
+        let a = 0.5 * h;
+        let mut cutting = [([0.0; 3], 0.0); 6];
+        let mut cuts = 0;
+        for (n, ea) in axes.iter().zip(e) {
+            let r = a * (n[0].abs() + n[1].abs() + n[2].abs());
+            let s = dot(*n, c);
+            // n·x ≤ s + ea and −n·x ≤ ea − s.
+            for (nn, d) in [(*n, s + ea), (n.map(|v| -v), ea - s)] {
+                if d <= -r {
+                    return 0.0;
+                }
+                if d < r {
+                    cutting[cuts] = (nn, d);
+                    cuts += 1;
+                }
+            }
+        }
+        if cuts == 0 {
+            return h * h * h;
+        }
+        let tol = 1e-12 * h;
+        self.cube(a);
+        for &(n, d) in &cutting[..cuts] {
+            self.clip(n, d, tol);
+            if self.poly.faces() < 4 {
+                return 0.0;
+            }
+        }
+        self.volume().clamp(0.0, h * h * h)
+    }
 }
 
 /// The volume (m³) of the intersection of the cube of edge `h` centred at the origin with
 /// the box of centre `c` (relative to the cube's centre), unit axes `axes` and half extents
-/// `e`.
+/// `e` ([`Clipper::overlap`] with working storage of its own).
 pub fn cube_box_overlap(h: f64, c: V, axes: [V; 3], e: V) -> f64 {
-    let a = 0.5 * h;
-    let mut cutting: Vec<(V, f64)> = Vec::with_capacity(6);
-    for (n, ea) in axes.iter().zip(e) {
-        let r = a * (n[0].abs() + n[1].abs() + n[2].abs());
-        let s = dot(*n, c);
-        // n·x ≤ s + ea and −n·x ≤ ea − s.
-        for (nn, d) in [(*n, s + ea), (n.map(|v| -v), ea - s)] {
-            if d <= -r {
-                return 0.0;
-            }
-            if d < r {
-                cutting.push((nn, d));
-            }
-        }
-    }
-    if cutting.is_empty() {
-        return h * h * h;
-    }
-    let tol = 1e-12 * h;
-    let mut poly = cube(a);
-    for (n, d) in cutting {
-        poly = clip(&poly, n, d, tol);
-        if poly.len() < 4 {
-            return 0.0;
-        }
-    }
-    volume(&poly).clamp(0.0, h * h * h)
+    Clipper::default().overlap(h, c, axes, e)
 }
 
 /// The occupancy of a grid.
@@ -178,12 +248,22 @@ pub struct Occupancy {
 
 /// The occupancy of `grid` by the active (non-passive) `boxes` at their final poses.
 pub fn occupancy(grid: &Grid, boxes: &[RuinBox]) -> Occupancy {
-    let len = grid.len();
+    occupancy_rows(grid, boxes, 0..grid.n[1])
+}
+
+/// The occupancy of the cells of `grid` in the rows `rows` (`j` in that range, every `i`
+/// and `k`): entry `idx − grid.index(0, rows.start, 0)` of each array is cell `idx`. Each
+/// cell's value is the same as in the whole grid's [`occupancy`] (the boxes are taken in
+/// the same order, the cells' centres from the same grid).
+pub fn occupancy_rows(grid: &Grid, boxes: &[RuinBox], rows: std::ops::Range<usize>) -> Occupancy {
+    let base = grid.index(0, rows.start, 0);
+    let len = rows.len() * grid.n[0] * grid.n[2];
     let mut fraction = vec![0.0f32; len];
     let mut best = vec![0.0f32; len];
     let mut owner = vec![u32::MAX; len];
     let h = grid.h;
     let cell_volume = h * h * h;
+    let mut clipper = Clipper::default();
     for (bi, b) in boxes.iter().enumerate() {
         if b.passive {
             continue;
@@ -208,17 +288,17 @@ pub fn occupancy(grid: &Grid, boxes: &[RuinBox]) -> Occupancy {
         else {
             continue;
         };
-        for j in j0..j1 {
+        for j in j0.max(rows.start)..j1.min(rows.end) {
             for i in i0..i1 {
                 for k in k0..k1 {
                     let cc = grid.centre([i, j, k]);
                     let rel = sub(b.pose.position, cc);
-                    let v = cube_box_overlap(h, rel, axes, b.half_extents);
+                    let v = clipper.overlap(h, rel, axes, b.half_extents);
                     if v <= 0.0 {
                         continue;
                     }
                     let f = (v / cell_volume) as f32;
-                    let idx = grid.index(i, j, k);
+                    let idx = grid.index(i, j, k) - base;
                     fraction[idx] = (fraction[idx] + f).min(1.0);
                     if f > best[idx] {
                         best[idx] = f;
@@ -271,6 +351,57 @@ mod tests {
         let v = cube_box_overlap(1.0, c, axes, [50.0, 50.0, 50.0]);
         let leg = 3f64.sqrt() * t;
         assert!((v - leg.powi(3) / 6.0).abs() < 1e-12, "{v}");
+    }
+
+    /// A box over x 0.5–2.0, y 0.5–3.5, z 0.5–1.5 m on a grid of 3 × 4 × 2 unit cells
+    /// from the origin: a cell's fraction is the product of its overlaps along the axes
+    /// (x 0.5, 1, 0; y 0.5, 1, 1, 0.5; z 0.5, 0.5). Rows 1–2 alone hold those cells' values
+    /// at their offset from row 1, and rows 0–1 and 2–3 laid end to end are the whole grid's
+    /// arrays, bit for bit.
+    #[test]
+    fn rows_of_the_grid_hold_the_cells_of_the_whole() {
+        let grid = Grid {
+            origin: [0.0; 3],
+            h: 1.0,
+            n: [3, 4, 2],
+        };
+        let pose = crate::physics::Pose::at([1.25, 2.0, 1.0]);
+        let b = RuinBox {
+            id: "Slab:1:1".parse().unwrap(),
+            passive: false,
+            pose0: pose,
+            pose,
+            half_extents: [0.75, 1.5, 0.5],
+        };
+        let boxes = [b];
+        let rows = occupancy_rows(&grid, &boxes, 1..3);
+        assert_eq!(rows.fraction.len(), 12);
+        let base = grid.index(0, 1, 0);
+        let at = |i, j, k| grid.index(i, j, k) - base;
+        for (i, j, k, want) in [
+            (1, 1, 0, 0.5),
+            (0, 2, 1, 0.25),
+            (1, 2, 1, 0.5),
+            (0, 1, 0, 0.25),
+            (2, 1, 0, 0.0),
+        ] {
+            let f = rows.fraction[at(i, j, k)] as f64;
+            assert!((f - want).abs() < 1e-6, "cell ({i}, {j}, {k}): {f}");
+            let owner = if want > 0.0 { 0 } else { u32::MAX };
+            assert_eq!(rows.owner[at(i, j, k)], owner);
+        }
+        let whole = occupancy(&grid, &boxes);
+        let (a, z) = (
+            occupancy_rows(&grid, &boxes, 0..2),
+            occupancy_rows(&grid, &boxes, 2..4),
+        );
+        let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&[a.fraction, z.fraction].concat()),
+            bits(&whole.fraction)
+        );
+        assert_eq!([a.owner, z.owner].concat(), whole.owner);
+        assert!((whole.fraction[grid.index(0, 0, 0)] as f64 - 0.125).abs() < 1e-6);
     }
 
     fn rotated(ax: f64, az: f64) -> [V; 3] {

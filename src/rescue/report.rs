@@ -18,7 +18,7 @@ use super::occupancy::occupancy;
 use super::pattern::{classify, slabs, Classified};
 use super::person::{Scaled, Sizes, LYING_M, SITTING_M, SOLID_FRACTION};
 use super::rubble::{height_map, rubble, Rubble, PLANNING_REACH_OVER_HEIGHT};
-use super::stories::{story_losses, StoryLoss};
+use super::stories::{standing_shelter, story_losses_from, StoryLoss};
 use super::voids::{find_voids, Field, Throat, Void};
 use super::Result;
 use crate::output::csv_text::field as csv_field;
@@ -89,25 +89,35 @@ pub fn analyse(ruin: &Ruin, sizes: Sizes) -> Result<Analysis> {
             names,
         });
     };
-    let field = Field::new(grid, occupancy(&grid, &ruin.boxes));
-    // Two threads: the access searches on one, the chambers and the story losses on the
-    // other. Each reads the field only and writes its own result, so the outcome is the
-    // same whatever the scheduling.
-    let (chambers, stories, (rescuer, camera, breach)) = std::thread::scope(|s| {
+    // The ruin's occupancy beside the standing building's (for the story losses).
+    let (occupied, before) = std::thread::scope(|s| {
+        let standing = s.spawn(|| standing_shelter(ruin, grid.h, sizes.cell_m));
+        let occupied = occupancy(&grid, &ruin.boxes);
+        let before = standing
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (occupied, before)
+    });
+    let before = before?;
+    let field = Field::new(grid, occupied);
+    // Two threads: the rescuer's and the camera's searches on one, the chambers, the
+    // story losses and the breach search on the other. Each reads the field only and
+    // writes its own result, so the outcome is the same whatever the scheduling.
+    let (chambers, stories, breach, (rescuer, camera)) = std::thread::scope(|s| {
         let searches = s.spawn(|| {
             let rescuer = access::routes(&field, scaled.rescuer);
             let camera = access::routes(&field, scaled.camera);
-            (rescuer, camera, access::breach_field(&field))
+            (rescuer, camera)
         });
         let chambers = find_voids(&field, &scaled);
-        let stories = story_losses(ruin, &field, sizes.cell_m);
+        let stories = story_losses_from(ruin, &field, &before);
+        let breach = access::breach_field(&field);
         let searches = searches
             .join()
             .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        (chambers, stories, searches)
+        (chambers, stories, breach, searches)
     });
     let (voids, _, throats) = chambers;
-    let stories = stories?;
     let slab_of = slabs(ruin);
     let reports = voids
         .into_iter()

@@ -28,8 +28,8 @@ pub fn cells(field: &Field, routes: &Routes, cell: usize) -> Vec<usize> {
     let g = &field.grid;
     let mut path = vec![cell];
     let mut c = cell;
-    while routes.from[c] != NO_SIDE {
-        let code = routes.from[c];
+    while routes.from(c) != NO_SIDE {
+        let code = routes.from(c);
         let axis = usize::from(code / 2);
         let mut q = g.ijk(c);
         // The step went towards + for odd codes: the cell before lies at −1.
