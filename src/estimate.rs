@@ -67,7 +67,7 @@ pub const K_BODY_S: f64 = 8.0e-6;
 /// Bullet cost per connection per solver iteration per substep, s.
 pub const K_CONN_S: f64 = 1.0e-7;
 /// Rescue analysis cost per grid cell, s.
-pub const K_CELL_S: f64 = 1.0e-6;
+pub const K_CELL_S: f64 = 0.5e-6;
 /// Debug build over release build, wall time.
 pub const DEBUG_FACTOR: f64 = 3.0;
 
