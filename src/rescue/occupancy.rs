@@ -365,7 +365,7 @@ mod tests {
             h: 1.0,
             n: [3, 4, 2],
         };
-        let pose = crate::physics::Pose::at([1.25, 2.0, 1.0]);
+        let pose = crate::bullet::Pose::at([1.25, 2.0, 1.0]);
         let b = RuinBox {
             id: "Slab:1:1".parse().unwrap(),
             passive: false,
