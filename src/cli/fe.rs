@@ -3,7 +3,8 @@
 //! `DIR/nodes.csv` (time and the six displacements of every node) and
 //! `DIR/reactions.csv` (the summed support reactions and the base shear of frames and
 //! walls at the same steps as `nodes.csv` after t = 0, [`fem2rbd::fe::reactions`]) and
-//! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, wall time),
+//! `DIR/fe_summary.json` (periods, damping, stop reason, step counts, peaks, the elements
+//! removed after they lost their load path, wall time),
 //! as one folder replaced as a whole ([`fem2rbd::output::location`]). All input and the
 //! output location are checked before anything runs. The exit code is non-zero when a
 //! step diverges (the outputs then hold the history up to the last converged step).
@@ -177,7 +178,7 @@ pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
             json!({"value": best.0, "node": best.1, "time": best.2}),
         );
     }
-    json!({
+    let mut summary = json!({
         "periods_s": result.modal.periods,
         "rayleigh": {"a0": result.damping.a0, "a1": result.damping.a1},
         "stop": stop,
@@ -187,7 +188,16 @@ pub fn summary(result: &RunResult, wall_s: f64) -> serde_json::Value {
         "records": h.time.len(),
         "peaks": peaks,
         "wall_time_s": wall_s,
-    })
+    });
+    // Elements removed after they lost their load path (absent when none was).
+    if !tr.removed.is_empty() {
+        summary["removed_elements"] = tr
+            .removed
+            .iter()
+            .map(|r| json!({"element": r.element, "time": r.time, "attempted": r.attempted, "message": r.reason}))
+            .collect();
+    }
+    summary
 }
 
 /// Runs `fe`.
@@ -291,6 +301,12 @@ pub fn run(args: &FeArgs, quiet: bool, allow_unusual: bool) -> Result<()> {
                 "fe: t = {:.3} s in {} steps ({} with fallbacks), {wall:.1} s",
                 result.transient.end_time, result.transient.steps, result.transient.fallback_steps
             ),
+        }
+        for r in &result.transient.removed {
+            eprintln!(
+                "fe: element {} removed at t = {:.4} s ({})",
+                r.element, r.time, r.reason
+            );
         }
     }
     if let StopReason::Diverged { time, reason, .. } = &result.transient.stop {

@@ -28,6 +28,10 @@ pub struct RunSummary {
     pub tc_detail: String,
     /// End time of the FE stage, s (`None` in the rigid mode).
     pub fe_end_s: Option<f64>,
+    /// Elements the FE removed after their state determination failed in a step no
+    /// fallback could make converge, in the order of removal (absent when none was).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fe_removed_elements: Vec<RemovedElementSummary>,
     /// Geometric scale of the model against its prototype (the model's `scale`; absent in
     /// run folders written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,6 +66,17 @@ pub struct RunSummary {
     /// `--allow-unusual` (absent when there are none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub unusual_values: Vec<String>,
+}
+
+/// One entry of `fe_removed_elements`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RemovedElementSummary {
+    /// The element's tag in the model.
+    pub element: i64,
+    /// Time of the last converged state, from which the FE went on without it, s.
+    pub t_s: f64,
+    /// The element's failure.
+    pub reason: String,
 }
 
 /// `floors_down` ([`crate::measure::floors_down`]).

@@ -43,7 +43,7 @@ pub mod write;
 
 use crate::bullet::{Pose, Velocity};
 use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
-use crate::fe::analysis::transient::{StepControl, StopReason as FeStop};
+use crate::fe::analysis::transient::{Removal, StepControl, StopReason as FeStop};
 use crate::fe::build::{BuildOptions, BuiltDomain};
 use crate::fe::capacity::{
     gravity_capacities_of, member_capacities_against, AxialLoads, MemberCapacity, PushSettings,
@@ -119,6 +119,9 @@ pub struct RunRecord {
     pub ruin_in_bullet: Duration,
     /// FE end time reached, s.
     pub fe_end_s: Option<f64>,
+    /// Elements the FE removed after they lost their load path, in the order of removal
+    /// (`summary.json` `fe_removed_elements`).
+    pub fe_removed: Vec<Removal>,
     /// The model's values outside their plausible ranges that the user accepted
     /// (`--allow-unusual`; [`crate::model::plausibility`]); `summary.json` lists them.
     pub unusual: Vec<String>,
@@ -523,6 +526,8 @@ pub(crate) struct FeStageOutput {
     pub built: BuiltDomain,
     /// Why the time history ended.
     pub stop: FeStop,
+    /// Elements removed during the time history.
+    pub removed: Vec<Removal>,
     /// The collapse criterion's event, if it was met.
     pub event: Option<CollapseEvent>,
     /// The FE nodal state (model node order) every 1/[`FRAME_RATE`] s from t = 0.
@@ -609,6 +614,7 @@ pub(crate) fn fe_stage(
     Ok(FeStageOutput {
         end_s: result.built.domain.time(),
         stop: result.transient.stop,
+        removed: result.transient.removed,
         built: result.built,
         event: monitor.event().copied(),
         frames,
@@ -903,6 +909,7 @@ pub(crate) fn run_perturbed(
         ruin_wall: Duration::ZERO,
         ruin_in_bullet: Duration::ZERO,
         fe_end_s: None,
+        fe_removed: Vec::new(),
         unusual: Vec::new(),
     };
     let geoms = geoms(bodies);
@@ -947,6 +954,7 @@ pub(crate) fn run_perturbed(
         let fe = fe_stage(&fe_settings, &inputs, prepared, progress)?;
         rec.fe_wall = fe.wall;
         rec.fe_end_s = Some(fe.end_s);
+        rec.fe_removed.clone_from(&fe.removed);
         let decision = collapse_decision(&fe);
         rec.tc_s = decision.tc_s;
         rec.tc_reason = decision.reason;

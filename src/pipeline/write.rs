@@ -22,8 +22,8 @@ use crate::output::run_folder::{
     check_history_times, parse_bodies, parse_history, parse_keyframes,
 };
 use crate::output::summary::{
-    r6, ConnectionCounts, FeFirstContact, FloorsDown, RuinMeasures, RuinStageSummary, RunSummary,
-    TcKind, WallTimes,
+    r6, ConnectionCounts, FeFirstContact, FloorsDown, RemovedElementSummary, RuinMeasures,
+    RuinStageSummary, RunSummary, TcKind, WallTimes,
 };
 use crate::output::AnimationError;
 use crate::ruin::connection::ConnectionState;
@@ -271,6 +271,15 @@ pub fn run_summary(rec: &RunRecord, timing: bool) -> RunSummary {
         tc_reason: reason,
         tc_detail: detail,
         fe_end_s: rec.fe_end_s.map(r6),
+        fe_removed_elements: rec
+            .fe_removed
+            .iter()
+            .map(|r| RemovedElementSummary {
+                element: r.element,
+                t_s: r6(r.time),
+                reason: r.reason.clone(),
+            })
+            .collect(),
         scale: Some(rec.scale),
         bodies: rec.bodies.iter().filter(|b| !b.passive).count(),
         foundation_blocks: rec.bodies.iter().filter(|b| b.passive).count(),

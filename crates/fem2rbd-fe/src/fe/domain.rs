@@ -16,7 +16,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::fe::element::Element;
+use crate::fe::element::{Element, RemovedElement};
 use crate::fe::element::{ElementError, EndDisplacements, Prepare, MAX_ELEMENT_NODES};
 
 /// Degrees of freedom per node.
@@ -91,6 +91,12 @@ pub enum DomainError {
     /// Two elements share a tag.
     #[error("element {0}: duplicate element tag")]
     DuplicateElement(i64),
+    /// An element index is out of range.
+    #[error("element index {0} out of range")]
+    ElementIndex(usize),
+    /// An element removed twice.
+    #[error("element {0}: already removed")]
+    AlreadyRemoved(i64),
 }
 
 /// Nodes, supports, masses, elements, loads and nodal response of one model.
@@ -99,6 +105,10 @@ pub struct Domain {
     nodes: Vec<Node>,
     node_by_tag: BTreeMap<i64, usize>,
     fixed: Vec<[bool; NDF]>,
+    /// DOFs held at their current value because no element is left at the node and the
+    /// DOF has no mass ([`Domain::remove_element`]): out of the equations like a fixed
+    /// DOF, but no support (no reaction).
+    held: Vec<[bool; NDF]>,
     mass: Vec<[f64; NDF]>,
     elements: Vec<Box<dyn Element>>,
     element_by_tag: BTreeMap<i64, usize>,
@@ -152,6 +162,7 @@ impl Domain {
         self.nodes.push(Node { tag, coords });
         self.node_by_tag.insert(tag, i);
         self.fixed.push([false; NDF]);
+        self.held.push([false; NDF]);
         self.mass.push([0.0; NDF]);
         self.constant_load.push([0.0; NDF]);
         self.pattern_load.push([0.0; NDF]);
@@ -254,6 +265,55 @@ impl Domain {
         self.element_by_tag.get(&tag).copied()
     }
 
+    /// Removes element `index` from the analysis at the current time (OpenSees
+    /// `remove element`): it is replaced by a [`RemovedElement`] with the same tag and
+    /// nodes, which has no force and no stiffness. The nodal masses stay as they are.
+    /// Returns the indices of the element's nodes that no element holds any more.
+    ///
+    /// A node without elements keeps its translational mass and moves under its loads
+    /// (gravity) and the ground motion: free flight, which Newmark's effective stiffness
+    /// (M/(βΔt²) on the diagonal) solves without any stiffness. Its DOFs without mass
+    /// (the rotations, as the models lump no rotational inertia) would be singular:
+    /// they are held at their current value and leave the equations, like a fixed DOF
+    /// but without a reaction ([`Domain::held`]). The numbering is then invalidated: an
+    /// analysis goes on with a new one ([`Domain::number_dofs`]).
+    ///
+    /// Error: `index` out of range, or the element already removed.
+    pub fn remove_element(&mut self, index: usize) -> Result<Vec<usize>, DomainError> {
+        let Some(el) = self.elements.get(index) else {
+            return Err(DomainError::ElementIndex(index));
+        };
+        if el.removed_at().is_some() {
+            return Err(DomainError::AlreadyRemoved(el.tag()));
+        }
+        let (tag, nodes) = (el.tag(), el.nodes().to_vec());
+        self.elements[index] = Box::new(RemovedElement::new(tag, &nodes, self.time));
+        let held_by_an_element = |node: usize| {
+            self.elements
+                .iter()
+                .any(|e| e.removed_at().is_none() && e.nodes().contains(&node))
+        };
+        let orphans: Vec<usize> = nodes
+            .into_iter()
+            .filter(|&n| !held_by_an_element(n))
+            .collect();
+        for &n in &orphans {
+            for k in 0..NDF {
+                if !self.fixed[n][k] && self.mass[n][k] == 0.0 && !self.held[n][k] {
+                    self.held[n][k] = true;
+                    self.eq.clear();
+                }
+            }
+        }
+        Ok(orphans)
+    }
+
+    /// DOFs of a node held at their value since no element is left there
+    /// ([`Domain::remove_element`]).
+    pub fn held(&self, node: usize) -> [bool; NDF] {
+        self.held[node]
+    }
+
     /// Adds a nodal load (N, N·m) to the reference load pattern (scaled by λ).
     pub fn add_nodal_load(&mut self, node: usize, load: [f64; NDF]) -> Result<(), DomainError> {
         self.check_node(node)?;
@@ -343,7 +403,7 @@ impl Domain {
         let mut next = 0;
         for &v in &order {
             for k in 0..NDF {
-                if !self.fixed[v][k] {
+                if !self.fixed[v][k] && !self.held[v][k] {
                     self.eq[v][k] = next;
                     next += 1;
                 }

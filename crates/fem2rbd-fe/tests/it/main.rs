@@ -47,6 +47,7 @@ mod fe {
         mod frame3;
         mod lanczos;
         mod modal;
+        mod removal;
         mod solver;
         mod static_analysis;
         mod support;

@@ -48,8 +48,16 @@ pub struct ConvergenceTest {
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum IterationFailure {
     /// An element's state determination failed.
+    #[error("element {element}: {reason}")]
+    Element {
+        /// The element's tag.
+        element: i64,
+        /// What went wrong.
+        reason: String,
+    },
+    /// A displacement-control step cannot move its control DOF.
     #[error("{0}")]
-    Element(String),
+    Control(String),
     /// The linear solve failed.
     #[error("linear solver: {0}")]
     Solver(#[from] SolverError),
@@ -68,7 +76,10 @@ pub enum IterationFailure {
 
 impl From<ElementError> for IterationFailure {
     fn from(e: ElementError) -> Self {
-        IterationFailure::Element(e.to_string())
+        IterationFailure::Element {
+            element: e.element,
+            reason: e.reason,
+        }
     }
 }
 

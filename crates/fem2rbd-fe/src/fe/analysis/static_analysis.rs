@@ -215,7 +215,7 @@ fn displacement_step(
         du_p.copy_from_slice(&p_ref);
         ws.lu.solve(&ws.pattern, &mut du_p)?;
         if du_p[c].abs() < f64::MIN_POSITIVE {
-            return Err(IterationFailure::Element(
+            return Err(IterationFailure::Control(
                 "displacement control: the reference load does not move the control DOF".into(),
             ));
         }
@@ -303,7 +303,7 @@ fn controlled_step(
     domain.reference_load(&mut problem.du_p);
     ws.lu.solve(&ws.pattern, &mut problem.du_p)?;
     if problem.du_p[c].abs() < f64::MIN_POSITIVE {
-        return Err(IterationFailure::Element(
+        return Err(IterationFailure::Control(
             "displacement control: the reference load does not move the control DOF".into(),
         ));
     }

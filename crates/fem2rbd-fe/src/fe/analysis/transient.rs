@@ -17,8 +17,19 @@
 //! algorithm at Δt/1, then in 2, 4, 8, 16 sub-steps (OpenSees-style; the reference
 //! script `run_frame3.py`). Sub-steps that converged stay committed (elements keep one
 //! committed state only), and the remaining interval up to the step's end time is
-//! covered by the next attempt, so the time grid is kept. If every attempt fails the
-//! run stops cleanly: the domain keeps the last converged state and the result says
+//! covered by the next attempt, so the time grid is kept.
+//!
+//! Element removal (OpenSees `remove element` after a failure criterion; MSC.Marc's
+//! element deactivation in the paper's FE): if every attempt fails and an attempt failed
+//! in an element's state determination (a force-based element that finds no compatible
+//! section forces even after subdividing Δv, the last of those elements), that element
+//! has lost its load path: it is removed ([`Domain::remove_element`]: no force, no
+//! stiffness, its mass stays lumped on its nodes), the integrator is set up again for
+//! the domain without it (K_initial of the damping, numbering when a node is left
+//! without elements) and the step is repeated from the last converged state.
+//! [`TransientResult::removed`] lists the removals. If every attempt fails without an
+//! element failure (or removal is off, [`TransientSettings::remove_failed_elements`]),
+//! the run stops cleanly: the domain keeps the last converged state and the result says
 //! when and why.
 
 use super::algorithm::{
@@ -33,8 +44,8 @@ use crate::fe::linalg::{SparsePattern, StiffnessKind};
 /// Which nodal results are kept, and how often.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RecordSettings {
-    /// Record every k-th step (k ≥ 1); the initial state and the final state are
-    /// always recorded.
+    /// Record every k-th step (k ≥ 1); the initial state, the state from which the run
+    /// goes on without a removed element and the final state are always recorded.
     pub every: usize,
     /// Node indices to record; `None` = all nodes.
     pub nodes: Option<Vec<usize>>,
@@ -63,6 +74,10 @@ pub struct TransientSettings {
     pub fallback_test: ConvergenceTest,
     /// Step subdivisions tried in order (1, 2, 4, 8, 16).
     pub subdivisions: Vec<usize>,
+    /// Remove an element whose state determination failed in a step that no fallback
+    /// could make converge, and repeat the step (module docs); `false`: such a step
+    /// ends the run ([`StopReason::Diverged`]).
+    pub remove_failed_elements: bool,
     /// What to record.
     pub record: RecordSettings,
 }
@@ -90,6 +105,7 @@ impl Default for TransientSettings {
                 max_iter: 200,
             },
             subdivisions: vec![1, 2, 4, 8, 16],
+            remove_failed_elements: true,
             record: RecordSettings {
                 every: 1,
                 nodes: None,
@@ -143,6 +159,19 @@ pub enum StopReason {
     },
 }
 
+/// An element removed during the run (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Removal {
+    /// The element's tag.
+    pub element: i64,
+    /// Time of the last converged state, from which the step was repeated without it (s).
+    pub time: f64,
+    /// End time of the step that failed (s).
+    pub attempted: f64,
+    /// The element's failure.
+    pub reason: String,
+}
+
 /// Recorded nodal histories (relative to the ground), committed states only.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct History {
@@ -194,6 +223,18 @@ pub struct TransientResult {
     pub fallback_steps: usize,
     /// Time of the final (committed) state (s).
     pub end_time: f64,
+    /// Elements removed, in the order of removal.
+    pub removed: Vec<Removal>,
+}
+
+/// A step that no attempt could make converge.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepFailure {
+    /// The last attempt's failure.
+    pub last: IterationFailure,
+    /// The element whose state determination failed in the latest attempt that failed
+    /// that way (tag and reason), if any did.
+    pub element: Option<(i64, String)>,
 }
 
 /// Newmark integrator state bound to one domain (matrices reused across steps).
@@ -420,11 +461,22 @@ impl Newmark {
         target: f64,
         ground: &dyn Fn(f64) -> [f64; 3],
         settings: &TransientSettings,
-    ) -> Result<(usize, bool), IterationFailure> {
+    ) -> Result<(usize, bool), StepFailure> {
         let h = target - domain.time();
+        let mut element = None;
+        let mut note = |e: IterationFailure| {
+            if let IterationFailure::Element {
+                element: tag,
+                reason,
+            } = &e
+            {
+                element = Some((*tag, reason.clone()));
+            }
+            e
+        };
         let mut last = match self.attempt(domain, h, ground, settings.algorithm, settings.test) {
             Ok(it) => return Ok((it, false)),
-            Err(e) => e,
+            Err(e) => note(e),
         };
         let eps = 1e-9 * h.abs().max(1e-300);
         for &sub in &settings.subdivisions {
@@ -441,7 +493,7 @@ impl Newmark {
                     match self.attempt(domain, step, ground, alg, settings.fallback_test) {
                         Ok(it) => ok = Some(it),
                         Err(e) => {
-                            last = e;
+                            last = note(e);
                             ok = None;
                             break;
                         }
@@ -453,7 +505,7 @@ impl Newmark {
                 }
             }
         }
-        Err(last)
+        Err(StepFailure { last, element })
     }
 }
 
@@ -489,6 +541,7 @@ pub fn run_transient(
         None => (0..domain.nodes().len()).collect(),
     };
     let mut integrator = Newmark::new(domain, damping, settings.gamma, settings.beta)?;
+    let mut removed = Vec::new();
     let mut history = History {
         nodes,
         record_damage: settings.record.element_damage,
@@ -524,11 +577,30 @@ pub fn run_transient(
                     break;
                 }
             }
+            Err(StepFailure {
+                element: Some((tag, reason)),
+                ..
+            }) if settings.remove_failed_elements => {
+                let index = domain.element_index(tag).ok_or_else(|| {
+                    AnalysisError::Input(format!("failed element {tag} is not in the domain"))
+                })?;
+                domain
+                    .remove_element(index)
+                    .map_err(|e| AnalysisError::Input(format!("removing a failed element: {e}")))?;
+                history.push(domain);
+                removed.push(Removal {
+                    element: tag,
+                    time: domain.time(),
+                    attempted: target,
+                    reason,
+                });
+                integrator = Newmark::new(domain, damping, settings.gamma, settings.beta)?;
+            }
             Err(e) => {
                 stop = StopReason::Diverged {
                     time: domain.time(),
                     attempted: target,
-                    reason: e.to_string(),
+                    reason: e.last.to_string(),
                 };
                 break;
             }
@@ -541,5 +613,6 @@ pub fn run_transient(
         steps,
         fallback_steps,
         end_time: domain.time(),
+        removed,
     })
 }

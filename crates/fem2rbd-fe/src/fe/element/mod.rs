@@ -154,6 +154,11 @@ pub trait Element: std::fmt::Debug + Send + Sync {
     fn sections(&self) -> Vec<(f64, &dyn crate::fe::section::Section)> {
         Vec::new()
     }
+    /// When the element was removed from the analysis (s), `None` while it takes part
+    /// ([`removed::RemovedElement`]).
+    fn removed_at(&self) -> Option<f64> {
+        None
+    }
 }
 
 pub mod beam;
@@ -161,8 +166,10 @@ pub mod disp_beam;
 pub mod elastic_beam;
 pub mod force_beam;
 pub mod quadrature;
+pub mod removed;
 
 pub use beam::{BeamColumnSpec, Formulation, SectionState};
 pub use disp_beam::DispBeam3d;
 pub use elastic_beam::{ElasticBeam3d, ElasticProps};
 pub use force_beam::{ForceBeam3d, ForceBeamOptions};
+pub use removed::RemovedElement;

@@ -37,9 +37,11 @@ fn ground(t: f64) -> [f64; 3] {
 
 fn run(mode: Option<FailMode>, observed: &mut Vec<StepInfo>) -> (TransientResult, Domain) {
     let mut d = column(mode);
+    // Without element removal: the failing element's step is the end of the run.
     let s = TransientSettings {
         dt: 0.01,
         t_end: 3.0,
+        remove_failed_elements: false,
         ..Default::default()
     };
     let res = run_transient(&mut d, None, &ground, &s, &mut |info, _| {
