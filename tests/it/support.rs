@@ -219,3 +219,15 @@ pub fn ruin_bits(r: &fem2rbd::ruin::stage::RuinResult) -> Vec<u64> {
     }
     v
 }
+
+/// Runs `cmd`, asserts that it succeeded (its stderr in the message) and returns its
+/// standard output.
+pub fn stdout_of(cmd: &mut std::process::Command) -> Vec<u8> {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}

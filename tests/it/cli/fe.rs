@@ -3,7 +3,7 @@
 //! node 312 ux/uy = +0.457/−1.740 mm), the summary, and bad input refused with nothing
 //! written.
 
-use crate::support::{read_csv, root};
+use crate::support::{read_csv, root, stdout_of};
 use std::process::Command;
 
 fn bin() -> Command {
@@ -20,18 +20,13 @@ fn gm(dir: &str, file: &str, pga: f64) -> String {
 /// `fem2rbd modal ARGS` on the frame3 stand-in: its table rows (split on white space) and
 /// the whole text.
 fn frame3_modal(args: &[&str]) -> (Vec<Vec<String>>, String) {
-    let out = bin()
-        .arg("modal")
-        .args(args)
-        .arg(root().join("data/frame3-standin/model.toml"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).unwrap();
+    let text = String::from_utf8(stdout_of(
+        bin()
+            .arg("modal")
+            .args(args)
+            .arg(root().join("data/frame3-standin/model.toml")),
+    ))
+    .unwrap();
     let rows = text
         .lines()
         .skip(1)
@@ -41,24 +36,32 @@ fn frame3_modal(args: &[&str]) -> (Vec<Vec<String>>, String) {
     (rows, text)
 }
 
-#[test]
-fn modal_lowest_prints_frame3_periods_and_characters() {
-    let (rows, text) = frame3_modal(&["--modes", "4", "--variant", "force", "--lowest"]);
-    assert_eq!(rows.len(), 4, "{text}");
-    // mode, index, T, f, MX, MY, MZ, MRZ, character
-    let expect = [
-        ("1", "0.31600", "X"),
-        ("2", "0.31599", "Y"),
-        ("3", "0.18349", "vertical"),
-        ("4", "0.18060", "torsion"),
-    ];
-    for (r, (i, t, c)) in rows.iter().zip(expect) {
+/// The modal table's rows are exactly `expect`: (mode index, period in s, character) —
+/// columns mode, index, T, f, MX, MY, MZ, MRZ, character.
+fn assert_rows(rows: &[Vec<String>], text: &str, expect: &[(&str, &str, &str)]) {
+    assert_eq!(rows.len(), expect.len(), "{text}");
+    for (r, &(i, t, c)) in rows.iter().zip(expect) {
         assert_eq!(
             (r[1].as_str(), r[2].as_str(), r[8].as_str()),
             (i, t, c),
             "{text}"
         );
     }
+}
+
+#[test]
+fn modal_lowest_prints_frame3_periods_and_characters() {
+    let (rows, text) = frame3_modal(&["--modes", "4", "--variant", "force", "--lowest"]);
+    assert_rows(
+        &rows,
+        &text,
+        &[
+            ("1", "0.31600", "X"),
+            ("2", "0.31599", "Y"),
+            ("3", "0.18349", "vertical"),
+            ("4", "0.18060", "torsion"),
+        ],
+    );
     // effective mass ratio of the X mode in X; of the torsion mode in torsion
     assert_eq!(rows[0][4], "0.873", "{text}");
     assert_eq!(rows[3][7], "0.877", "{text}");
@@ -87,20 +90,16 @@ fn modal_lowest_prints_frame3_periods_and_characters() {
 #[test]
 fn modal_by_default_lists_frame3_building_modes_and_what_it_skips() {
     let (rows, text) = frame3_modal(&["--modes", "4", "--variant", "force"]);
-    assert_eq!(rows.len(), 4, "{text}");
-    let expect = [
-        ("1", "0.31600", "X"),
-        ("2", "0.31599", "Y"),
-        ("4", "0.18060", "torsion"),
-        ("7", "0.10547", "X"),
-    ];
-    for (r, (i, t, c)) in rows.iter().zip(expect) {
-        assert_eq!(
-            (r[1].as_str(), r[2].as_str(), r[8].as_str()),
-            (i, t, c),
-            "{text}"
-        );
-    }
+    assert_rows(
+        &rows,
+        &text,
+        &[
+            ("1", "0.31600", "X"),
+            ("2", "0.31599", "Y"),
+            ("4", "0.18060", "torsion"),
+            ("7", "0.10547", "X"),
+        ],
+    );
     assert!(
         text.contains("the building's modes: the 4 lowest with at least 1 % effective mass"),
         "{text}"
@@ -147,18 +146,13 @@ fn modal_lists_a_cantilevers_closed_form_modes_and_their_whole_mass() {
     )
     .unwrap();
     let modal = |extra: &[&str]| -> serde_json::Value {
-        let out = bin()
-            .args(["modal", "--modes", "3", "--json"])
-            .args(extra)
-            .arg(&model)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        serde_json::from_slice(&stdout_of(
+            bin()
+                .args(["modal", "--modes", "3", "--json"])
+                .args(extra)
+                .arg(&model),
+        ))
+        .unwrap()
     };
     let v = modal(&["--lowest"]);
     assert_eq!(v["selection"], "lowest");
@@ -204,13 +198,7 @@ fn modal_json_gives_the_table_at_full_precision() {
         if json {
             c.arg("--json");
         }
-        let out = c.output().unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8(out.stdout).unwrap()
+        String::from_utf8(stdout_of(&mut c)).unwrap()
     };
     let table = run(false);
     let v: serde_json::Value = serde_json::from_str(&run(true)).unwrap();
