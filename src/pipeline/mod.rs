@@ -37,6 +37,7 @@
 pub mod ensemble;
 pub mod error;
 pub mod preset;
+pub mod ruin_stage;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
@@ -55,16 +56,14 @@ use crate::mapping::{self, MapOptions};
 use crate::model::{ElementKind, Model};
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::ruin::connection::GroupStrength;
-use crate::ruin::ground::GroundSpec;
 use crate::ruin::groups::group_strengths_for;
 use crate::ruin::monitor::FeDamage;
-use crate::ruin::stage::{
-    to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings, StopRule,
-};
+use crate::ruin::stage::{to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings};
 use crate::ruin::BodyGeom;
 use error::Result;
 pub use error::{PipelineError, ScenarioError};
 use nalgebra::UnitQuaternion;
+pub use ruin_stage::{ruin_stage, stage_settings, RuinStageSettings};
 pub use scenario::{ConnectionModel, Mode, Scenario, VelocityHandoff};
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -204,65 +203,6 @@ pub fn geoms(bodies: &[Body]) -> Vec<BodyGeom> {
             }
         })
         .collect()
-}
-
-/// The ruin stage's settings of a scenario: its resolved `[physics]` values
-/// ([`scenario::PhysicsTable::resolve`]) mapped onto the stage's settings, field by field
-/// (the ground damping, which needs the model, is set by the stage's builder).
-pub fn stage_settings(sc: &Scenario) -> StageSettings {
-    let mut s = StageSettings::bcb();
-    let p = &sc.physics;
-    s.ruin.steps_per_second = p.steps_per_second;
-    s.ruin.solver_iterations = p.solver_iterations;
-    s.body.friction = p.friction;
-    s.body.restitution = p.restitution;
-    s.body.linear_damping = p.linear_damping;
-    s.body.angular_damping = p.angular_damping;
-    s.ruin.spring_correction = p.spring_correction;
-    s.ruin.linear_correction = p.linear_correction;
-    s.ruin.bending_correction = p.bending_correction;
-    s.ruin.spring_damping = p.spring_damping;
-    s.ruin.spring_limit_if_needed = p.spring_limit;
-    s.ruin.angular_spring = p.angular_spring;
-    s.world.solver.split_impulse = p.split_impulse;
-    s.world.solver.split_impulse_penetration_threshold = p.split_impulse_threshold_m;
-    s.world.solver.erp2 = (p.contact_erp * p.erp_scale()).min(1.0);
-    s.world.solver.erp = (p.joint_erp * p.erp_scale()).min(1.0);
-    s.body.margin = p.margin_m;
-    s.body.margin_max_share = p.margin_max_share;
-    s.plastic.spring_rest_at_onset = p.spring_rest_at_plastic_onset;
-    s.plastic.hinge_keeps_rotation = p.hinge_keeps_rotation;
-    s.plastic.hinge_return_mapping = p.hinge_return_mapping;
-    s.plastic.spring_cap_per_body = p.spring_cap_per_body;
-    s.plastic.spring_cap_steps_per_second = p.spring_cap_steps_per_second;
-    s.monitor_every_substep = p.monitor_every_substep;
-    s.touch.pairs = p.connected_pairs_touch;
-    s.touch.ground_under_connected_bases = p.ground_under_connected_bases;
-    s.ruin.search.search_distance = p.search_distance_m;
-    s.joints.rows = match p.joint_rows {
-        scenario::JointRowsSpec::Locked => crate::ruin::stage::JointRows::Locked,
-        scenario::JointRowsSpec::Member => crate::ruin::stage::JointRows::Member {
-            modulus_pa: p.joint_modulus_pa,
-            damping_ratio: p.joint_damping_ratio,
-        },
-    };
-    s.body.disable_deactivation = !p.sleeping;
-    s.joints.warmstart = p.joint_warmstart;
-    s.joints.iterations = p.joint_iterations;
-    s.joints.solve = match p.joint_solve {
-        scenario::JointSolveSpec::Pgs => crate::bullet::JointSolve::Pgs,
-        scenario::JointSolveSpec::Direct => crate::bullet::JointSolve::Direct,
-    };
-    s.joints.solve_regularisation = p.joint_solve_regularisation;
-    s.ruin.axial_rows = p.axial_rows;
-    s.ruin.hinge_end = p.hinge_end;
-    s.ruin.search.joints = p.joints;
-    s.speed.sweep = p.sweep.sweep();
-    if let Some(n) = sc.threads {
-        s.speed.solver_threads = n;
-    }
-    s.traces = sc.traces.clone();
-    s
 }
 
 fn shifted(p: &Pose, d: [f64; 3]) -> Pose {
@@ -790,77 +730,6 @@ pub(crate) struct FeStrengths {
     pub gravity_caps: BTreeMap<u32, MemberCapacity>,
 }
 
-/// The ruin stage: the Bullet world of `input` (start poses, velocities, connection
-/// states) on the moving ground, stepped until rest or the time limit. A blown-up stage
-/// (a non-finite pose) is an error naming the body.
-pub fn ruin_stage(
-    sc: &Scenario,
-    inputs: &Inputs,
-    input: &StageInput,
-    progress: &dyn Progress,
-) -> Result<(RuinResult, Duration)> {
-    let limit = time_limit(sc, &inputs.motion);
-    let stop = StopRule {
-        max_time_s: limit,
-        rest: sc.physics.stop_at_rest.then_some(sc.physics.rest),
-    };
-    let t0 = Instant::now();
-    progress.stage("ruin", input.start_time_s, limit);
-    let mut stage = build_stage(sc, inputs, input, &|_| ())?;
-    let result = stage
-        .run_with(&stop, &mut |f| {
-            let c = f.counts;
-            progress.ruin(f.time_s, limit, (c.elastic, c.plastic, c.broken));
-        })
-        .map_err(|error| PipelineError::Ruin {
-            stage: "running the ruin stage",
-            error: Box::new(error),
-        })?;
-    progress.done();
-    for (path, text) in [stage.axial_trace_report(), stage.body_trace_report()]
-        .into_iter()
-        .flatten()
-    {
-        crate::output::write_atomic(&path, text.as_bytes())?;
-    }
-    check_finite(&result, &inputs.bodies, sc)?;
-    Ok((result, t0.elapsed()))
-}
-
-/// The ruin stage of `input` on the scenario's moving ground (its top at the foundation
-/// blocks' tops) with the scenario's settings ([`stage_settings`], the ground damping of
-/// `inputs`), `adjust` applied last.
-fn build_stage(
-    sc: &Scenario,
-    inputs: &Inputs,
-    input: &StageInput,
-    adjust: &dyn Fn(&mut StageSettings),
-) -> Result<RuinStage> {
-    let base_z = inputs
-        .bodies
-        .iter()
-        .filter(|b| b.passive)
-        .map(|b| b.pose0.position[2] + b.half_extents[2])
-        .reduce(f64::max);
-    let mut settings = StageSettings {
-        ground_damping_per_s: inputs.ground_damping_per_s,
-        ..stage_settings(sc)
-    };
-    adjust(&mut settings);
-    RuinStage::build(
-        input,
-        GroundSpec {
-            top_z: base_z,
-            ..GroundSpec::moving(inputs.ground.clone())
-        },
-        &settings,
-    )
-    .map_err(|error| PipelineError::Ruin {
-        stage: "building the ruin stage",
-        error: Box::new(error),
-    })
-}
-
 /// The rigid-only ruin stage of `sc` exactly as [`run`] builds it (BCB's Formula-Assistant
 /// connections, every body at its start pose at t = 0, the scenario's moving ground), with
 /// `adjust` applied to its settings, not yet run: for checks that drive the same stage in
@@ -879,7 +748,7 @@ pub fn rigid_only_stage(sc: &Scenario, adjust: &dyn Fn(&mut StageSettings)) -> R
     let geoms = geoms(&inputs.bodies);
     let masses: Vec<f64> = inputs.bodies.iter().map(|b| b.mass_kg).collect();
     let start = StageInput::rigid_only(&geoms, &masses, &inputs.groups);
-    build_stage(sc, &inputs, &start, adjust)
+    ruin_stage::build_stage(&RuinStageSettings::of(sc, &inputs), &inputs, &start, adjust)
 }
 
 /// As [`run`], with the start of the ruin stage perturbed as an ensemble member
@@ -1019,7 +888,12 @@ pub(crate) fn run_perturbed(
         start.start_velocities = velocities;
         start.start_time_s = fe.end_s;
     }
-    let (result, wall) = ruin_stage(sc, &inputs, &start, progress)?;
+    let (result, wall) = ruin_stage(
+        &RuinStageSettings::of(sc, &inputs),
+        &inputs,
+        &start,
+        progress,
+    )?;
     rec.ruin_wall = wall;
     rec.ruin_in_bullet = result.wall.in_bullet;
     rec.final_poses = result.final_poses.clone();
@@ -1052,40 +926,6 @@ fn pair_damage(
         }
     }
     out
-}
-
-/// A ruin stage that blew up (a non-finite pose) is an error naming the first body, the
-/// time and the settings that bear on it, instead of a NaN found later in the written
-/// tables ("cannot build collapse.glb: keyframes.csv:26: column x: NaN").
-fn check_finite(result: &RuinResult, bodies: &[Body], sc: &Scenario) -> Result<()> {
-    let bad = |p: &Pose| {
-        !(p.position.iter().all(|v| v.is_finite()) && p.orientation.iter().all(|v| v.is_finite()))
-    };
-    for f in &result.frames {
-        if let Some(i) = f.poses.iter().position(bad) {
-            return Err(PipelineError::BlewUp {
-                scenario: sc.path.clone(),
-                message: format!(
-                    "body {} has a non-finite pose at t = {:.4} s \
-                     (physics.steps_per_second = {}, physics.experimental.spring_correction = {}, \
-                     spring_damping = {}; a higher substep rate or spring_limit = true \
-                     may help)",
-                    bodies[i].id,
-                    f.time_s,
-                    sc.physics.steps_per_second,
-                    sc.physics.spring_correction,
-                    sc.physics.spring_damping
-                ),
-            });
-        }
-    }
-    if let Some(i) = result.final_poses.iter().position(bad) {
-        return Err(PipelineError::BlewUp {
-            scenario: sc.path.clone(),
-            message: format!("body {} has a non-finite final pose", bodies[i].id),
-        });
-    }
-    Ok(())
 }
 
 /// FE damage of every beam-column and shell element (model tag → flag) in a built
