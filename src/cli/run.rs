@@ -40,7 +40,11 @@ pub struct RunArgs {
     pub threads: Option<usize>,
     /// Write the ruin stage's axial-row trace to FILE (sign changes of the connections'
     /// axial offsets and the kicks after them; src/ruin/axial.rs).
-    #[arg(long, value_name = "FILE")]
+    #[arg(
+        long,
+        value_name = "FILE",
+        help_heading = "Diagnostics: ruin-stage traces"
+    )]
     pub trace_axial: Option<PathBuf>,
     /// A kick in the axial trace: a body's centre velocity changing by more than this in
     /// one substep, m/s.
@@ -48,21 +52,41 @@ pub struct RunArgs {
         long,
         value_name = "MPS",
         default_value_t = 0.1,
-        requires = "trace_axial"
+        requires = "trace_axial",
+        help_heading = "Diagnostics: ruin-stage traces"
     )]
     pub trace_axial_kick: f64,
     /// Trace the substeps of the body NAME (`bodies.csv` name, e.g. Column:3:34) into
     /// --trace-body-file (src/ruin/body_trace.rs).
-    #[arg(long, value_name = "NAME", requires = "trace_body_file")]
+    #[arg(
+        long,
+        value_name = "NAME",
+        requires = "trace_body_file",
+        help_heading = "Diagnostics: ruin-stage traces"
+    )]
     pub trace_body: Option<String>,
     /// The file of --trace-body.
-    #[arg(long, value_name = "FILE", requires = "trace_body")]
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "trace_body",
+        help_heading = "Diagnostics: ruin-stage traces"
+    )]
     pub trace_body_file: Option<PathBuf>,
     /// The traces start at this time, s.
-    #[arg(long, value_name = "S", default_value_t = 0.0)]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 0.0,
+        help_heading = "Diagnostics: ruin-stage traces"
+    )]
     pub trace_from: f64,
     /// The body trace ends at this time, s (default: the end of the run).
-    #[arg(long, value_name = "S")]
+    #[arg(
+        long,
+        value_name = "S",
+        help_heading = "Diagnostics: ruin-stage traces"
+    )]
     pub trace_to: Option<f64>,
     /// Print the time and memory estimate of one run (docs/reliability.md) and exit
     /// without running.
