@@ -19,16 +19,8 @@
 //! model gets passive foundation blocks under the base columns and walls
 //! ([`crate::mapping::foundation`]).
 //!
-//! **FE damage → connection start state.** With FE-derived connections (`[physics]
-//! connections = "fe"`, the hybrid default; [`strengths`], docs/handoff.md) every
-//! connection starts elastic with the residual capacities at Tc and broken only where a
-//! section it cuts has lost its load path (for a wall body: where its shell's section
-//! lost it — concrete crushed through the thickness or a bar layer ruptured). With
-//! BCB's (`"formula"`): a connection's damage is the worse of the FE damage flags
-//! ([`crate::fe::element::ElementDamage`]) of the two beam-column or shell elements it
-//! joins
-//! (ruptured → broken, yielded → plastic, else elastic; panels and foundations count as
-//! intact) — [`crate::ruin::monitor::start_state_from_damage`].
+//! **FE damage → connection start state**: [`ruin_start`] (FE-derived strengths and the
+//! shells' lost load paths, or BCB's per-pair FE damage flags).
 //!
 //! The ground motion of the FE stage is the record's acceleration; the ground of the
 //! mapping and of the ruin stage is its integral on the FE step with BCB-style zero-end
@@ -38,6 +30,7 @@ pub mod ensemble;
 pub mod error;
 pub mod preset;
 pub mod ruin_stage;
+pub(crate) mod ruin_start;
 pub mod scenario;
 pub mod strengths;
 pub mod write;
@@ -46,26 +39,22 @@ use crate::bullet::{Pose, Velocity};
 use crate::collapse::{CollapseEvent, CollapseMonitor, Trigger};
 use crate::fe::analysis::transient::{Removal, StepControl, StopReason as FeStop};
 use crate::fe::build::{BuildOptions, BuiltDomain};
-use crate::fe::capacity::{
-    gravity_capacities_of, member_capacities_against, AxialLoads, MemberCapacity, PushSettings,
-};
 use crate::fe::domain::Domain;
 use crate::fe::run::{prepare, run_prepared, Prepared, RunOptions};
 use crate::mapping::handoff::{GroundState, Handoff, NodeState};
 use crate::mapping::{self, MapOptions};
-use crate::model::{ElementKind, Model};
+use crate::model::Model;
 use crate::motion::{Baseline, Format, GroundHistory, GroundMotion};
 use crate::ruin::connection::GroupStrength;
 use crate::ruin::groups::group_strengths_for;
-use crate::ruin::monitor::FeDamage;
 use crate::ruin::stage::{to_isometry, to_pose, RuinResult, RuinStage, StageInput, StageSettings};
 use crate::ruin::BodyGeom;
 use error::Result;
 pub use error::{PipelineError, ScenarioError};
 use nalgebra::UnitQuaternion;
 pub use ruin_stage::{ruin_stage, stage_settings, RuinStageSettings};
+use ruin_start::ConnectionStart;
 pub use scenario::{ConnectionModel, Mode, Scenario, VelocityHandoff};
-use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 /// Keyframe rate, frames per second (BCB/Blender 25 fps).
@@ -381,7 +370,7 @@ pub(crate) fn load_inputs(
     let bodies = mapping::foundation::bodies_of(&model, &mapping);
     // Wall groups take ACI 318 per-area strengths when the connections are FE-derived
     // (docs/handoff.md §2.5), BCB's con_rei_wall otherwise.
-    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
+    let fe_strengths = ConnectionStart::of(sc).fe_strengths;
     let groups =
         group_strengths_for(&model, fe_strengths).map_err(|error| PipelineError::Groups {
             path: sc.model.clone(),
@@ -721,15 +710,6 @@ pub(crate) fn hand_off(
     })
 }
 
-/// The connection strengths of the ruin stage: FE-derived ([`ConnectionModel::Fe`]:
-/// capacities at the gravity axial loads, [`strengths`]) or BCB's per group.
-pub(crate) struct FeStrengths {
-    /// Gravity axial loads, by element.
-    pub gravity_n: AxialLoads,
-    /// Undamaged capacities at them, by element.
-    pub gravity_caps: BTreeMap<u32, MemberCapacity>,
-}
-
 /// The rigid-only ruin stage of `sc` exactly as [`run`] builds it (BCB's Formula-Assistant
 /// connections, every body at its start pose at t = 0, the scenario's moving ground), with
 /// `adjust` applied to its settings, not yet run: for checks that drive the same stage in
@@ -784,37 +764,22 @@ pub(crate) fn run_perturbed(
     let geoms = geoms(bodies);
     let masses: Vec<f64> = bodies.iter().map(|b| b.mass_kg).collect();
     let mut start = StageInput::rigid_only(&geoms, &masses, &inputs.groups);
-    // FE-derived connection strengths (docs/handoff.md): the gravity axial loads, and in
-    // the rigid mode the undamaged capacities at them.
-    let fe_strengths = sc.mode != Mode::Fe && sc.physics.connections == ConnectionModel::Fe;
-    let push = PushSettings::default();
+    let connection_start = ConnectionStart::of(sc);
     let fe_settings = FeStageSettings::of(sc, &inputs);
-    let domain = if sc.mode != Mode::Rigid || fe_strengths {
+    let domain = if sc.mode != Mode::Rigid || connection_start.fe_strengths {
         Some(fe_domain(&fe_settings, &inputs.model)?)
     } else {
         None
     };
-    let gravity = match (&domain, fe_strengths) {
-        (Some(d), true) => {
-            let (loads, caps) =
-                gravity_capacities_of(&inputs.model, &d.built, &push).map_err(|error| {
-                    PipelineError::Fe {
-                        stage: "FE-derived connection strengths",
-                        error: Box::new(error),
-                    }
-                })?;
-            start.body_strengths = strengths::body_strengths(
-                &inputs.model,
-                bodies,
-                &caps,
-                sc.physics.panel_connections == scenario::PanelConnections::Elastic,
-            );
-            Some(FeStrengths {
-                gravity_n: loads,
-                gravity_caps: caps,
-            })
-        }
-        _ => None,
+    let gravity = match &domain {
+        Some(d) => ruin_start::gravity_strengths(
+            connection_start,
+            &inputs.model,
+            &d.built,
+            bodies,
+            &mut start,
+        )?,
+        None => None,
     };
     if sc.mode != Mode::Rigid {
         let handoff = Handoff::new(&inputs.model, &inputs.mapping)
@@ -837,52 +802,9 @@ pub(crate) fn run_perturbed(
         if sc.mode == Mode::Fe || rec.tc_s.is_none() {
             return Ok(rec);
         }
-        let shell_tags: std::collections::BTreeSet<u32> = inputs
-            .model
-            .elements
-            .iter()
-            .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
-            .map(|e| e.tag)
-            .collect();
-        if let Some(g) = &gravity {
-            // Residual capacities at Tc; broken only where the load path is lost.
-            let caps = member_capacities_against(
-                &inputs.model,
-                &fe.built,
-                &g.gravity_n,
-                &push,
-                Some(&g.gravity_caps),
-            )
-            .map_err(|error| PipelineError::Fe {
-                stage: "FE-derived connection strengths at Tc",
-                error: Box::new(error),
-            })?;
-            start.body_strengths = strengths::body_strengths(
-                &inputs.model,
-                bodies,
-                &caps,
-                sc.physics.panel_connections == scenario::PanelConnections::Elastic,
-            );
-        }
-        start.start_damage = if gravity.is_some() {
-            // Walls have no member-end capacities: a wall body's connections start broken
-            // only where its shell lost its load path (docs/handoff.md §3).
-            let mut lost = element_damage(&inputs.model, &fe.built);
-            lost.retain(|tag, d| *d == FeDamage::Ruptured && shell_tags.contains(tag));
-            pair_damage(bodies, &lost)
-        } else {
-            pair_damage(bodies, &element_damage(&inputs.model, &fe.built))
-        };
+        ruin_start::damage_at_tc(connection_start, &inputs, &fe, gravity.as_ref(), &mut start)?;
         if let Some(p) = perturbation {
-            for (i, v) in velocities
-                .iter_mut()
-                .enumerate()
-                .take(inputs.mapping.bodies.len())
-            {
-                for (d, x) in v.linear.iter_mut().enumerate() {
-                    *x += p.velocity_mps * p.uniform(2, (3 * i + d) as u64);
-                }
-            }
+            ruin_start::perturb_velocities(p, &mut velocities, inputs.mapping.bodies.len());
         }
         start.start_poses = poses.iter().map(to_isometry).collect();
         start.start_velocities = velocities;
@@ -900,59 +822,6 @@ pub(crate) fn run_perturbed(
     rec.ruin = Some(result);
     rec.preset = Some(sc.physics.preset);
     Ok(rec)
-}
-
-/// FE damage per body → per connected pair (BCB's Formula-Assistant connections): the
-/// worse of the two bodies' element flags; intact pairs are left out.
-fn pair_damage(
-    bodies: &[Body],
-    damage: &BTreeMap<u32, FeDamage>,
-) -> BTreeMap<(usize, usize), FeDamage> {
-    let body_damage: Vec<FeDamage> = bodies
-        .iter()
-        .map(|b| {
-            b.id.element_tag()
-                .and_then(|e| damage.get(&e).copied())
-                .unwrap_or(FeDamage::Intact)
-        })
-        .collect();
-    let mut out = BTreeMap::new();
-    for a in 0..bodies.len() {
-        for b in a + 1..bodies.len() {
-            let d = body_damage[a].max(body_damage[b]);
-            if d != FeDamage::Intact {
-                out.insert((a, b), d);
-            }
-        }
-    }
-    out
-}
-
-/// FE damage of every beam-column and shell element (model tag → flag) in a built
-/// domain (a shell is "ruptured" only when it lost its load path:
-/// [`crate::fe::shell::layers::LayeredSection::load_path_lost`]).
-fn element_damage(model: &Model, built: &crate::fe::build::BuiltDomain) -> BTreeMap<u32, FeDamage> {
-    let mut out = BTreeMap::new();
-    for e in &model.elements {
-        if !matches!(
-            e.kind,
-            ElementKind::BeamColumn { .. } | ElementKind::Shell { .. }
-        ) {
-            continue;
-        }
-        if let Some(&i) = built.element_index.get(&e.tag) {
-            let d = built.domain.elements()[i].damage();
-            let f = if d.ruptured {
-                FeDamage::Ruptured
-            } else if d.yielded {
-                FeDamage::Yielded
-            } else {
-                FeDamage::Intact
-            };
-            out.insert(e.tag, f);
-        }
-    }
-    out
 }
 
 #[cfg(test)]
