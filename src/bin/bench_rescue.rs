@@ -116,20 +116,23 @@ fn main() -> Result<()> {
     let t = Instant::now();
     let r = routes(&field, scaled.rescuer);
     println!(
-        "rescuer routes:           {:8.3} s",
-        t.elapsed().as_secs_f64()
+        "rescuer routes:           {:8.3} s ({} cells searched)",
+        t.elapsed().as_secs_f64(),
+        r.searched_cells()
     );
     let t = Instant::now();
     let c = routes(&field, scaled.camera);
     println!(
-        "camera routes:            {:8.3} s",
-        t.elapsed().as_secs_f64()
+        "camera routes:            {:8.3} s ({} cells searched)",
+        t.elapsed().as_secs_f64(),
+        c.searched_cells()
     );
     let t = Instant::now();
     let b = breach_field(&field);
     println!(
-        "breach field:             {:8.3} s",
-        t.elapsed().as_secs_f64()
+        "breach field:             {:8.3} s ({} cells searched)",
+        t.elapsed().as_secs_f64(),
+        b.searched_cells()
     );
     drop((r, c, b));
     let t = Instant::now();

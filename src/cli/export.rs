@@ -77,6 +77,9 @@ pub fn run_folder_glb_with(dir: &Path, voids: Option<&str>) -> Result<Vec<u8>> {
         scene.voids = fem2rbd::rescue::volumes::survivable_volumes(text)
             .map_err(anyhow::Error::msg)
             .with_context(|| format!("{}", dir.join("voids.json").display()))?;
+        scene.routes = fem2rbd::rescue::volumes::route_lines(text)
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("{}", dir.join("voids.json").display()))?;
     }
     encode_glb(&scene)
         .with_context(|| format!("cannot encode the glTF of run folder {}", dir.display()))

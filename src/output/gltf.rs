@@ -15,8 +15,9 @@
 //!   `Slab`), with a fixed colour ([`type_colour`]), plus `Ground` for the ground box;
 //! * **one node per body**, then one for the ground, then one static node per void of
 //!   the ruin ([`VoidVolume`]: its boxes as one triangle mesh with `u32` indices, a
-//!   translucent material per collapse pattern, alpha mode `BLEND`), all children of a
-//!   root node;
+//!   translucent material per collapse pattern, alpha mode `BLEND`), then one static node
+//!   per access route ([`RouteLine`]: a `LINES` primitive through its points, `u32`
+//!   indices, one material per kind of route), all children of a root node;
 //! * **one animation** with a `translation` and a `rotation` channel per body (and for the
 //!   ground when it moves), LINEAR interpolation, all sharing one input accessor of the
 //!   keyframe times (s) with its min/max. Rotations are written as glTF `x, y, z, w`
@@ -102,6 +103,20 @@ pub struct VoidVolume {
     pub boxes: Vec<[[f64; 3]; 2]>,
 }
 
+/// An access route of the ruin as a static line: the route a rescuer or a search camera
+/// takes from open air to a survivable void (docs/rescue.md §2, "Routes as lines").
+#[derive(Debug, Clone, PartialEq)]
+pub struct RouteLine {
+    /// Node name shown by viewers (e.g. `route-03 rescuer 0.500 m`).
+    pub name: String,
+    /// Who takes it (`rescuer`, `camera`): one material per kind, named `route <kind>`.
+    pub kind: String,
+    /// Base colour of the kind's material, linear RGB 0..1.
+    pub colour: [f32; 3],
+    /// The line's points in order (at least two), m, in the data's Z-up frame.
+    pub points: Vec<[f64; 3]>,
+}
+
 /// Opacity of a void's material ([`VoidVolume`]; alpha mode `BLEND`).
 pub const VOID_ALPHA: f32 = 0.45;
 
@@ -117,6 +132,8 @@ pub struct AnimatedScene {
     pub times_s: Vec<f64>,
     /// Voids of the final ruin, one static node each after the ground (none: no node).
     pub voids: Vec<VoidVolume>,
+    /// Access routes of the final ruin, one static node each after the voids.
+    pub routes: Vec<RouteLine>,
 }
 
 /// Writes `scene` as one glTF 2.0 binary file at `path`, atomically (never a half file).
@@ -279,6 +296,53 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
         }));
         nodes.push(json!({ "name": v.name, "mesh": meshes.len() - 1 }));
     }
+    // The routes: one material per kind (ordered by name, after the voids'), one mesh of
+    // `LINES` (mode 1: segments between the index pairs 0–1, 1–2, …) and one static node
+    // per route.
+    let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
+    for r in &scene.routes {
+        ensure!(
+            r.points.len() >= 2,
+            "route '{}' has {} point(s): a line needs two",
+            r.name,
+            r.points.len()
+        );
+        kinds.insert(r.kind.as_str(), 0);
+    }
+    for (name, slot) in kinds.iter_mut() {
+        *slot = materials.len();
+        let colour = scene
+            .routes
+            .iter()
+            .find(|r| r.kind == *name)
+            .map_or([0.0; 3], |r| r.colour);
+        materials.push(json!({
+            "name": format!("route {name}"),
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [colour[0], colour[1], colour[2], 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 1.0
+            }
+        }));
+    }
+    for r in &scene.routes {
+        let positions: Vec<f32> = r.points.iter().flatten().map(|&c| c as f32).collect();
+        let position = bin.push_f32(&positions, 3, Some(ARRAY_BUFFER), true);
+        let indices: Vec<u32> = (1..r.points.len() as u32)
+            .flat_map(|i| [i - 1, i])
+            .collect();
+        let index = bin.push_u32_indices(&indices);
+        meshes.push(json!({
+            "name": r.name,
+            "primitives": [{
+                "attributes": { "POSITION": position },
+                "indices": index,
+                "material": kinds[r.kind.as_str()],
+                "mode": 1
+            }]
+        }));
+        nodes.push(json!({ "name": r.name, "mesh": meshes.len() - 1 }));
+    }
 
     let half = std::f64::consts::FRAC_1_SQRT_2;
     let mut root = json!({
@@ -432,6 +496,7 @@ pub fn run_scene(
         ground,
         times_s: times,
         voids: Vec::new(),
+        routes: Vec::new(),
     })
 }
 

@@ -388,6 +388,8 @@ fn glb(
     if let Some(text) = voids {
         scene.voids = crate::rescue::volumes::survivable_volumes(text)
             .map_err(|e| AnimationError::Scene(format!("voids.json: {e}")))?;
+        scene.routes = crate::rescue::volumes::route_lines(text)
+            .map_err(|e| AnimationError::Scene(format!("voids.json: {e}")))?;
     }
     Ok(encode_glb(&scene)?)
 }

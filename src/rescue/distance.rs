@@ -68,8 +68,15 @@ pub fn squared_distance(grid: &Grid, feature: &[bool]) -> Vec<f32> {
     let m = nx.max(ny).max(nz);
     let (mut f, mut d) = (vec![0.0f64; m], vec![0.0f64; m]);
     let (mut v, mut z) = (vec![0usize; m], vec![0.0f64; m + 1]);
-    // Along z (contiguous).
-    for col in out.chunks_mut(nz) {
+    // Along z (contiguous). A column without features stays +∞, and so does a plane of
+    // lines along x (a row of columns, one `j`) none of whose columns has one: their
+    // transforms are skipped.
+    let mut row_has = vec![false; ny];
+    for (c, col) in out.chunks_mut(nz).enumerate() {
+        if col.iter().all(|o| *o == FAR) {
+            continue;
+        }
+        row_has[c / nx] = true;
         for (ft, o) in f.iter_mut().zip(col.iter()) {
             *ft = *o as f64;
         }
@@ -84,7 +91,7 @@ pub fn squared_distance(grid: &Grid, feature: &[bool]) -> Vec<f32> {
     for axis in [0usize, 1] {
         let n = grid.n[axis];
         let planes = if axis == 0 { ny } else { nx };
-        for p in 0..planes {
+        for p in (0..planes).filter(|&p| axis == 1 || row_has[p]) {
             let at = |t: usize| {
                 if axis == 0 {
                     grid.index(t, p, 0)
@@ -152,6 +159,26 @@ mod tests {
                 }
             }
             assert_eq!(d[a] as f64, best, "cell {ca:?}");
+        }
+    }
+
+    /// One feature cell (1, 2, 1) on a 5 × 4 × 3 grid: the rows and columns without
+    /// features (their passes skipped) get their distances through the other passes,
+    /// (i − 1)² + (j − 2)² + (k − 1)² everywhere.
+    #[test]
+    fn one_feature_reaches_the_rows_without_one() {
+        let grid = Grid {
+            origin: [0.0; 3],
+            h: 1.0,
+            n: [5, 4, 3],
+        };
+        let mut feature = vec![false; grid.len()];
+        feature[grid.index(1, 2, 1)] = true;
+        let d = squared_distance(&grid, &feature);
+        for (idx, v) in d.iter().enumerate() {
+            let [i, j, k] = grid.ijk(idx).map(|c| c as f32);
+            let want = (i - 1.0).powi(2) + (j - 2.0).powi(2) + (k - 1.0).powi(2);
+            assert_eq!(*v, want, "cell {:?}", grid.ijk(idx));
         }
     }
 

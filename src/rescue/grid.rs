@@ -17,10 +17,10 @@ use super::{RescueError, Result};
 /// the best overlap f32 while it is built), the solid flag, the clearance (f32) and the
 /// squared distance (f32) it is made from, the chamber label and roof (u32 each), and
 /// the access searches, two at a time (the rescuer's then the camera's on one thread,
-/// the breach field on the other): each its cell classes (u8), cost (u32), side and step
-/// (u8 each) or first cell (u32), and its queues of u32 indices. The standing building
-/// for the story losses is gridded a few rows at a time. Measured: 51 bytes per cell of
-/// peak resident memory on the standing library building, 45 on its ruin
+/// the breach field on the other), each over at most every cell: its cell classes (u8),
+/// cost (u32), side and step (u8 each) or first cell (u32), and its queues of u64
+/// entries. The standing building for the story losses is gridded a few rows at a time.
+/// Measured: 51 bytes per cell of peak resident memory on the standing library building
 /// (docs/rescue.md §5b).
 pub const BYTES_PER_CELL: u64 = 64;
 /// The most memory a grid may take whatever the machine has: 16 GiB.
@@ -115,42 +115,6 @@ impl Grid {
         })
     }
 
-    /// The index of cell `idx` with the cells laid out layer by layer (`k` slowest, then
-    /// `j`, `i` fastest): `k · columns + column`. The access searches keep their cells
-    /// so ([`super::access`]).
-    #[inline]
-    pub fn layered(&self, idx: usize) -> usize {
-        (idx % self.n[2]) * self.columns() + idx / self.n[2]
-    }
-
-    /// The cell index of layered index `l` (the inverse of [`layered`](Self::layered)).
-    #[inline]
-    pub fn unlayered(&self, l: usize) -> usize {
-        (l % self.columns()) * self.n[2] + l / self.columns()
-    }
-
-    /// The layered index offsets of the 6 face neighbours, in the order of
-    /// [`neighbours`](Self::neighbours): −x, +x, −y, +y, −z, +z.
-    pub fn layered_steps(&self) -> [isize; 6] {
-        let x = 1isize;
-        let y = self.n[0] as isize;
-        let z = self.columns() as isize;
-        [-x, x, -y, y, -z, z]
-    }
-
-    /// The grid faces cell (i, j, k) lies on, as bits in the order of
-    /// [`layered_steps`](Self::layered_steps) (bit `s` set: the neighbour of step `s` lies
-    /// outside).
-    #[inline]
-    pub fn faces(&self, i: usize, j: usize, k: usize) -> u8 {
-        u8::from(i == 0)
-            | u8::from(i + 1 == self.n[0]) << 1
-            | u8::from(j == 0) << 2
-            | u8::from(j + 1 == self.n[1]) << 3
-            | u8::from(k == 0) << 4
-            | u8::from(k + 1 == self.n[2]) << 5
-    }
-
     /// Whether cell `idx` lies on a side face or the top face of the grid (where open air
     /// goes on).
     pub fn on_open_boundary(&self, idx: usize) -> bool {
@@ -234,48 +198,4 @@ pub fn grid_over(ruin: &Ruin, h: f64, margin: f64, cell_full_m: f64) -> Result<O
         h,
         n: n64.map(|v| v as usize),
     }))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// On a 3 × 4 × 2 grid: the layered index runs through a layer's 12 columns before
-    /// the next layer, the steps are ∓1 cell along each axis in that order, and a cell's
-    /// face bits mark exactly the steps that would leave the grid.
-    #[test]
-    fn layered_steps_and_faces_match_the_neighbours() {
-        let g = Grid {
-            origin: [0.0; 3],
-            h: 1.0,
-            n: [3, 4, 2],
-        };
-        // Cell (i, j, k) = (2, 1, 1): index (1·3 + 2)·2 + 1 = 11, layered 1·12 + 5 = 17.
-        assert_eq!(g.layered(11), 17);
-        assert_eq!(g.unlayered(17), 11);
-        // A step in x is 1, in y 3, in z 12.
-        assert_eq!(g.layered_steps(), [-1, 1, -3, 3, -12, 12]);
-        assert_eq!(g.faces(0, 0, 0), 0b01_0101);
-        assert_eq!(g.faces(1, 1, 1), 0b10_0000);
-        assert_eq!(g.faces(1, 2, 0), 0b01_0000);
-        assert_eq!(g.faces(2, 3, 1), 0b10_1010);
-        let mut seen = vec![false; g.len()];
-        for idx in 0..g.len() {
-            let l = g.layered(idx);
-            assert!(!seen[l], "layered index {l} twice");
-            seen[l] = true;
-            assert_eq!(g.unlayered(l), idx);
-            let [i, j, k] = g.ijk(idx);
-            let faces = g.faces(i, j, k);
-            let inside: Vec<(usize, usize)> = (0..6)
-                .filter(|s| faces & (1 << s) == 0)
-                .map(|s| (g.unlayered(l.wrapping_add_signed(g.layered_steps()[s])), s))
-                .collect();
-            let want: Vec<(usize, usize)> = g
-                .neighbours(idx)
-                .map(|(q, d, sign)| (q, 2 * d + usize::from(sign > 0)))
-                .collect();
-            assert_eq!(inside, want, "cell {idx}");
-        }
-    }
 }

@@ -18,6 +18,8 @@
 //! * [`pattern`]: the collapse pattern of each void from its roof bodies;
 //! * [`access`]: routes from open air for a rescuer and a camera, else the least debris
 //!   to breach;
+//! * [`flood`]: the searches behind them, confined to the cells below each column's open
+//!   air;
 //! * [`route`]: the route of an access as a line (traced back along the search's steps,
 //!   simplified to within a cell);
 //! * [`rubble`]: height map, pile height, debris extent against the building height,
@@ -37,6 +39,7 @@ pub mod access;
 pub mod boxes;
 pub mod distance;
 pub mod ensemble;
+pub mod flood;
 pub mod grid;
 pub mod input;
 pub mod occupancy;

@@ -60,7 +60,7 @@ pub fn polyline(field: &Field, routes: &Routes, cell: usize) -> Vec<[f64; 3]> {
         // Entered from outside the grid: one cell beyond its side (or top).
         let c = g.ijk(path[0]);
         let mut p = g.centre(c);
-        let code = super::access::boundary_code(field, path[0]);
+        let code = super::access::boundary_code(g, path[0]);
         let axis = usize::from(code / 2);
         p[axis] += if code % 2 == 1 { -g.h } else { g.h };
         points.push(p);

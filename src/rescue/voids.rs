@@ -83,25 +83,24 @@ impl Field {
                 s.iter().rposition(|b| *b).map_or(0, |k| k + 1)
             })
             .collect();
-        let d2 = squared_distance(&grid, &solid);
+        // The squared distances become the clearances in place.
+        let mut clearance = squared_distance(&grid, &solid);
         let h = grid.h;
-        let clearance = d2
-            .iter()
-            .enumerate()
-            .map(|(idx, d)| {
-                if solid[idx] {
-                    return 0.0;
-                }
-                let k = grid.ijk(idx)[2];
-                let ground = (k as f64 + 0.5) * h;
-                let debris = if *d == FAR {
-                    f64::INFINITY
+        for (s, d) in solid.chunks(nz).zip(clearance.chunks_mut(nz)) {
+            for (k, (s, d)) in s.iter().zip(d).enumerate() {
+                *d = if *s {
+                    0.0
                 } else {
-                    ((*d as f64).sqrt() - 0.5) * h
+                    let ground = (k as f64 + 0.5) * h;
+                    let debris = if *d == FAR {
+                        f64::INFINITY
+                    } else {
+                        ((*d as f64).sqrt() - 0.5) * h
+                    };
+                    debris.min(ground) as f32
                 };
-                debris.min(ground) as f32
-            })
-            .collect();
+            }
+        }
         Field {
             grid,
             occupancy,
@@ -226,7 +225,11 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     let mut size: Vec<usize> = Vec::new();
     let mut first: Vec<usize> = Vec::new();
     let mut queue = VecDeque::new();
-    for start in 0..grid.len() {
+    // Covered cells lie below their column's pile surface: in index order, the cells
+    // `0..top` of each column.
+    let nz = grid.n[2];
+    let below_top = || (0..grid.columns()).flat_map(move |col| col * nz..col * nz + field.top[col]);
+    for start in below_top() {
         if label[start] != u32::MAX || !field.covered(start) {
             continue;
         }
@@ -249,7 +252,7 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     // 2. Shared faces between parts (each face once: steps towards +x, +y, +z).
     let parts = size.len();
     let mut faces: Vec<BTreeMap<u32, usize>> = vec![BTreeMap::new(); parts];
-    for_each_shared_face(grid, &label, |_, _, a, b| {
+    for_each_shared_face(field, &label, |_, _, a, b| {
         *faces[a as usize].entry(b).or_default() += 1;
         *faces[b as usize].entry(a).or_default() += 1;
     });
@@ -291,7 +294,8 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     };
     // 4. The chambers' cells and whether each touches open air or the grid's side.
     let mut cells_of: BTreeMap<u32, (Vec<usize>, bool)> = BTreeMap::new();
-    for (c, l) in label.iter_mut().enumerate() {
+    for c in below_top() {
+        let l = &mut label[c];
         if *l == u32::MAX {
             continue;
         }
@@ -321,14 +325,15 @@ pub fn find_voids(field: &Field, sizes: &Scaled) -> (Vec<Void>, Vec<u32>, Vec<Th
     for (n, (r, _)) in voids.iter().enumerate() {
         index.insert(*r, n as u32);
     }
-    for l in label.iter_mut() {
+    for c in below_top() {
+        let l = &mut label[c];
         if *l != u32::MAX {
             *l = index[&*l];
         }
     }
     // 5. Throats between the final chambers.
     let mut throat: BTreeMap<(u32, u32), (usize, f32)> = BTreeMap::new();
-    for_each_shared_face(grid, &label, |c, q, a, b| {
+    for_each_shared_face(field, &label, |c, q, a, b| {
         let e = throat.entry((a.min(b), a.max(b))).or_insert((0, 0.0));
         e.0 += 1;
         e.1 = e.1.max(field.clearance[c].min(field.clearance[q]));
@@ -519,9 +524,13 @@ fn measure(field: &Field, sizes: &Scaled, cells: Vec<usize>, enclosed: bool) -> 
 
 /// Calls `f(c, q, a, b)` once for every face between two labelled cells `c` and `q` (the
 /// step from `c` to `q` towards +x, +y or +z) whose labels `a` = `label[c]` and
-/// `b` = `label[q]` differ; `u32::MAX` marks an unlabelled cell. Cells in index order.
-fn for_each_shared_face(grid: &Grid, label: &[u32], mut f: impl FnMut(usize, usize, u32, u32)) {
-    for c in 0..grid.len() {
+/// `b` = `label[q]` differ; `u32::MAX` marks an unlabelled cell, as every cell at or above
+/// its column's pile surface is. Cells in index order.
+fn for_each_shared_face(field: &Field, label: &[u32], mut f: impl FnMut(usize, usize, u32, u32)) {
+    let grid = &field.grid;
+    let nz = grid.n[2];
+    let cells = (0..grid.columns()).flat_map(|col| col * nz..col * nz + field.top[col]);
+    for c in cells {
         let a = label[c];
         if a == u32::MAX {
             continue;

@@ -5,15 +5,101 @@
 //! pattern in the void figures and the report ([`crate::output::palette::pattern_srgb`],
 //! in linear light).
 //!
+//! The access routes to them as the lines of `collapse.glb`
+//! ([`crate::output::gltf::RouteLine`]): for each survivable void the rescuer reaches, the
+//! rescuer's route (`rescuer.path_m`), else, where the camera reaches it, the camera's
+//! (`camera.path_m`); named `route-NN <kind> <crawl> m` (the void's number, who takes it,
+//! the crawl length under debris at the model's scale) and coloured as in the void
+//! figures: the rescuer's black, the camera's grey ([`crate::plot::voids`]).
+//!
 //! Read from the file's text, so that `fem2rbd run`, `fem2rbd voids` and `fem2rbd export
 //! gltf` put the same nodes into the same bytes.
-use crate::output::gltf::VoidVolume;
+use crate::output::gltf::{RouteLine, VoidVolume};
 use crate::output::palette::{pattern_srgb, srgb_to_linear};
 use serde_json::Value;
 
 /// The node name of void `number` (1 = largest).
 pub fn node_name(number: u64, pattern: &str, volume_m3: f64) -> String {
     format!("void-{number:02} {pattern} {volume_m3:.4} m3")
+}
+
+/// The node name of the route of `kind` (`rescuer`, `camera`) to void `number` with
+/// `route_m` of crawl under debris.
+pub fn route_name(number: u64, kind: &str, route_m: f64) -> String {
+    format!("route-{number:02} {kind} {route_m:.3} m")
+}
+
+/// sRGB colour of a route of `kind`, as the void figures draw it: the rescuer's black,
+/// the camera's grey.
+pub fn route_srgb(kind: &str) -> [u8; 3] {
+    if kind == "rescuer" {
+        [0, 0, 0]
+    } else {
+        [110, 110, 110]
+    }
+}
+
+/// The access routes of the survivable voids of the `voids.json` text `text` (module
+/// docs), in its order; none when the file records an error or the ruin has no grid.
+/// `Err` names what is wrong (the caller names the file).
+pub fn route_lines(text: &str) -> Result<Vec<RouteLine>, String> {
+    let js: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+    if js.get("error").is_some() || js["grid"].is_null() {
+        return Ok(Vec::new());
+    }
+    let voids = js["voids"]
+        .as_array()
+        .ok_or_else(|| "has no `voids` list".to_string())?;
+    let mut out = Vec::new();
+    for v in voids {
+        if v["survivable"] != Value::Bool(true) {
+            continue;
+        }
+        let n = v["void"]
+            .as_u64()
+            .ok_or_else(|| "a void without its number".to_string())?;
+        let Some(kind) = ["rescuer", "camera"]
+            .into_iter()
+            .find(|k| v[*k]["reached"] == Value::Bool(true))
+        else {
+            continue;
+        };
+        let access = &v[kind];
+        let route_m = access["route_m"]
+            .as_f64()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("void {n}: {kind}.route_m is not a number"))?;
+        let path = access["path_m"].as_array().ok_or_else(|| {
+            format!(
+                "void {n} has no {kind}.path_m (its route; the file is of an older analysis: \
+                 `fem2rbd voids RUN_DIR` writes it again)"
+            )
+        })?;
+        let points = path
+            .iter()
+            .map(|p| {
+                let xyz: Vec<f64> = p
+                    .as_array()
+                    .map(|a| a.iter().filter_map(Value::as_f64).collect())
+                    .unwrap_or_default();
+                <[f64; 3]>::try_from(xyz)
+                    .map_err(|_| format!("void {n}: {kind}.path_m point {p} is not x, y, z"))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        if points.len() < 2 {
+            return Err(format!(
+                "void {n}: {kind}.path_m has {} point(s), a route two or more",
+                points.len()
+            ));
+        }
+        out.push(RouteLine {
+            name: route_name(n, kind, route_m),
+            kind: kind.to_string(),
+            colour: srgb_to_linear(route_srgb(kind)),
+            points,
+        });
+    }
+    Ok(out)
 }
 
 /// The survivable voids of the `voids.json` text `text`, in its order (largest first);

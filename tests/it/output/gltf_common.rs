@@ -119,6 +119,7 @@ pub fn falling_scene(n_bodies: usize, n_keys: usize, moving_ground: bool) -> Ani
         ground: Some(ground),
         times_s,
         voids: Vec::new(),
+        routes: Vec::new(),
     }
 }
 
@@ -229,6 +230,16 @@ impl Glb {
         bytes
             .chunks_exact(2)
             .map(|b| u16::from_le_bytes(b.try_into().unwrap()))
+            .collect()
+    }
+
+    /// An accessor of unsigned 32-bit indices.
+    pub fn u32s(&self, index: usize) -> Vec<u32> {
+        assert_eq!(self.accessor(index)["componentType"], 5125, "UNSIGNED_INT");
+        let (bytes, _) = self.accessor_bytes(index, 4);
+        bytes
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
             .collect()
     }
 

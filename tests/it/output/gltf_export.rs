@@ -190,9 +190,22 @@ fn check_against_run(run: &Run, glb: &Glb) -> (f64, f64) {
             )
         })
         .collect();
-    // Nodes: the root, one per body in body order, the ground, one per survivable void.
+    // The survivable voids a rescuer or a camera reaches (each one route line).
+    let routed = std::fs::read_to_string(run.dir.join("voids.json"))
+        .ok()
+        .map(|t| serde_json::from_str::<Value>(&t).unwrap())
+        .and_then(|js| js["voids"].as_array().cloned())
+        .unwrap_or_default()
+        .iter()
+        .filter(|v| {
+            v["survivable"] == true
+                && (v["rescuer"]["reached"] == true || v["camera"]["reached"] == true)
+        })
+        .count();
+    // Nodes: the root, one per body in body order, the ground, one per survivable void,
+    // one per route.
     let nodes = glb.json["nodes"].as_array().unwrap();
-    assert_eq!(nodes.len(), 1 + n + 1 + survivable.len());
+    assert_eq!(nodes.len(), 1 + n + 1 + survivable.len() + routed);
     for (k, (number, pattern)) in survivable.iter().enumerate() {
         let name = nodes[2 + n + k]["name"].as_str().unwrap();
         assert!(
@@ -225,6 +238,21 @@ fn check_against_run(run: &Run, glb: &Glb) -> (f64, f64) {
     patterns.sort_unstable();
     patterns.dedup();
     types.extend(patterns.iter().map(String::as_str));
+    let mut kinds: Vec<&str> = nodes
+        .iter()
+        .filter_map(|n| n["name"].as_str())
+        .filter(|n| n.starts_with("route-"))
+        .map(|n| {
+            if n.contains(" rescuer ") {
+                "route rescuer"
+            } else {
+                "route camera"
+            }
+        })
+        .collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    types.extend(kinds);
     let materials: Vec<&str> = glb.json["materials"]
         .as_array()
         .unwrap()

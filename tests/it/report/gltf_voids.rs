@@ -2,7 +2,10 @@
 //! folder of [`super::frame3`], one node per survivable void of `voids.json`, named
 //! `void-NN <pattern> <volume> m3`, in its order; each node's mesh is the void's boxes
 //! (12 triangles per box, its POSITION bounds the union of the boxes from the grid of
-//! `voids.json`) with the translucent material of its pattern; the Khronos validator
+//! `voids.json`) with the translucent material of its pattern; after them one node per
+//! survivable void a rescuer or a camera reaches, `route-NN <kind> <crawl> m`, a `LINES`
+//! primitive whose points are the route's `path_m` (as f32) joined in order, with the
+//! material of its kind (the rescuer's where the rescuer reaches the void); the Khronos validator
 //! finds no error and no warning in the file; `fem2rbd export gltf` writes the same bytes,
 //! and so does `fem2rbd voids` rewriting the folder.
 use super::frame3::{fem2rbd, run_dir};
@@ -89,10 +92,63 @@ fn collapse_glb_holds_the_survivable_voids_of_voids_json() {
             );
         }
     }
-    // The void nodes are children of the root, like the bodies.
+    // The route lines: one per survivable void a rescuer or a camera reaches, after the
+    // voids, its points those of path_m.
+    let lines: Vec<&Value> = nodes
+        .iter()
+        .filter(|n| n["name"].as_str().unwrap_or("").starts_with("route-"))
+        .collect();
+    let routed: Vec<(&Value, &str)> = survivable
+        .iter()
+        .filter_map(|v| {
+            ["rescuer", "camera"]
+                .into_iter()
+                .find(|k| v[*k]["reached"] == true)
+                .map(|k| (*v, k))
+        })
+        .collect();
+    eprintln!(
+        "{} route lines, {} of the rescuer",
+        lines.len(),
+        routed.iter().filter(|r| r.1 == "rescuer").count()
+    );
+    assert!(
+        !routed.is_empty(),
+        "the CI ruin has reached survivable voids"
+    );
+    assert_eq!(lines.len(), routed.len());
+    for (node, (v, kind)) in lines.iter().zip(&routed) {
+        let name = format!(
+            "route-{:02} {kind} {:.3} m",
+            v["void"].as_u64().unwrap(),
+            v[*kind]["route_m"].as_f64().unwrap()
+        );
+        assert_eq!(node["name"], name.as_str());
+        let mesh = &glb.json["meshes"][node["mesh"].as_u64().unwrap() as usize];
+        let prim = &mesh["primitives"][0];
+        assert_eq!(prim["mode"], 1, "{name}: LINES");
+        let material = &glb.json["materials"][prim["material"].as_u64().unwrap() as usize];
+        assert_eq!(material["name"], format!("route {kind}"));
+        let want: Vec<[f32; 3]> = v[*kind]["path_m"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| [0, 1, 2].map(|d| p[d].as_f64().unwrap() as f32))
+            .collect();
+        assert!(want.len() >= 2, "{name}");
+        let points = glb.f32s(prim["attributes"]["POSITION"].as_u64().unwrap() as usize);
+        let points: Vec<[f32; 3]> = points.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        assert_eq!(points, want, "{name}");
+        let index = glb.u32s(prim["indices"].as_u64().unwrap() as usize);
+        let pairs: Vec<u32> = (1..want.len() as u32).flat_map(|i| [i - 1, i]).collect();
+        assert_eq!(index, pairs, "{name}: segments 0-1, 1-2, ...");
+    }
+
+    // The void and route nodes are children of the root, like the bodies.
     let root = &nodes[0]["children"];
     for (i, n) in nodes.iter().enumerate() {
-        if n["name"].as_str().unwrap_or("").starts_with("void-") {
+        let name = n["name"].as_str().unwrap_or("");
+        if name.starts_with("void-") || name.starts_with("route-") {
             assert!(root.as_array().unwrap().contains(&Value::from(i)));
         }
     }
