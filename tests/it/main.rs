@@ -16,6 +16,7 @@ mod cli {
     mod model;
     mod own_files;
     mod pushover;
+    mod tower15_modal;
 }
 mod mapping {
     mod frame3;
