@@ -39,25 +39,39 @@ pub fn route_srgb(kind: &str) -> [u8; 3] {
     }
 }
 
+/// The `voids.json` text `text` parsed; `None` when it records an error or the ruin has no
+/// grid (no voids to draw).
+fn analysis(text: &str) -> Result<Option<Value>, String> {
+    let js: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+    Ok((js.get("error").is_none() && !js["grid"].is_null()).then_some(js))
+}
+
+/// The survivable voids of a parsed `voids.json`, in its order, with their numbers.
+fn survivable_voids(js: &Value) -> Result<Vec<(u64, &Value)>, String> {
+    let voids = js["voids"]
+        .as_array()
+        .ok_or_else(|| "has no `voids` list".to_string())?;
+    voids
+        .iter()
+        .filter(|v| v["survivable"] == Value::Bool(true))
+        .map(|v| {
+            let n = v["void"]
+                .as_u64()
+                .ok_or_else(|| "a void without its number".to_string())?;
+            Ok((n, v))
+        })
+        .collect()
+}
+
 /// The access routes of the survivable voids of the `voids.json` text `text` (module
 /// docs), in its order; none when the file records an error or the ruin has no grid.
 /// `Err` names what is wrong (the caller names the file).
 pub fn route_lines(text: &str) -> Result<Vec<RouteLine>, String> {
-    let js: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
-    if js.get("error").is_some() || js["grid"].is_null() {
+    let Some(js) = analysis(text)? else {
         return Ok(Vec::new());
-    }
-    let voids = js["voids"]
-        .as_array()
-        .ok_or_else(|| "has no `voids` list".to_string())?;
+    };
     let mut out = Vec::new();
-    for v in voids {
-        if v["survivable"] != Value::Bool(true) {
-            continue;
-        }
-        let n = v["void"]
-            .as_u64()
-            .ok_or_else(|| "a void without its number".to_string())?;
+    for (n, v) in survivable_voids(&js)? {
         let Some(kind) = ["rescuer", "camera"]
             .into_iter()
             .find(|k| v[*k]["reached"] == Value::Bool(true))
@@ -106,10 +120,9 @@ pub fn route_lines(text: &str) -> Result<Vec<RouteLine>, String> {
 /// none when the file records an error or the ruin has no grid. `Err` names what is
 /// wrong (the caller names the file).
 pub fn survivable_volumes(text: &str) -> Result<Vec<VoidVolume>, String> {
-    let js: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
-    if js.get("error").is_some() || js["grid"].is_null() {
+    let Some(js) = analysis(text)? else {
         return Ok(Vec::new());
-    }
+    };
     let num = |v: &Value, what: &str| {
         v.as_f64()
             .filter(|x| x.is_finite())
@@ -120,17 +133,8 @@ pub fn survivable_volumes(text: &str) -> Result<Vec<VoidVolume>, String> {
         .into_iter()
         .collect::<Result<Vec<f64>, String>>()?;
     let h = num(&js["grid"]["cell_m"], "grid.cell_m")?;
-    let voids = js["voids"]
-        .as_array()
-        .ok_or_else(|| "has no `voids` list".to_string())?;
     let mut out = Vec::new();
-    for v in voids {
-        if v["survivable"] != Value::Bool(true) {
-            continue;
-        }
-        let n = v["void"]
-            .as_u64()
-            .ok_or_else(|| "a void without its number".to_string())?;
+    for (n, v) in survivable_voids(&js)? {
         let pattern = v["pattern"]
             .as_str()
             .ok_or_else(|| format!("void {n} has no pattern"))?;

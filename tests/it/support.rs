@@ -231,3 +231,28 @@ pub fn stdout_of(cmd: &mut std::process::Command) -> Vec<u8> {
     );
     out.stdout
 }
+
+/// Runs an openseespy script exported by `fem2rbd export opensees` with `args` (e.g.
+/// `["eigen", "6"]`), asserts that it succeeded and returns the JSON of its last line
+/// that starts with `{` (the script's result).
+pub fn opensees_json(script: &Path, args: &[&str]) -> serde_json::Value {
+    let out = std::process::Command::new("python3")
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python3 must be installed (with openseespy 3.7.1: scripts/setup.sh)");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "python3 {} {:?} failed (is openseespy 3.7.1 installed? pip install openseespy==3.7.1.2):\n{}\n{}",
+        script.display(),
+        args,
+        stdout,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let last = stdout
+        .lines()
+        .rfind(|l| l.starts_with('{'))
+        .expect("JSON line");
+    serde_json::from_str(last).unwrap()
+}

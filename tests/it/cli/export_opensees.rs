@@ -1,5 +1,6 @@
 //! The OpenSees export of frame3 reproduces the reference OpenSees results
 //! (shared/reference/opensees-frame3/results.md). Needs python3 with openseespy 3.7.1.
+use crate::support::opensees_json;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -27,28 +28,6 @@ fn export(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
 }
 
 /// Runs the script; returns the JSON printed on its last stdout line.
-fn python(script: &Path, args: &[&str]) -> Value {
-    let out = Command::new("python3")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("python3 must be installed (with numpy-free openseespy 3.7.1)");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "python3 {} {:?} failed (is openseespy 3.7.1 installed? pip install openseespy==3.7.1.2):\n{}\n{}",
-        script.display(),
-        args,
-        stdout,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let last = stdout
-        .lines()
-        .rfind(|l| l.starts_with('{'))
-        .expect("JSON line");
-    serde_json::from_str(last).unwrap()
-}
-
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
@@ -76,7 +55,7 @@ fn exported_frame3_has_the_reference_periods_in_every_variant() {
             &format!("{variant}.py"),
             &["--variant", variant],
         );
-        let v = python(&script, &["eigen", "9"]);
+        let v = opensees_json(&script, &["eigen", "9"]);
         let modes = v["modes"].as_array().unwrap();
         assert_eq!(modes.len(), 9);
         let (tx, sx) = mode_by(modes, "X");
@@ -104,7 +83,7 @@ fn exported_frame3_gravity_sag_matches_reference() {
             &format!("{variant}.py"),
             &["--variant", variant],
         );
-        let v = python(&script, &["gravity"]);
+        let v = opensees_json(&script, &["gravity"]);
         assert_eq!(v["ok"], true);
         let uz = v["disp"]["312"][2].as_f64().unwrap();
         eprintln!("{variant}: roof-centre sag {:.3} mm", uz * 1e3);
@@ -143,7 +122,7 @@ fn lc1_matches(variant: &str, duration: &str, samples: &[(f64, f64, f64)]) {
     }
     let script = export(dir.path(), &format!("th_{variant}.py"), &args);
     let csv = dir.path().join(format!("th_{variant}.csv"));
-    let v = python(&script, &["th", csv.to_str().unwrap()]);
+    let v = opensees_json(&script, &["th", csv.to_str().unwrap()]);
     assert!(v["t_diverge"].is_null());
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();

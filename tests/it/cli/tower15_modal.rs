@@ -3,7 +3,7 @@
 //! script `fem2rbd export opensees` writes for the same model, and the periods
 //! docs/case3.md quotes. Needs python3 with openseespy 3.7.1.
 
-use crate::support::{root, stdout_of};
+use crate::support::{opensees_json, root, stdout_of};
 use serde_json::Value;
 use std::process::Command;
 
@@ -35,19 +35,7 @@ fn tower15_building_modes_match_opensees_on_the_exported_model() {
             .arg(&script)
             .arg(&model),
     );
-    let out = Command::new("python3")
-        .arg(&script)
-        .args(["eigen", "6"])
-        .output()
-        .expect("python3 with openseespy 3.7.1 (setup.sh installs it)");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "exported script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let theirs: Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+    let theirs = opensees_json(&script, &["eigen", "6"]);
 
     // docs/case3.md: period (s, 5 decimals) and character of each building mode.
     let doc = [

@@ -3,7 +3,7 @@
 //! bay 1, both stories (`fem2rbd_fe::model::building`). Body count, wall body size and
 //! mass from the closed form, connections by type from the geometry, the building under
 //! gravity alone and under a strong record.
-use crate::support::root;
+use crate::support::{opensees_json, root};
 use fem2rbd::mapping::{self, MapOptions};
 use fem2rbd::model::building::{building, BuildingParams, WallSpec};
 use fem2rbd::model::generate::FrameParams;
@@ -388,19 +388,7 @@ fn wall_building_periods_match_opensees_on_the_exported_model() {
         opensees_script(&model, "wall.toml", &OpenSeesOptions::default()).unwrap(),
     )
     .unwrap();
-    let out = std::process::Command::new("python3")
-        .arg(&script)
-        .args(["eigen", &n_modes.to_string()])
-        .output()
-        .expect("python3 with openseespy 3.7.1 (setup.sh installs it)");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "exported script failed (is openseespy 3.7.1 installed?):\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value =
-        serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
+    let v = opensees_json(&script, &["eigen", &n_modes.to_string()]);
     assert_eq!(modal.periods.len(), n_modes);
     for (k, t) in modal.periods.iter().enumerate() {
         let t_os = v["modes"][k]["T"].as_f64().unwrap();
