@@ -17,11 +17,13 @@ use super::{RescueError, Result};
 /// the best overlap f32 while it is built), the solid flag, the clearance (f32) and the
 /// squared distance (f32) it is made from, the chamber label and roof (u32 each), and
 /// the access searches, two at a time (the rescuer's then the camera's on one thread,
-/// the breach field on the other), each over at most every cell: its cell classes (u8),
-/// cost (u32), side and step (u8 each) or first cell (u32), and its queues of u64
-/// entries. The standing building for the story losses is gridded a few rows at a time.
-/// Measured: 51 bytes per cell of peak resident memory on the standing library building
-/// (docs/rescue.md §5b).
+/// the breach field on the other), each over at most every cell (they store only the
+/// cells below each column's open air, [`super::flood`], which is every cell in the worst
+/// case): its cell classes (u8), cost (u32), side and step (u8 each) or first cell (u32),
+/// and its queues of u64 entries. The standing building for the story losses is gridded
+/// a few rows at a time. Measured peak resident memory: 23 bytes per cell on the library
+/// ruin, 51 on the standing library building before the searches were confined
+/// (docs/rescue.md §5b); the bound keeps the worst case.
 pub const BYTES_PER_CELL: u64 = 64;
 /// The most memory a grid may take whatever the machine has: 16 GiB.
 pub const MAX_BYTES: u64 = 16 << 30;
