@@ -44,7 +44,7 @@ impl RuinStageSettings {
 
 /// The ruin stage's settings of a scenario: its resolved `[physics]` values
 /// ([`scenario::PhysicsTable::resolve`]) mapped onto the stage's settings, field by field
-/// (the ground damping, which needs the model, is set by the stage's builder).
+/// (the ground damping, which needs the model, is set by [`RuinStageSettings::of`]).
 pub fn stage_settings(sc: &Scenario) -> StageSettings {
     let mut s = StageSettings::bcb();
     let p = &sc.physics;
