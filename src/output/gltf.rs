@@ -254,32 +254,28 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
     }
     // The voids: one material per pattern (ordered by name, after the types'), one mesh
     // and one static node per void.
-    let mut patterns: BTreeMap<&str, usize> = BTreeMap::new();
     for v in &scene.voids {
         ensure!(
             !v.boxes.is_empty(),
             "void '{}' has no boxes: nothing to draw",
             v.name
         );
-        patterns.insert(v.pattern.as_str(), 0);
     }
-    for (name, slot) in patterns.iter_mut() {
-        *slot = materials.len();
-        let colour = scene
-            .voids
-            .iter()
-            .find(|v| v.pattern == *name)
-            .map_or([0.0; 3], |v| v.colour);
-        materials.push(json!({
-            "name": format!("void {name}"),
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [colour[0], colour[1], colour[2], VOID_ALPHA],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 1.0
-            },
-            "alphaMode": "BLEND"
-        }));
-    }
+    let patterns = materials_by_name(
+        scene.voids.iter().map(|v| (v.pattern.as_str(), v.colour)),
+        &mut materials,
+        |name, c| {
+            json!({
+                "name": format!("void {name}"),
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [c[0], c[1], c[2], VOID_ALPHA],
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 1.0
+                },
+                "alphaMode": "BLEND"
+            })
+        },
+    );
     for v in &scene.voids {
         let (positions, normals, indices) = boxes_mesh(&v.boxes);
         let position = bin.push_f32(&positions, 3, Some(ARRAY_BUFFER), true);
@@ -299,7 +295,6 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
     // The routes: one material per kind (ordered by name, after the voids'), one mesh of
     // `LINES` (mode 1: segments between the index pairs 0–1, 1–2, …) and one static node
     // per route.
-    let mut kinds: BTreeMap<&str, usize> = BTreeMap::new();
     for r in &scene.routes {
         ensure!(
             r.points.len() >= 2,
@@ -307,24 +302,21 @@ pub fn encode_glb(scene: &AnimatedScene) -> Result<Vec<u8>> {
             r.name,
             r.points.len()
         );
-        kinds.insert(r.kind.as_str(), 0);
     }
-    for (name, slot) in kinds.iter_mut() {
-        *slot = materials.len();
-        let colour = scene
-            .routes
-            .iter()
-            .find(|r| r.kind == *name)
-            .map_or([0.0; 3], |r| r.colour);
-        materials.push(json!({
-            "name": format!("route {name}"),
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [colour[0], colour[1], colour[2], 1.0],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 1.0
-            }
-        }));
-    }
+    let kinds = materials_by_name(
+        scene.routes.iter().map(|r| (r.kind.as_str(), r.colour)),
+        &mut materials,
+        |name, c| {
+            json!({
+                "name": format!("route {name}"),
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [c[0], c[1], c[2], 1.0],
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 1.0
+                }
+            })
+        },
+    );
     for r in &scene.routes {
         let positions: Vec<f32> = r.points.iter().flatten().map(|&c| c as f32).collect();
         let position = bin.push_f32(&positions, 3, Some(ARRAY_BUFFER), true);
@@ -498,6 +490,27 @@ pub fn run_scene(
         voids: Vec::new(),
         routes: Vec::new(),
     })
+}
+
+/// Appends one material per distinct name of `items` to `materials`, in name order, each
+/// made by `make` from the name and the colour of the first item of that name, and returns
+/// each name's material index.
+fn materials_by_name<'a>(
+    items: impl Iterator<Item = (&'a str, [f32; 3])>,
+    materials: &mut Vec<Value>,
+    make: impl Fn(&str, [f32; 3]) -> Value,
+) -> BTreeMap<&'a str, usize> {
+    let mut colours: BTreeMap<&str, [f32; 3]> = BTreeMap::new();
+    for (name, colour) in items {
+        colours.entry(name).or_insert(colour);
+    }
+    colours
+        .into_iter()
+        .map(|(name, colour)| {
+            materials.push(make(name, colour));
+            (name, materials.len() - 1)
+        })
+        .collect()
 }
 
 /// Base colour (linear RGB, 0..1) of an element type's material: the shared colour
