@@ -124,6 +124,8 @@ pub(crate) enum Swatch {
     Dashed(RGBColor),
     /// A solid line.
     Line(RGBColor),
+    /// A filled triangle (a marker).
+    Triangle(RGBColor),
 }
 
 /// Draws the legend `entries` top-down in `area` (one 22 px row each).
@@ -166,6 +168,7 @@ where
                 vec![(x0, mid), (x0 + 18, mid)],
                 c.stroke_width(2),
             ))?,
+            Swatch::Triangle(c) => area.draw(&TriangleMarker::new((x0 + 9, mid), 6, c.filled()))?,
         }
         area.draw(&Text::new(label.clone(), (x0 + 26, y), text.clone()))?;
         y += 22;

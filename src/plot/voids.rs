@@ -15,8 +15,14 @@
 //!   (`x-`: the box's −x side, …; `top`: its centre) and no lines. The void is drawn as its
 //!   bounding box.
 //! * `rescue_map` — an ensemble's `rescue_map.csv`: each plan cell with a survivable void
-//!   beneath in some member, shaded by that share (white → dark blue), and the places of
-//!   `rescue.json` that recur (two or more members) outlined with their share.
+//!   beneath in some member, shaded by that share (white → dark blue); each cell the
+//!   rescuer's route to a survivable void passes over in some member
+//!   (`p_route_rescuer`) as a square of half the cell's edge at its centre, shaded by that
+//!   share (light → dark orange, [`route_colour`]), and each cell where such a route leaves
+//!   open air in some member (`p_entry_rescuer`) as a black triangle; the places of
+//!   `rescue.json` that recur (two or more members) outlined with their share. A
+//!   `rescue_map.csv` without the route columns (of an older analysis) is refused naming
+//!   the file.
 //!
 //! Equal aspect; lengths at the model's scale.
 use super::geometry::{Bounds, View};
@@ -369,6 +375,10 @@ pub struct RescueMapFigure {
     pub cell_m: f64,
     /// (centre x, centre y, p_survivable) of every cell with p_survivable > 0.
     pub cells: Vec<(f64, f64, f64)>,
+    /// (centre x, centre y, p_route_rescuer) of every cell with p_route_rescuer > 0.
+    pub routes: Vec<(f64, f64, f64)>,
+    /// (centre x, centre y, p_entry_rescuer) of every cell with p_entry_rescuer > 0.
+    pub entries: Vec<(f64, f64, f64)>,
     /// All cells' centres' bounds, m.
     pub extent: Bounds,
     /// The recurring places.
@@ -382,6 +392,14 @@ pub fn share_colour(s: f64) -> RGBColor {
     let s = s.clamp(0.0, 1.0);
     let lerp = |a: f64, b: f64| (a + (b - a) * s).round() as u8;
     RGBColor(lerp(235.0, 8.0), lerp(242.0, 48.0), lerp(255.0, 107.0))
+}
+
+/// Light → dark orange for the shares 0 → 1 of the rescuer's routes (ColorBrewer's
+/// Oranges, #fdd0a2 → #a63603): apart from [`share_colour`]'s blues at every share.
+pub fn route_colour(s: f64) -> RGBColor {
+    let s = s.clamp(0.0, 1.0);
+    let lerp = |a: f64, b: f64| (a + (b - a) * s).round() as u8;
+    RGBColor(lerp(253.0, 166.0), lerp(208.0, 54.0), lerp(162.0, 3.0))
 }
 
 impl RescueMapFigure {
@@ -406,7 +424,20 @@ impl RescueMapFigure {
             .map_err(|e| input(format!("{}: {e}", jf.display())))?;
         let f = mf.display();
         let mut r = csv::Reader::from_reader(map_csv.as_bytes());
+        let header = r.headers().map_err(|e| input(format!("{f}: {e}")))?.clone();
+        let col = |name: &str| {
+            header.iter().position(|h| h == name).ok_or_else(|| {
+                input(format!(
+                    "{f}: no column `{name}` (the file is of an older analysis: `fem2rbd voids {}` \
+                     writes it again)",
+                    dir.display()
+                ))
+            })
+        };
+        let (cr, ce) = (col("p_route_rescuer")?, col("p_entry_rescuer")?);
         let mut cells = Vec::new();
+        let mut routes = Vec::new();
+        let mut entries = Vec::new();
         let mut pts = Vec::new();
         for rec in r.records() {
             let rec = rec.map_err(|e| input(format!("{f}: {e}")))?;
@@ -421,6 +452,13 @@ impl RescueMapFigure {
             pts.push([x, y]);
             if p > 0.0 {
                 cells.push((x, y, p));
+            }
+            let (route, entry) = (n(cr)?, n(ce)?);
+            if route > 0.0 {
+                routes.push((x, y, route));
+            }
+            if entry > 0.0 {
+                entries.push((x, y, entry));
             }
         }
         let cell_m = js["map"]["cell_m"].as_f64().unwrap_or(0.0);
@@ -451,6 +489,8 @@ impl RescueMapFigure {
         Ok(RescueMapFigure {
             cell_m,
             cells,
+            routes,
+            entries,
             extent,
             places,
             members: js["members_analysed"].as_u64().unwrap_or(0),
@@ -473,7 +513,7 @@ impl Figure for RescueMapFigure {
     {
         root.fill(&style::BACKGROUND)?;
         let title = format!(
-            "Chance of a survivable void beneath - {} members",
+            "Survivable voids beneath and the rescuer's routes over the plan - {} members",
             self.members
         );
         let root = root.titled(&title, (FAMILY, style::TITLE_PX))?;
@@ -507,6 +547,10 @@ impl Figure for RescueMapFigure {
         chart.draw_series(self.cells.iter().map(|&(x, y, p)| {
             Rectangle::new([(x - h, y - h), (x + h, y + h)], share_colour(p).filled())
         }))?;
+        let q = h / 2.0;
+        chart.draw_series(self.routes.iter().map(|&(x, y, p)| {
+            Rectangle::new([(x - q, y - q), (x + q, y + q)], route_colour(p).filled())
+        }))?;
         for p in &self.places {
             chart.draw_series([Rectangle::new(
                 [(p.plan[0][0], p.plan[0][1]), (p.plan[1][0], p.plan[1][1])],
@@ -518,10 +562,20 @@ impl Figure for RescueMapFigure {
                 (FAMILY, style::LABEL_PX).into_font().color(&BLACK),
             )))?;
         }
-        let mut entries = vec![(Swatch::Heading, "Share of members".to_string())];
+        chart.draw_series(
+            self.entries
+                .iter()
+                .map(|&(x, y, _)| TriangleMarker::new((x, y), 6, BLACK.filled())),
+        )?;
+        let mut entries = vec![(Swatch::Heading, "Survivable void beneath".to_string())];
         for s in [0.25, 0.5, 0.75, 1.0] {
             entries.push((Swatch::Fill(share_colour(s)), format!("{:.0} %", 100.0 * s)));
         }
+        entries.push((Swatch::Heading, "Rescuer's route over".to_string()));
+        for s in [0.25, 0.5, 0.75, 1.0] {
+            entries.push((Swatch::Fill(route_colour(s)), format!("{:.0} %", 100.0 * s)));
+        }
+        entries.push((Swatch::Triangle(BLACK), "route leaves open air".to_string()));
         entries.push((Swatch::Outline(BLACK), "recurring void".to_string()));
         entries.push((Swatch::Heading, format!("cell {:.3} m", self.cell_m)));
         style::draw_legend(&legend, &entries)?;

@@ -1,7 +1,8 @@
 //! The rescue map of an ensemble in its report (`rescue_map.csv` and `rescue.json` of
 //! [`crate::rescue::ensemble`], docs/rescue.md §6): per plan cell, the share of the
 //! analysed members with a survivable void beneath it (and with one the rescuer, or the
-//! camera, reaches; and with any void), each drawn as a plan grid of coloured cells with
+//! camera, reaches; with any void; in which the rescuer's route to a survivable void
+//! passes over the cell, and leaves open air in it), each drawn as a plan grid of coloured cells with
 //! a legend (white → dark blue, the colours of the `rescue_map` figure,
 //! [`crate::plot::voids::share_colour`]); the distributions over the members (min,
 //! quartiles, mean, max of the void count, the survivable count and volume, the
@@ -18,7 +19,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The map columns drawn, with their captions.
-pub const MAPS: [(&str, &str); 4] = [
+pub const MAPS: [(&str, &str); 6] = [
     (
         "p_survivable",
         "a survivable void beneath (a lying or sitting adult fits)",
@@ -32,6 +33,14 @@ pub const MAPS: [(&str, &str); 4] = [
         "a survivable void beneath that the search camera reaches",
     ),
     ("p_void", "any void beneath"),
+    (
+        "p_route_rescuer",
+        "the rescuer's route to a survivable void passing over the cell",
+    ),
+    (
+        "p_entry_rescuer",
+        "the rescuer's route to a survivable void leaving open air in the cell",
+    ),
 ];
 
 /// The distributions shown, with their labels and units.
@@ -51,7 +60,7 @@ const DISTRIBUTIONS: [(&str, &str); 6] = [
 struct Cell {
     x: f64,
     y: f64,
-    p: [f64; 4],
+    p: [f64; MAPS.len()],
 }
 
 fn read(path: &Path) -> Result<String> {
@@ -76,12 +85,10 @@ fn load_map(path: &Path) -> Result<Vec<Cell>> {
             .ok_or_else(|| inconsistent(path, format!("has no column `{name}`")))
     };
     let (cx, cy) = (col("x")?, col("y")?);
-    let cp = [
-        col(MAPS[0].0)?,
-        col(MAPS[1].0)?,
-        col(MAPS[2].0)?,
-        col(MAPS[3].0)?,
-    ];
+    let cp = MAPS
+        .iter()
+        .map(|(name, _)| col(name))
+        .collect::<Result<Vec<usize>>>()?;
     let mut cells = Vec::new();
     for (n, line) in lines.enumerate() {
         let f: Vec<&str> = line.split(',').collect();
@@ -96,10 +103,14 @@ fn load_map(path: &Path) -> Result<Vec<Cell>> {
                     )
                 })
         };
+        let mut p = [0.0; MAPS.len()];
+        for (p, &c) in p.iter_mut().zip(&cp) {
+            *p = num(c)?;
+        }
         cells.push(Cell {
             x: num(cx)?,
             y: num(cy)?,
-            p: [num(cp[0])?, num(cp[1])?, num(cp[2])?, num(cp[3])?],
+            p,
         });
     }
     Ok(cells)

@@ -13,6 +13,14 @@
 //!   corner of its bounding box that it does not cover. Per cell and member: whether a void, a survivable void, a survivable void
 //!   the rescuer reaches, one the camera reaches lies beneath; the probability is the count
 //!   of members with it over the analysed members.
+//! * **Routes on the map.** Per cell and member, also: whether the rescuer's route to some
+//!   survivable void it reaches **passes over** the cell — the route's plan polyline
+//!   (`voids.json` `rescuer.path_m`, [`super::route`], its points' x and y), segment by
+//!   segment, meets the cell's closed square ([`segment_meets_square`], bounds included:
+//!   a segment along a cell edge passes over both cells, one through a corner over all
+//!   four) — and whether such a route **leaves open air** in the cell (its first point
+//!   lies in the cell's closed square); the same for the camera's routes. A part of a route
+//!   outside the map's grid passes over no cell.
 //! * **Distributions** over the analysed members of the void count, the survivable void
 //!   count, the survivable voids' total volume, the count of survivable voids the rescuer
 //!   reaches, and the pile's max and mean height (`voids.json` `rubble`; 0 without
@@ -67,6 +75,12 @@ pub struct MemberVoid {
     /// cells' boxes (`voids.json` `boxes`, [`super::boxes`]), without repeats; their
     /// union is the plan of its columns. Empty until [`read_member`] reads them.
     pub footprint_m: Vec<[[f64; 2]; 2]>,
+    /// The rescuer's route in plan (x, y of `voids.json` `rescuer.path_m`, from where it
+    /// leaves open air to the void), m; empty when the rescuer does not reach the void, or
+    /// until [`read_member`] reads it.
+    pub rescuer_path_m: Vec<[f64; 2]>,
+    /// The camera's route in plan (`camera.path_m`), as `rescuer_path_m`.
+    pub camera_path_m: Vec<[f64; 2]>,
 }
 
 /// One member's rescue analysis.
@@ -198,6 +212,8 @@ pub fn parse_voids_csv(text: &str, file: &Path) -> Result<Vec<MemberVoid>> {
             centroid_m: [num("centroid_x")?, num("centroid_y")?, num("centroid_z")?],
             bounds_m,
             footprint_m: Vec::new(),
+            rescuer_path_m: Vec::new(),
+            camera_path_m: Vec::new(),
         });
     }
     Ok(out)
@@ -319,6 +335,8 @@ fn member_with(
             .iter()
             .map(|r| r.map(|c| [o[0] + c[0] as f64 * h, o[1] + c[1] as f64 * h]))
             .collect();
+        v.rescuer_path_m = plan_route(j, "rescuer", v.rescuer, n + 1, dir, &jf)?;
+        v.camera_path_m = plan_route(j, "camera", v.camera, n + 1, dir, &jf)?;
     }
     Ok(Ok(MemberRescue {
         voids,
@@ -327,6 +345,62 @@ fn member_with(
         mean_height_m,
         scale,
     }))
+}
+
+/// The plan route (x, y of `path_m`) of `kind` (`rescuer`, `camera`) to void `number`,
+/// the `voids.json` entry `void` of the member folder `dir` (the file `jf`), when
+/// `voids.csv` says `kind` reaches it (`reached`); empty otherwise. A reached void
+/// without its route (an older analysis) is refused naming the file.
+fn plan_route(
+    void: &Value,
+    kind: &str,
+    reached: bool,
+    number: usize,
+    dir: &Path,
+    jf: &Path,
+) -> Result<Vec<[f64; 2]>> {
+    if !reached {
+        return Ok(Vec::new());
+    }
+    let path = void[kind]["path_m"].as_array().ok_or_else(|| {
+        inconsistent(
+            jf,
+            1,
+            format!(
+                "void {number} has no `{kind}.path_m` (its route; the file is of an older \
+                 analysis: `fem2rbd voids {}` writes it again)",
+                dir.display()
+            ),
+        )
+    })?;
+    let points = path
+        .iter()
+        .map(|p| {
+            let xyz: Vec<f64> = p
+                .as_array()
+                .map(|a| a.iter().filter_map(Value::as_f64).collect())
+                .unwrap_or_default();
+            match xyz[..] {
+                [x, y, z] if [x, y, z].iter().all(|c| c.is_finite()) => Ok([x, y]),
+                _ => Err(inconsistent(
+                    jf,
+                    1,
+                    format!("void {number}: `{kind}.path_m` point {p} is not x, y, z"),
+                )),
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    if points.len() < 2 {
+        return Err(inconsistent(
+            jf,
+            1,
+            format!(
+                "void {number}: `{kind}.path_m` has {} point(s), a route two or more",
+                points.len()
+            ),
+        ));
+    }
+    Ok(points)
 }
 
 /// The member folders `member-NNN` of the ensemble folder `dir`, in member order, read.
@@ -461,6 +535,69 @@ impl PlanGrid {
             self.origin_m[1] + (j as f64 + 0.5) * self.cell_m,
         ]
     }
+
+    /// The closed square of cell (i, j): ([min x, min y], [max x, max y]), m.
+    pub fn square(&self, i: usize, j: usize) -> [[f64; 2]; 2] {
+        let lo = |k: usize, c: usize| self.origin_m[k] + c as f64 * self.cell_m;
+        [[lo(0, i), lo(1, j)], [lo(0, i + 1), lo(1, j + 1)]]
+    }
+
+    /// The cells (row-major index `j · n[0] + i`, ascending) whose closed squares the
+    /// segment `a`–`b` (m; `a == b`: a point) meets ([`segment_meets_square`]). Only the
+    /// cells whose squares meet the segment's bounding box are tried.
+    pub fn cells_met(&self, a: [f64; 2], b: [f64; 2]) -> Vec<usize> {
+        // Cell c's square [o + c·h, o + (c+1)·h] meets [lo, hi] when
+        // (lo − o)/h − 1 ≤ c ≤ (hi − o)/h; one cell of slack each way against rounding,
+        // the exact test decides.
+        let range = |k: usize| {
+            let lo = a[k].min(b[k]);
+            let hi = a[k].max(b[k]);
+            let c0 = ((lo - self.origin_m[k]) / self.cell_m).floor() - 2.0;
+            let c1 = ((hi - self.origin_m[k]) / self.cell_m).floor() + 1.0;
+            let top = self.n[k] as f64 - 1.0;
+            (c0.max(0.0), c1.min(top))
+        };
+        let ((i0, i1), (j0, j1)) = (range(0), range(1));
+        let mut out = Vec::new();
+        if i0 > i1 || j0 > j1 {
+            return out;
+        }
+        for j in j0 as usize..=j1 as usize {
+            for i in i0 as usize..=i1 as usize {
+                if segment_meets_square(a, b, self.square(i, j)) {
+                    out.push(j * self.n[0] + i);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Whether the closed segment `a`–`b` meets the closed square `sq` ([min x, min y],
+/// [max x, max y]), m: some `p(t) = a + t (b − a)`, `0 ≤ t ≤ 1`, has
+/// `min ≤ p ≤ max` along x and y (bounds included). Clipped slab by slab
+/// (Liang & Barsky 1984, "A new concept and method for line clipping", ACM Trans.
+/// Graphics 3(1) 1–22): along an axis the segment moves along, the slab keeps
+/// `t` between `(min − a)/d` and `(max − a)/d`; along one it does not move, `a` must lie
+/// in the slab; the segment meets the square when the kept ranges of `t` overlap.
+pub fn segment_meets_square(a: [f64; 2], b: [f64; 2], sq: [[f64; 2]; 2]) -> bool {
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for k in 0..2 {
+        let d = b[k] - a[k];
+        if d == 0.0 {
+            if a[k] < sq[0][k] || a[k] > sq[1][k] {
+                return false;
+            }
+        } else {
+            let (u, v) = ((sq[0][k] - a[k]) / d, (sq[1][k] - a[k]) / d);
+            t0 = t0.max(u.min(v));
+            t1 = t1.min(u.max(v));
+            if t0 > t1 {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// Member counts per map cell, row-major (j, then i).
@@ -474,6 +611,16 @@ pub struct CellCounts {
     pub rescuer: Vec<usize>,
     /// Members with a survivable void the camera reaches beneath.
     pub camera: Vec<usize>,
+    /// Members in which the rescuer's route to a survivable void passes over the cell.
+    pub rescuer_route: Vec<usize>,
+    /// Members in which the camera's route to a survivable void passes over the cell.
+    pub camera_route: Vec<usize>,
+    /// Members in which the rescuer's route to a survivable void leaves open air in the
+    /// cell.
+    pub rescuer_entry: Vec<usize>,
+    /// Members in which the camera's route to a survivable void leaves open air in the
+    /// cell.
+    pub camera_entry: Vec<usize>,
 }
 
 /// The ensemble's rescue maps and statistics.
@@ -539,6 +686,10 @@ pub fn maps(members: Vec<Member>, folder: &Path) -> Result<Maps> {
         survivable: vec![0; cells],
         rescuer: vec![0; cells],
         camera: vec![0; cells],
+        rescuer_route: vec![0; cells],
+        camera_route: vec![0; cells],
+        rescuer_entry: vec![0; cells],
+        camera_entry: vec![0; cells],
     };
     if let Some(g) = grid {
         for r in &analysed {
@@ -585,14 +736,42 @@ pub fn maps(members: Vec<Member>, folder: &Path) -> Result<Maps> {
                     }
                 }
             }
+            // The routes: [rescuer over, camera over, rescuer entry, camera entry].
+            let mut routed = [
+                vec![false; cells],
+                vec![false; cells],
+                vec![false; cells],
+                vec![false; cells],
+            ];
+            for v in r.voids.iter().filter(|v| v.survivable) {
+                for (k, path) in [&v.rescuer_path_m, &v.camera_path_m]
+                    .into_iter()
+                    .enumerate()
+                {
+                    for s in path.windows(2) {
+                        for c in g.cells_met(s[0], s[1]) {
+                            routed[k][c] = true;
+                        }
+                    }
+                    if let Some(&p) = path.first() {
+                        for c in g.cells_met(p, p) {
+                            routed[k + 2][c] = true;
+                        }
+                    }
+                }
+            }
             for (c, u) in [
                 &mut counts.void,
                 &mut counts.survivable,
                 &mut counts.rescuer,
                 &mut counts.camera,
+                &mut counts.rescuer_route,
+                &mut counts.camera_route,
+                &mut counts.rescuer_entry,
+                &mut counts.camera_entry,
             ]
             .into_iter()
-            .zip(&under)
+            .zip(under.iter().chain(&routed))
             {
                 for (c, u) in c.iter_mut().zip(u) {
                     *c += usize::from(*u);
@@ -616,7 +795,9 @@ fn r6(x: f64) -> f64 {
 }
 
 /// `rescue_map.csv` header.
-pub const MAP_HEADER: &str = "i,j,x,y,p_void,p_survivable,p_survivable_rescuer,p_survivable_camera";
+pub const MAP_HEADER: &str =
+    "i,j,x,y,p_void,p_survivable,p_survivable_rescuer,p_survivable_camera,\
+p_route_rescuer,p_route_camera,p_entry_rescuer,p_entry_camera";
 
 impl Maps {
     /// The analysed members' analyses.
@@ -651,13 +832,17 @@ impl Maps {
                     let p = |x: usize| r6(x as f64 / n);
                     let _ = writeln!(
                         s,
-                        "{i},{j},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
+                        "{i},{j},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
                         r6(c[0]),
                         r6(c[1]),
                         p(self.counts.void[k]),
                         p(self.counts.survivable[k]),
                         p(self.counts.rescuer[k]),
                         p(self.counts.camera[k]),
+                        p(self.counts.rescuer_route[k]),
+                        p(self.counts.camera_route[k]),
+                        p(self.counts.rescuer_entry[k]),
+                        p(self.counts.camera_entry[k]),
                     );
                 }
             }
@@ -724,6 +909,8 @@ impl Maps {
                 "origin_m": self.grid.map(|g| g.origin_m.map(r6)),
                 "cells": self.grid.map(|g| g.n),
                 "beneath": "the cell's centre lies in the plan of the void's cells (its boxes' plan rectangles, bounds included)",
+                "route_over": "a segment of the plan polyline of the route (path_m) to a survivable void meets the cell's closed square",
+                "entry": "the route's first point (where it leaves open air) lies in the cell's closed square",
             },
             "distributions": {
                 "voids_count": dist(&|r| r.voids.len() as f64),
@@ -782,5 +969,47 @@ mod tests {
         assert!((iou(&a, &b) - 0.5).abs() < 1e-12);
         assert_eq!(iou(&a, &a), 1.0);
         assert_eq!(iou(&a, &[[5.0, 0.0, 0.0], [6.0, 1.0, 1.0]]), 0.0);
+    }
+
+    /// A 4 × 3 grid of unit cells from (0, 0).
+    fn grid() -> PlanGrid {
+        PlanGrid {
+            origin_m: [0.0, 0.0],
+            cell_m: 1.0,
+            n: [4, 3],
+        }
+    }
+
+    #[test]
+    fn a_segment_meets_a_square_with_its_bounds() {
+        let sq = [[0.0, 0.0], [1.0, 1.0]];
+        // Across, inside, along an edge, through a corner, a point on the edge.
+        assert!(segment_meets_square([-1.0, 0.5], [2.0, 0.5], sq));
+        assert!(segment_meets_square([0.2, 0.2], [0.3, 0.4], sq));
+        assert!(segment_meets_square([-1.0, 1.0], [3.0, 1.0], sq));
+        assert!(segment_meets_square([2.0, -1.0], [0.0, 1.0], sq));
+        assert!(segment_meets_square([1.0, 0.5], [1.0, 0.5], sq));
+        // Past the corner by 0.1 (the line x + y = 2.1), short of the square, beside it.
+        assert!(!segment_meets_square([2.1, 0.0], [0.0, 2.1], sq));
+        assert!(!segment_meets_square([-2.0, 0.5], [-0.1, 0.5], sq));
+        assert!(!segment_meets_square([1.5, -1.0], [1.5, 2.0], sq));
+    }
+
+    #[test]
+    fn the_cells_a_segment_passes_over() {
+        let g = grid();
+        // Along y = 0.5 from x = 0.5 to 2.5: cells (0..=2, 0).
+        assert_eq!(g.cells_met([0.5, 0.5], [2.5, 0.5]), [0, 1, 2]);
+        // Along the edge y = 1 from x = 0.5 to 1.5: both rows, columns 0 and 1.
+        assert_eq!(g.cells_met([0.5, 1.0], [1.5, 1.0]), [0, 1, 4, 5]);
+        // The diagonal (0.5, 0.5)–(2.5, 2.5) passes through the corners (1, 1) and (2, 2):
+        // the cells on the diagonal and the four beside the corners it touches.
+        assert_eq!(g.cells_met([0.5, 0.5], [2.5, 2.5]), [0, 1, 4, 5, 6, 9, 10]);
+        // A point on a corner: the four cells round it; inside a cell: that cell.
+        assert_eq!(g.cells_met([2.0, 1.0], [2.0, 1.0]), [1, 2, 5, 6]);
+        assert_eq!(g.cells_met([3.5, 2.5], [3.5, 2.5]), [11]);
+        // Outside the grid: none; entering it: the cells inside only.
+        assert!(g.cells_met([-3.0, -1.0], [-1.0, -0.5]).is_empty());
+        assert_eq!(g.cells_met([-5.0, 2.5], [0.5, 2.5]), [8]);
     }
 }

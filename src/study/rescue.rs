@@ -1,8 +1,9 @@
 //! The rescue maps of a collected study: per (model, mode, intensity), over every ok run of
 //! that intensity (all records and ensemble members), the plan map of the chance of a
-//! survivable void beneath each cell, the spread of the void and pile measures and the
-//! voids that recur in one place ([`crate::rescue::ensemble`], read from each run's
-//! `voids.csv` and `voids.json`): `results/rescue/<model>__<mode>__<pga>g.csv` and `.json`.
+//! survivable void beneath each cell and of a route to one passing over it, the spread of
+//! the void and pile measures and the voids that recur in one place
+//! ([`crate::rescue::ensemble`], read from each run's `voids.csv` and `voids.json`):
+//! `results/rescue/<model>__<mode>__<pga>g.csv` and `.json`.
 //! Each run's own numbers (void count, survivable count and volume, pile height) also enter
 //! its ruin measures as `rescue.*` ([`run_measures`]), so `ensemble.csv` gives their
 //! statistics per (record, intensity).

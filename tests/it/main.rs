@@ -73,6 +73,7 @@ mod rescue {
     mod occupancy;
     mod plots;
     mod rebuild;
+    mod route_map;
     mod routes;
     mod scene;
     mod stories;

@@ -106,6 +106,8 @@ fn ensemble_report_overlays_the_members_in_headless_chromium() {
         "p_survivable_rescuer",
         "p_survivable_camera",
         "p_void",
+        "p_route_rescuer",
+        "p_entry_rescuer",
     ] {
         let c = header.iter().position(|h| *h == col).unwrap();
         let ps: Vec<f64> = rows.iter().map(|r| r[c]).filter(|p| *p > 0.0).collect();

@@ -126,7 +126,9 @@ pub fn check_study_report(dir: &Path) {
                 "p_survivable",
                 "p_survivable_rescuer",
                 "p_survivable_camera",
-                "p_void"
+                "p_void",
+                "p_route_rescuer",
+                "p_entry_rescuer"
             ]
         );
         let csv = std::fs::read_to_string(dir.join(format!("results/rescue/{stem}.csv"))).unwrap();

@@ -28,7 +28,7 @@ fn voids(dir: &Path) {
 }
 
 /// One member folder: the boxes written as a run folder and analysed.
-fn member(dir: &Path, boxes: &[SceneBox], c: &[(usize, usize, &str)]) {
+pub fn member(dir: &Path, boxes: &[SceneBox], c: &[(usize, usize, &str)]) {
     write_run(dir, boxes, c, 1.0);
     voids(dir);
 }
@@ -64,32 +64,45 @@ fn empty_site() -> Vec<SceneBox> {
 /// Rows of `rescue_map.csv`: (i, j, x, y, [p_void, p_survivable, p_rescuer, p_camera]).
 pub type Row = (usize, usize, f64, f64, [f64; 4]);
 
+/// The header of `rescue_map.csv`.
+pub const HEADER: &str = "i,j,x,y,p_void,p_survivable,p_survivable_rescuer,p_survivable_camera,\
+p_route_rescuer,p_route_camera,p_entry_rescuer,p_entry_camera";
+
 pub fn map_rows(dir: &Path) -> Vec<Row> {
     read_map(&dir.join("rescue_map.csv"))
 }
 
-/// The rows of a rescue map file.
-pub fn read_map(file: &Path) -> Vec<Row> {
+/// The rows of a rescue map file, with the shares of its columns from `first` on (4:
+/// beneath, 8: the routes).
+fn read_columns(file: &Path, first: usize) -> Vec<Row> {
     let text = std::fs::read_to_string(file).unwrap();
     let mut lines = text.lines();
-    assert_eq!(
-        lines.next(),
-        Some("i,j,x,y,p_void,p_survivable,p_survivable_rescuer,p_survivable_camera")
-    );
+    assert_eq!(lines.next(), Some(HEADER));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            assert_eq!(f.len(), 8, "{l}");
+            assert_eq!(f.len(), 12, "{l}");
             let n = |k: usize| f[k].parse::<f64>().unwrap();
             (
                 f[0].parse().unwrap(),
                 f[1].parse().unwrap(),
                 n(2),
                 n(3),
-                [n(4), n(5), n(6), n(7)],
+                [n(first), n(first + 1), n(first + 2), n(first + 3)],
             )
         })
         .collect()
+}
+
+/// The rows of a rescue map file.
+pub fn read_map(file: &Path) -> Vec<Row> {
+    read_columns(file, 4)
+}
+
+/// The rows of a rescue map file with its route shares: [p_route_rescuer, p_route_camera,
+/// p_entry_rescuer, p_entry_camera].
+pub fn read_route_map(file: &Path) -> Vec<Row> {
+    read_columns(file, 8)
 }
 
 /// The member folders `member-NNN` of an ensemble folder, in order.
@@ -109,9 +122,11 @@ pub fn member_dirs(dir: &Path) -> Vec<PathBuf> {
 }
 
 /// The members' voids: per void, the plan squares of its cells' columns (each cell of each
-/// box of `voids.json`, one by one) and its survivable, rescuer and camera flags from
-/// `voids.csv` (read with the csv crate by column name), per analysed member.
-type PlanVoid = (Vec<[f64; 4]>, [bool; 3]);
+/// box of `voids.json`, one by one), its survivable, rescuer and camera flags from
+/// `voids.csv` (read with the csv crate by column name) and the plan points of its
+/// rescuer's and camera's routes (`voids.json` `path_m`; empty when not reached), per
+/// analysed member.
+type PlanVoid = (Vec<[f64; 4]>, [bool; 3], [Vec<[f64; 2]>; 2]);
 fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<PlanVoid>> {
     let mut out = Vec::new();
     for d in dirs {
@@ -141,19 +156,53 @@ fn member_voids(dirs: &[PathBuf]) -> Vec<Vec<PlanVoid>> {
                 }
             }
             assert!(!squares.is_empty());
-            vs.push((
-                squares,
-                [b("survivable"), b("rescuer_access"), b("camera_access")],
-            ));
+            let flags = [b("survivable"), b("rescuer_access"), b("camera_access")];
+            let path = |kind: &str, reached: bool| -> Vec<[f64; 2]> {
+                let v = &js["voids"][n][kind];
+                assert_eq!(
+                    v["reached"], reached,
+                    "{kind}: voids.json against voids.csv"
+                );
+                v["path_m"]
+                    .as_array()
+                    .map(|a| {
+                        a.iter()
+                            .map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()])
+                            .collect()
+                    })
+                    .unwrap_or_default()
+            };
+            let routes = [path("rescuer", flags[1]), path("camera", flags[2])];
+            vs.push((squares, flags, routes));
         }
         out.push(vs);
     }
     out
 }
 
+/// Whether the closed segment `a`–`b` and the closed square `[x0, x1, y0, y1]` meet, by
+/// separating axes: their bounding boxes overlap, and the square's corners are not all
+/// strictly on one side of the segment's line.
+fn separated_not(a: [f64; 2], b: [f64; 2], sq: [f64; 4]) -> bool {
+    let boxes = a[0].min(b[0]) <= sq[1]
+        && sq[0] <= a[0].max(b[0])
+        && a[1].min(b[1]) <= sq[3]
+        && sq[2] <= a[1].max(b[1]);
+    let side = |x: f64, y: f64| (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+    let s = [
+        side(sq[0], sq[2]),
+        side(sq[1], sq[2]),
+        side(sq[0], sq[3]),
+        side(sq[1], sq[3]),
+    ];
+    boxes && !(s.iter().all(|v| *v > 0.0) || s.iter().all(|v| *v < 0.0))
+}
+
 /// Every map cell's probabilities counted again, member by member, from the members'
 /// `voids.csv` and `voids.json`: a void lies beneath a cell whose centre is in the plan
-/// square of one of its cells.
+/// square of one of its cells; a route to a survivable void passes over a cell when one
+/// of its segments meets the cell's closed square (its edges half a map cell from the
+/// row's centre), and leaves open air there when its first point lies in that square.
 pub fn assert_map_agrees_with_members(dir: &Path) {
     assert_map_agrees(&dir.join("rescue_map.csv"), &member_dirs(dir));
 }
@@ -164,16 +213,45 @@ pub fn assert_map_agrees(file: &Path, members: &[PathBuf]) {
     let members = member_voids(members);
     assert!(!members.is_empty());
     let rows = read_map(file);
-    for (i, j, x, y, p) in &rows {
+    let cell = rescue_json_cell(file);
+    for ((i, j, x, y, p), (.., q)) in rows.iter().zip(read_route_map(file)) {
+        let sq = [
+            x - cell / 2.0,
+            x + cell / 2.0,
+            y - cell / 2.0,
+            y + cell / 2.0,
+        ];
+        let mut routed = [0usize; 4];
+        for vs in &members {
+            let mut on = [false; 4];
+            for (_, f, routes) in vs.iter().filter(|v| v.1[0]) {
+                for (k, path) in routes.iter().enumerate() {
+                    assert_eq!(path.len() >= 2, f[k + 1], "a route where reached");
+                    on[k] |= path.windows(2).any(|s| separated_not(s[0], s[1], sq));
+                    on[k + 2] |= path.first().is_some_and(|p| separated_not(*p, *p, sq));
+                }
+            }
+            for k in 0..4 {
+                routed[k] += usize::from(on[k]);
+            }
+        }
+        for k in 0..4 {
+            let want = routed[k] as f64 / members.len() as f64;
+            assert!(
+                (q[k] - want).abs() < 1e-6,
+                "cell ({i}, {j}) at ({x}, {y}), route column {k}: {} vs {want}",
+                q[k]
+            );
+        }
         let mut count = [0usize; 4];
         for vs in &members {
             let under: Vec<&[bool; 3]> = vs
                 .iter()
-                .filter(|(sq, _)| {
+                .filter(|(sq, ..)| {
                     sq.iter()
                         .any(|b| b[0] <= *x && *x <= b[1] && b[2] <= *y && *y <= b[3])
                 })
-                .map(|(_, f)| f)
+                .map(|(_, f, _)| f)
                 .collect();
             count[0] += usize::from(!under.is_empty());
             count[1] += usize::from(under.iter().any(|f| f[0]));
@@ -189,6 +267,19 @@ pub fn assert_map_agrees(file: &Path, members: &[PathBuf]) {
             );
         }
     }
+}
+
+/// The map's cell edge, m, from the `rescue.json` beside the map `file` (a study's
+/// `<stem>.json` beside its `<stem>.csv`).
+fn rescue_json_cell(file: &Path) -> f64 {
+    let name = file.file_name().unwrap().to_string_lossy();
+    let js = if name == "rescue_map.csv" {
+        file.with_file_name("rescue.json")
+    } else {
+        file.with_extension("json")
+    };
+    let js: Value = serde_json::from_str(&std::fs::read_to_string(&js).unwrap()).unwrap();
+    js["map"]["cell_m"].as_f64().unwrap()
 }
 
 /// The row whose cell holds (x, y).

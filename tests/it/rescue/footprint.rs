@@ -5,8 +5,11 @@
 //! plan, the rescuer reaches it), member 1 a 0.4 × 0.4 m one with the same bounding box
 //! (the rescuer does not reach it). The four map cells of the L's missing corner lie in
 //! its bounding box, yet only member 1 has a void beneath them: 0.5, where a bounding-box
-//! rule would give 1.
-use super::ensemble::read_map;
+//! rule would give 1. Their routes, written by hand, pass over the map cells by the
+//! closed-square rule: member 0's (the rescuer's and the camera's) along y = 0.05 m from
+//! x = 0.55 to 0.35 m, member 1's (the camera's) along the cell edge x = 0.1 m from
+//! y = 0.55 to 0.35 m, over the cells on both sides of it.
+use super::ensemble::{read_map, read_route_map};
 use fem2rbd::rescue::ensemble::write_maps;
 use std::path::Path;
 
@@ -14,8 +17,9 @@ const CSV_HEADER: &str = "void,volume_m3,survivable,rescuer_access,camera_access
 centroid_x,centroid_y,centroid_z,min_x,min_y,min_z,max_x,max_y,max_z";
 
 /// A member folder with one survivable void of `boxes` (cell indices, cell 0.1 m, grid
-/// 6 × 6 × 5 from the origin), bounding box 0…0.4 × 0…0.4 × 0…0.3 m.
-fn member(dir: &Path, boxes: &str, volume: f64, rescuer: bool) {
+/// 6 × 6 × 5 from the origin), bounding box 0…0.4 × 0…0.4 × 0…0.3 m, reached by the
+/// camera along `path` (`path_m`) and by the rescuer along it too when `rescuer`.
+fn member(dir: &Path, boxes: &str, volume: f64, rescuer: bool, path: &str) {
     std::fs::create_dir_all(dir).unwrap();
     let r = u8::from(rescuer);
     std::fs::write(
@@ -28,7 +32,13 @@ fn member(dir: &Path, boxes: &str, volume: f64, rescuer: bool) {
         format!(
             r#"{{"scale": 0.2, "grid": {{"origin_m": [0.0, 0.0, 0.0], "cell_m": 0.1, "cells": [6, 6, 5]}},
 "rubble": {{"max_height_m": 0.5, "mean_height_m": 0.4}}, "voids_count": 1,
-"voids": [{{"void": 1, "boxes": {boxes}}}]}}"#
+"voids": [{{"void": 1, "boxes": {boxes}, "rescuer": {rescuer_access},
+"camera": {{"reached": true, "path_m": {path}}}}}]}}"#,
+            rescuer_access = if rescuer {
+                format!(r#"{{"reached": true, "path_m": {path}}}"#)
+            } else {
+                r#"{"reached": false}"#.to_string()
+            }
         ),
     )
     .unwrap();
@@ -44,12 +54,14 @@ fn an_l_shaped_void_does_not_claim_the_corner_it_does_not_cover() {
         "[[0, 0, 0, 4, 2, 3], [0, 2, 0, 2, 4, 3]]",
         0.036,
         true,
+        "[[0.55, 0.05, 0.15], [0.35, 0.05, 0.15]]",
     );
     member(
         &dir.join("member-001"),
         "[[0, 0, 0, 4, 4, 3]]",
         0.048,
         false,
+        "[[0.1, 0.55, 0.15], [0.1, 0.35, 0.15]]",
     );
     write_maps(dir).unwrap();
     let rows = read_map(&dir.join("rescue_map.csv"));
@@ -72,6 +84,22 @@ fn an_l_shaped_void_does_not_claim_the_corner_it_does_not_cover() {
             [0.0; 4]
         };
         assert_eq!(*p, want, "cell ({i}, {j}) at ({x}, {y})");
+    }
+    // [p_route_rescuer, p_route_camera, p_entry_rescuer, p_entry_camera]: member 0's
+    // routes over cells 3, 4, 5 of row 0 (x 0.3…0.6), leaving open air in cell 5; member
+    // 1's camera over the cells 0 and 1 of rows 3, 4, 5 (y 0.3…0.6; the edge x = 0.1 is
+    // theirs both), leaving open air in cells 0 and 1 of row 5.
+    for (i, j, x, y, q) in read_route_map(&dir.join("rescue_map.csv")) {
+        let m0 = j == 0 && (3..=5).contains(&i);
+        let m1 = i <= 1 && (3..=5).contains(&j);
+        let half = |on: bool| if on { 0.5 } else { 0.0 };
+        let want = [
+            half(m0),
+            half(m0 || m1),
+            half(m0 && i == 5),
+            half((m0 && i == 5) || (m1 && j == 5)),
+        ];
+        assert_eq!(q, want, "route cell ({i}, {j}) at ({x}, {y})");
     }
     let js: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("rescue.json")).unwrap()).unwrap();

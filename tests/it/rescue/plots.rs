@@ -1,12 +1,15 @@
 //! The rescue figures (`fem2rbd::plot::voids`), read back from their SVG: the voids of a
 //! hand-built ruin as boxes of their pattern's colour at their places and sizes, with the
 //! rescuer's entry and the breach marked; an ensemble's rescue map with one shaded cell per
-//! cell of `rescue_map.csv` with a survivable void beneath, and its recurring place.
-use super::ensemble::{hand_built_ensemble, read_map, table_at};
+//! cell of `rescue_map.csv` with a survivable void beneath, and its recurring place; the
+//! rescuer's routes on it, one square per cell a route passes over and one triangle per
+//! cell where a route leaves open air.
+use super::ensemble::{hand_built_ensemble, read_map, read_route_map, table_at};
+use super::route_map::corridor_ensemble;
 use super::scene::*;
 use fem2rbd::plot::geometry::View;
 use fem2rbd::plot::voids::{
-    pattern_colour, read_voids, share_colour, RescueMapFigure, VoidsFigure,
+    pattern_colour, read_voids, route_colour, share_colour, RescueMapFigure, VoidsFigure,
 };
 use fem2rbd::plot::{svg_string, Figure};
 use std::process::Command;
@@ -140,11 +143,11 @@ fn the_rescue_map_shades_each_cell_by_its_share() {
     assert!(cells
         .iter()
         .all(|s| (s.0 - cells[0].0).abs() <= 1.0 && (s.0 - s.1).abs() <= 1.0));
-    // The recurring place's label and the legend's 75 % swatch.
-    assert_eq!(texts(&svg, "75 %"), 2);
+    // The recurring place's label and the legend's two 75 % swatches (voids, routes).
+    assert_eq!(texts(&svg, "75 %"), 3);
     assert_eq!(
         texts(&svg, "25 %"),
-        1,
+        2,
         "only the legend: the far table does not recur"
     );
 }
@@ -249,5 +252,115 @@ fn the_voids_plan_draws_the_rescuers_route() {
         }),
         "no triangle at the line's start {:?}: {tri:?}",
         l[0]
+    );
+}
+
+/// The points of every `<polygon>` filled `fill`.
+fn polygons(svg: &str, fill: &str) -> Vec<Vec<[f64; 2]>> {
+    svg.lines()
+        .filter(|l| l.starts_with("<polygon") && attr(l, "fill").as_deref() == Some(fill))
+        .map(|l| {
+            attr(l, "points")
+                .unwrap()
+                .split_whitespace()
+                .map(|p| {
+                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
+                    [xy.next().unwrap(), xy.next().unwrap()]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The rescue map of the corridor ensemble (`route_map.rs`: the rescuer's routes pass
+/// over 6 cells of row 3 in both members and 2 in one, and leave open air in 2 cells, in
+/// one member each): 6 dark orange squares of the share 1 and 2 of 0.5 (plus a legend
+/// swatch each), each half a map cell wide, centred on one row, a cell apart from each
+/// other; 2 black triangles (plus the legend's) at the centres of the two cells where
+/// the routes leave open air, the first two of the row. A map without the route columns
+/// is refused naming the file and the column.
+#[test]
+fn the_rescue_map_draws_the_rescuers_routes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    corridor_ensemble(dir);
+    fem2rbd::rescue::ensemble::write_maps(dir).unwrap();
+    let routes = read_route_map(&dir.join("rescue_map.csv"));
+    let fig = RescueMapFigure::load(dir).unwrap().unwrap();
+    let svg = svg_string(&fig).unwrap();
+    // The map's own cells (not the 18 × 14 px legend swatches).
+    let map_rects = |c| {
+        rects(&svg, &hex(c), None)
+            .into_iter()
+            .filter(|r| r[2] != 18.0)
+            .collect::<Vec<_>>()
+    };
+    let full = map_rects(route_colour(1.0));
+    let half = map_rects(route_colour(0.5));
+    assert_eq!(full.len(), 6, "{svg}");
+    assert_eq!(half.len(), 2);
+    assert_eq!(rects(&svg, &hex(route_colour(1.0)), None).len(), 7);
+    for share in [0.5, 1.0] {
+        let want = routes.iter().filter(|r| r.4[0] == share).count();
+        assert_eq!(map_rects(route_colour(share)).len(), want);
+    }
+    // A map cell's width from the survivable shares' squares (the room's cells).
+    let cell = rects(&svg, &hex(share_colour(1.0)), None)
+        .into_iter()
+        .chain(rects(&svg, &hex(share_colour(0.5)), None))
+        .map(|r| r[2])
+        .find(|w| *w != 18.0)
+        .expect("a survivable cell");
+    let mut all: Vec<[f64; 4]> = full.iter().chain(&half).copied().collect();
+    all.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let centre = |r: &[f64; 4]| [r[0] + r[2] / 2.0, r[1] + r[3] / 2.0];
+    for r in &all {
+        assert!((r[2] - cell / 2.0).abs() <= 1.0 && (r[3] - cell / 2.0).abs() <= 1.0);
+        assert!(
+            (centre(r)[1] - centre(&all[0])[1]).abs() <= 1.0,
+            "one row: {all:?}"
+        );
+    }
+    for w in all.windows(2) {
+        assert!(
+            (centre(&w[1])[0] - centre(&w[0])[0] - cell).abs() <= 1.0,
+            "a cell apart: {all:?}"
+        );
+    }
+    // The ends of the row are the half shares.
+    assert!(half.iter().any(|r| r[0] == all[0][0]));
+    assert!(half.iter().any(|r| r[0] == all[7][0]));
+    // The entries: two triangles (and the legend's) centred on the row's first two cells.
+    let tri = polygons(&svg, "#000000");
+    assert_eq!(tri.len(), 3, "{tri:?}");
+    let mid = |t: &Vec<[f64; 2]>| {
+        let n = t.len() as f64;
+        [
+            t.iter().map(|p| p[0]).sum::<f64>() / n,
+            t.iter().map(|p| p[1]).sum::<f64>() / n,
+        ]
+    };
+    for r in &all[..2] {
+        let c = centre(r);
+        assert!(
+            tri.iter().any(|t| {
+                let m = mid(t);
+                (m[0] - c[0]).abs() <= 1.5 && (m[1] - c[1]).abs() <= 3.0
+            }),
+            "no triangle at {c:?}: {tri:?}"
+        );
+    }
+
+    // A map of an older analysis, without the route columns.
+    let csv = std::fs::read_to_string(dir.join("rescue_map.csv")).unwrap();
+    let old: String = csv
+        .lines()
+        .map(|l| l.split(',').take(8).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    std::fs::write(dir.join("rescue_map.csv"), old).unwrap();
+    let e = RescueMapFigure::load(dir).unwrap_err().to_string();
+    assert!(
+        e.contains("rescue_map.csv") && e.contains("`p_route_rescuer`"),
+        "{e}"
     );
 }
