@@ -2,8 +2,10 @@
 """Where the farthest pieces of a ruin come from: for every body that ends farther beyond
 the original footprint than 2/3 of the building's height (the planning rule), the largest
 jump of its horizontal velocity relative to the ground between two keyframes after the
-hand-off (a kick), when and how high it happened; and the ground's largest plan
-displacement over the run.
+hand-off (a kick), when and how high it happened; the ground's largest plan
+displacement over the run; and the pieces that rise after the hand-off (a launch): for
+every body the largest rise of its centre above its lowest point since the hand-off,
+read between keyframes, and how many rise more than 1 m and 2 m.
 
 Usage: python3 scripts/far-pieces.py RUN_DIR
 Reads bodies.csv, ruins.csv, keyframes.csv and summary.json of a run folder (fem2rbd run).
@@ -56,12 +58,22 @@ def main(run):
     g0 = (float(bodies[ground_name]["cx"]), float(bodies[ground_name]["cy"]))
     tc = summary.get("ruin_stage", {}).get("start_s", 0.0)
     track = defaultdict(list)
+    lowest = {}  # body -> (z, t): its lowest centre since the hand-off
+    rise = {}  # body -> (rise m, from z m, from t s, top t s)
     with open(f"{run}/keyframes.csv") as f:
         rows = csv.reader(f)
         next(rows)
         for t, name, x, y, z, *_ in rows:
             if name in far or name == ground_name:
                 track[name].append((float(t), float(x), float(y), float(z)))
+            t, z = float(t), float(z)
+            if t < tc or name == ground_name:
+                continue
+            low = lowest.get(name)
+            if low is None or z < low[0]:
+                low = lowest[name] = (z, t)
+            if z - low[0] > rise.get(name, (0.0,))[0]:
+                rise[name] = (z - low[0], low[0], low[1], t)
     ground = track[ground_name]
     gmax = max(ground, key=lambda p: math.hypot(p[1] - g0[0], p[2] - g0[1]))
     print(f"building height {height:.2f} m; 2/3 of it {limit:.2f} m; hand-off {tc:.3f} s")
@@ -105,6 +117,14 @@ def main(run):
     if kicks:
         kicks.sort()
         print(f"largest horizontal kick per body: median {kicks[len(kicks) // 2]:.1f} m/s, max {kicks[-1]:.1f} m/s")
+    launched = sorted(rise.items(), key=lambda kv: -kv[1][0])
+    print(
+        f"rise of a centre above its lowest point since the hand-off: {sum(r[0] > 1.0 for _, r in launched)} "
+        f"bodies more than 1 m, {sum(r[0] > 2.0 for _, r in launched)} more than 2 m; the largest:"
+    )
+    print("body,rise_m,from_z_m,from_t_s,top_t_s,ends_beyond_m")
+    for name, (r, z, t0, t1) in launched[:10]:
+        print(f"{name},{r:.2f},{z:.2f},{t0:.2f},{t1:.2f},{far.get(name, 0.0):.2f}")
 
 
 if __name__ == "__main__":
