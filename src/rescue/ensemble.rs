@@ -35,6 +35,7 @@
 //!
 //! A member whose `voids.json` holds an `error` (its grid was over the bound) is not
 //! analysed: it is named in `rescue.json` and left out of every denominator.
+use super::volumes::route_points;
 use super::{RescueError, Result};
 use crate::output::run_folder::RunFolderError;
 use serde_json::{json, Map, Value};
@@ -362,45 +363,20 @@ fn plan_route(
     if !reached {
         return Ok(Vec::new());
     }
-    let path = void[kind]["path_m"].as_array().ok_or_else(|| {
-        inconsistent(
-            jf,
-            1,
-            format!(
-                "void {number} has no `{kind}.path_m` (its route; the file is of an older \
-                 analysis: `fem2rbd voids {}` writes it again)",
-                dir.display()
-            ),
-        )
-    })?;
-    let points = path
-        .iter()
-        .map(|p| {
-            let xyz: Vec<f64> = p
-                .as_array()
-                .map(|a| a.iter().filter_map(Value::as_f64).collect())
-                .unwrap_or_default();
-            match xyz[..] {
-                [x, y, z] if [x, y, z].iter().all(|c| c.is_finite()) => Ok([x, y]),
-                _ => Err(inconsistent(
-                    jf,
-                    1,
-                    format!("void {number}: `{kind}.path_m` point {p} is not x, y, z"),
-                )),
-            }
-        })
-        .collect::<Result<Vec<_>>>()?;
-    if points.len() < 2 {
-        return Err(inconsistent(
-            jf,
-            1,
-            format!(
-                "void {number}: `{kind}.path_m` has {} point(s), a route two or more",
-                points.len()
-            ),
-        ));
-    }
-    Ok(points)
+    let points = route_points(void, kind, number as u64)
+        .map_err(|message| inconsistent(jf, 1, message))?
+        .ok_or_else(|| {
+            inconsistent(
+                jf,
+                1,
+                format!(
+                    "void {number} has no `{kind}.path_m` (its route; the file is of an older \
+                     analysis: `fem2rbd voids {}` writes it again)",
+                    dir.display()
+                ),
+            )
+        })?;
+    Ok(points.into_iter().map(|[x, y, _]| [x, y]).collect())
 }
 
 /// The member folders `member-NNN` of the ensemble folder `dir`, in member order, read.

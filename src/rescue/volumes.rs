@@ -63,6 +63,38 @@ fn survivable_voids(js: &Value) -> Result<Vec<(u64, &Value)>, String> {
         .collect()
 }
 
+/// The points (m) of a void's route of `kind` (`rescuer`, `camera`), `voids.json`
+/// `<kind>.path_m`, void number `n`: `None` when the file has no `path_m` for it (an older
+/// analysis); an error names a point that is not x, y, z and a route of fewer than two
+/// points.
+pub(crate) fn route_points(
+    void: &Value,
+    kind: &str,
+    n: u64,
+) -> Result<Option<Vec<[f64; 3]>>, String> {
+    let Some(path) = void[kind]["path_m"].as_array() else {
+        return Ok(None);
+    };
+    let points = path
+        .iter()
+        .map(|p| {
+            let xyz: Vec<f64> = p
+                .as_array()
+                .map(|a| a.iter().filter_map(Value::as_f64).collect())
+                .unwrap_or_default();
+            <[f64; 3]>::try_from(xyz)
+                .map_err(|_| format!("void {n}: `{kind}.path_m` point {p} is not x, y, z"))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    if points.len() < 2 {
+        return Err(format!(
+            "void {n}: `{kind}.path_m` has {} point(s), a route two or more",
+            points.len()
+        ));
+    }
+    Ok(Some(points))
+}
+
 /// The access routes of the survivable voids of the `voids.json` text `text` (module
 /// docs), in its order; none when the file records an error or the ruin has no grid.
 /// `Err` names what is wrong (the caller names the file).
@@ -83,29 +115,12 @@ pub fn route_lines(text: &str) -> Result<Vec<RouteLine>, String> {
             .as_f64()
             .filter(|x| x.is_finite())
             .ok_or_else(|| format!("void {n}: {kind}.route_m is not a number"))?;
-        let path = access["path_m"].as_array().ok_or_else(|| {
+        let points = route_points(v, kind, n)?.ok_or_else(|| {
             format!(
-                "void {n} has no {kind}.path_m (its route; the file is of an older analysis: \
+                "void {n} has no `{kind}.path_m` (its route; the file is of an older analysis: \
                  `fem2rbd voids RUN_DIR` writes it again)"
             )
         })?;
-        let points = path
-            .iter()
-            .map(|p| {
-                let xyz: Vec<f64> = p
-                    .as_array()
-                    .map(|a| a.iter().filter_map(Value::as_f64).collect())
-                    .unwrap_or_default();
-                <[f64; 3]>::try_from(xyz)
-                    .map_err(|_| format!("void {n}: {kind}.path_m point {p} is not x, y, z"))
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        if points.len() < 2 {
-            return Err(format!(
-                "void {n}: {kind}.path_m has {} point(s), a route two or more",
-                points.len()
-            ));
-        }
         out.push(RouteLine {
             name: route_name(n, kind, route_m),
             kind: kind.to_string(),

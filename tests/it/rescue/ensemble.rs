@@ -198,6 +198,19 @@ fn separated_not(a: [f64; 2], b: [f64; 2], sq: [f64; 4]) -> bool {
     boxes && !(s.iter().all(|v| *v > 0.0) || s.iter().all(|v| *v < 0.0))
 }
 
+/// Writing the maps of `dir` again gives the same bytes in every file.
+pub fn assert_maps_written_again_are_the_same(dir: &Path) {
+    let read = || -> Vec<Vec<u8>> {
+        FILES
+            .iter()
+            .map(|f| std::fs::read(dir.join(f)).unwrap())
+            .collect()
+    };
+    let a = read();
+    write_maps(dir).unwrap();
+    assert_eq!(a, read());
+}
+
 /// Every map cell's probabilities counted again, member by member, from the members'
 /// `voids.csv` and `voids.json`: a void lies beneath a cell whose centre is in the plan
 /// square of one of its cells; a route to a survivable void passes over a cell when one
@@ -411,16 +424,7 @@ fn hand_built_members_give_known_probabilities_and_places() {
     );
 
     // The same folder gives the same bytes.
-    let a: Vec<Vec<u8>> = FILES
-        .iter()
-        .map(|f| std::fs::read(dir.join(f)).unwrap())
-        .collect();
-    write_maps(dir).unwrap();
-    let b: Vec<Vec<u8>> = FILES
-        .iter()
-        .map(|f| std::fs::read(dir.join(f)).unwrap())
-        .collect();
-    assert_eq!(a, b);
+    assert_maps_written_again_are_the_same(dir);
 }
 
 /// A member whose `voids.csv` lacks a column or holds a bad value, or that lacks

@@ -152,20 +152,23 @@ fn the_rescue_map_shades_each_cell_by_its_share() {
     );
 }
 
+/// The `points` of an SVG element's line, as x, y pairs (px).
+fn points(line: &str) -> Vec<[f64; 2]> {
+    attr(line, "points")
+        .unwrap()
+        .split_whitespace()
+        .map(|p| {
+            let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
+            [xy.next().unwrap(), xy.next().unwrap()]
+        })
+        .collect()
+}
+
 /// The points of every black `<polyline>` (the routes, and the legend's short strokes).
 fn black_polylines(svg: &str) -> Vec<Vec<[f64; 2]>> {
     svg.lines()
         .filter(|l| l.starts_with("<polyline") && attr(l, "stroke").as_deref() == Some("#000000"))
-        .map(|l| {
-            attr(l, "points")
-                .unwrap()
-                .split_whitespace()
-                .map(|p| {
-                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
-                    [xy.next().unwrap(), xy.next().unwrap()]
-                })
-                .collect()
-        })
+        .map(points)
         .collect()
 }
 
@@ -227,20 +230,7 @@ fn the_voids_plan_draws_the_rescuers_route() {
         l[0][0] - r[0]
     );
     // The entry triangle's centre at the line's start.
-    let tri: Vec<Vec<[f64; 2]>> = svg
-        .lines()
-        .filter(|s| s.starts_with("<polygon") && attr(s, "fill").as_deref() == Some("#000000"))
-        .map(|s| {
-            attr(s, "points")
-                .unwrap()
-                .split_whitespace()
-                .map(|p| {
-                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
-                    [xy.next().unwrap(), xy.next().unwrap()]
-                })
-                .collect()
-        })
-        .collect();
+    let tri = polygons(&svg, "#000000");
     // One per reached survivable void: the room's and the corridor's (also survivable).
     assert_eq!(tri.len(), 2);
     let centre =
@@ -259,16 +249,7 @@ fn the_voids_plan_draws_the_rescuers_route() {
 fn polygons(svg: &str, fill: &str) -> Vec<Vec<[f64; 2]>> {
     svg.lines()
         .filter(|l| l.starts_with("<polygon") && attr(l, "fill").as_deref() == Some(fill))
-        .map(|l| {
-            attr(l, "points")
-                .unwrap()
-                .split_whitespace()
-                .map(|p| {
-                    let mut xy = p.split(',').map(|t| t.parse::<f64>().unwrap());
-                    [xy.next().unwrap(), xy.next().unwrap()]
-                })
-                .collect()
-        })
+        .map(points)
         .collect()
 }
 

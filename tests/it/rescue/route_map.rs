@@ -4,7 +4,9 @@
 //! the cells their routes pass over and leave open air in, counted by hand; every cell
 //! agrees with a brute-force recount of the members' `voids.json`; a member whose
 //! `voids.json` has no routes is refused naming it, with nothing written.
-use super::ensemble::{assert_map_agrees_with_members, member, read_route_map};
+use super::ensemble::{
+    assert_map_agrees_with_members, assert_maps_written_again_are_the_same, member, read_route_map,
+};
 use super::scene::*;
 use fem2rbd::rescue::ensemble::{write_maps, FILES};
 use serde_json::Value;
@@ -105,16 +107,7 @@ fn the_routes_down_a_corridor_give_their_shares_per_cell() {
     assert_map_agrees_with_members(dir);
 
     // The same folder gives the same bytes.
-    let a: Vec<Vec<u8>> = FILES
-        .iter()
-        .map(|f| std::fs::read(dir.join(f)).unwrap())
-        .collect();
-    write_maps(dir).unwrap();
-    let b: Vec<Vec<u8>> = FILES
-        .iter()
-        .map(|f| std::fs::read(dir.join(f)).unwrap())
-        .collect();
-    assert_eq!(a, b);
+    assert_maps_written_again_are_the_same(dir);
 }
 
 /// A member whose `voids.json` lacks a reached void's route (an older analysis) is
