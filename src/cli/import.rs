@@ -2,7 +2,7 @@
 //! (openseespy `printModel('-JSON', '-file', f)`) into a model file.
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
-use fem2rbd::model::{import_opensees_json, Supports};
+use fem2rbd::model::{import_notes, import_opensees_json, Supports};
 use fem2rbd::output::location::{check_not_an_input, check_output_file};
 use std::path::PathBuf;
 
@@ -30,7 +30,7 @@ pub struct OpenSeesJsonArgs {
 }
 
 /// Runs `import`.
-pub fn run(cmd: &ImportCommand, allow_unusual: bool) -> Result<()> {
+pub fn run(cmd: &ImportCommand, quiet: bool, allow_unusual: bool) -> Result<()> {
     match cmd {
         ImportCommand::OpenseesJson(a) => {
             check_output_file(&a.output, "--output")?;
@@ -52,7 +52,13 @@ pub fn run(cmd: &ImportCommand, allow_unusual: bool) -> Result<()> {
                 model.to_toml()?
             };
             fem2rbd::output::write_atomic(&a.output, text.as_bytes())
-                .with_context(|| format!("cannot write {}", a.output.display()))
+                .with_context(|| format!("cannot write {}", a.output.display()))?;
+            if !quiet {
+                for note in import_notes(&model) {
+                    eprintln!("import: {note}");
+                }
+            }
+            Ok(())
         }
     }
 }

@@ -124,7 +124,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(args) => scene::run(args, cli.quiet, cli.allow_unusual),
         Command::Generate(cmd) => generate::run(&cmd),
         Command::Export(cmd) => export::run(&cmd, cli.allow_unusual),
-        Command::Import(cmd) => import::run(&cmd, cli.allow_unusual),
+        Command::Import(cmd) => import::run(&cmd, cli.quiet, cli.allow_unusual),
         Command::Map(args) => map::run(&args, cli.quiet, cli.allow_unusual),
         Command::Modal(args) => modal::run(&args, cli.allow_unusual),
         Command::Fe(args) => fe::run(&args, cli.quiet, cli.allow_unusual),

@@ -409,3 +409,59 @@ fn loading_a_print_as_a_model_points_to_the_importer() {
     let err = Model::load(&path).unwrap_err().to_string();
     assert!(err.contains("fem2rbd import opensees-json"), "{err}");
 }
+
+/// The command says on stderr what the model has only because the print lacks it: its
+/// supports (none, or the fixed lowest nodes), its shells' defaults, and no damping, ties,
+/// loads or analysis; `--quiet` says nothing.
+#[test]
+fn the_import_says_what_the_print_does_not_carry() {
+    let dir = tempfile::tempdir().unwrap();
+    let print = dir.path().join("print.json");
+    std::fs::write(&print, CANTILEVER).unwrap();
+    let stderr = |extra: &[&str], out: &str| {
+        let mut cmd = Command::new(BIN);
+        cmd.args(["import", "opensees-json"])
+            .arg(&print)
+            .args(extra)
+            .arg("-o")
+            .arg(dir.path().join(out));
+        let o = cmd.output().unwrap();
+        assert!(
+            o.status.success(),
+            "{cmd:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8(o.stderr).unwrap()
+    };
+    let none = stderr(&[], "a.toml");
+    assert!(
+        none.contains("import: the print has no supports, so neither has the model"),
+        "{none}"
+    );
+    assert!(
+        !none.contains("shell"),
+        "the cantilever has no shells: {none}"
+    );
+    let fixed = stderr(&["--fix-lowest"], "b.toml");
+    assert!(
+        fixed.contains("import: 1 node at the lowest z = 0 m fixed in all six DOFs"),
+        "{fixed}"
+    );
+    assert!(fixed.contains("import: no [damping], equalDOF ties, loads or analysis"));
+    assert_eq!(stderr(&["--quiet"], "c.toml"), "");
+
+    let walls = Model::load("tests/fixtures/wall-layered-1x6.toml").unwrap();
+    let shells = walls
+        .elements
+        .iter()
+        .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
+        .count();
+    assert!(shells > 1);
+    let notes = fem2rbd::model::import_notes(&walls);
+    assert!(
+        notes.iter().any(|l| l.starts_with(&format!(
+            "{shells} shells with small displacements and the local x from the first node"
+        ))),
+        "{notes:?}"
+    );
+}

@@ -21,7 +21,7 @@ pub use element::{
     Transformation,
 };
 pub use material::{Material, MaterialLaw};
-pub use opensees_json::{import_opensees_json, Supports};
+pub use opensees_json::{import_notes, import_opensees_json, Supports};
 pub use reference_json::import_reference_json;
 pub use section::{Bar, ElasticEquivalent, Fiber, RcRect, Section, SectionKind, ShellLayer};
 pub use validate::{Location, ModelError};

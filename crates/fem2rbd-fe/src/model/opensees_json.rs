@@ -82,6 +82,52 @@ pub fn import_opensees_json(
     Ok(model)
 }
 
+/// What an imported `model` has only because the print did not carry it, one line each
+/// (the module docs): its supports (none, or those of [`Supports::FixLowest`]), its shells'
+/// small displacements and default local x, and the damping, loads and analysis it lacks.
+/// `fem2rbd import opensees-json` prints them.
+pub fn import_notes(model: &Model) -> Vec<String> {
+    let mut notes = Vec::new();
+    if model.supports.is_empty() {
+        notes.push(
+            "the print has no supports, so neither has the model: add [[support]] entries, \
+             or import with --fix-lowest"
+                .to_string(),
+        );
+    } else {
+        let z = model
+            .nodes
+            .iter()
+            .map(|n| n.z)
+            .fold(f64::INFINITY, f64::min);
+        let n = model.supports.len();
+        notes.push(format!(
+            "{n} node{} at the lowest z = {z} m fixed in all six DOFs (--fix-lowest); the \
+             print has no supports",
+            if n == 1 { "" } else { "s" }
+        ));
+    }
+    let shells = model
+        .elements
+        .iter()
+        .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
+        .count();
+    if shells > 0 {
+        notes.push(format!(
+            "{shells} shell{} with small displacements and the local x from the first node to \
+             the second: the print carries neither ASDShellQ4's -corotational nor -local; set \
+             `corotational` and `local_x` where the OpenSees model had them",
+            if shells == 1 { "" } else { "s" }
+        ));
+    }
+    notes.push(
+        "no [damping], equalDOF ties, loads or analysis (the print carries none): the model \
+         has the default gravity; the scenario gives the ground motion"
+            .to_string(),
+    );
+    notes
+}
+
 /// The tags of the nodes at the lowest z of `model`, in tag order.
 fn lowest_nodes(model: &Model) -> Vec<u32> {
     let z0 = model
