@@ -54,7 +54,7 @@ pub fn run(cmd: &ImportCommand, quiet: bool, allow_unusual: bool) -> Result<()> 
             fem2rbd::output::write_atomic(&a.output, text.as_bytes())
                 .with_context(|| format!("cannot write {}", a.output.display()))?;
             if !quiet {
-                for note in import_notes(&model) {
+                for note in import_notes(&model, supports) {
                     eprintln!("import: {note}");
                 }
             }

@@ -457,7 +457,7 @@ fn the_import_says_what_the_print_does_not_carry() {
         .filter(|e| matches!(e.kind, ElementKind::Shell { .. }))
         .count();
     assert!(shells > 1);
-    let notes = fem2rbd::model::import_notes(&walls);
+    let notes = fem2rbd::model::import_notes(&walls, fem2rbd::model::Supports::None);
     assert!(
         notes.iter().any(|l| l.starts_with(&format!(
             "{shells} shells with small displacements and the local x from the first node"

@@ -82,30 +82,28 @@ pub fn import_opensees_json(
     Ok(model)
 }
 
-/// What an imported `model` has only because the print did not carry it, one line each
-/// (the module docs): its supports (none, or those of [`Supports::FixLowest`]), its shells'
-/// small displacements and default local x, and the damping, loads and analysis it lacks.
-/// `fem2rbd import opensees-json` prints them.
-pub fn import_notes(model: &Model) -> Vec<String> {
+/// What a `model` imported with `supports` has only because the print did not carry it,
+/// one line each (the module docs): its supports (none, or the lowest nodes
+/// [`Supports::FixLowest`] fixed), its shells' small displacements and default local x,
+/// and the damping, ties, loads and analysis it lacks. `fem2rbd import opensees-json`
+/// prints them.
+pub fn import_notes(model: &Model, supports: Supports) -> Vec<String> {
     let mut notes = Vec::new();
-    if model.supports.is_empty() {
-        notes.push(
+    match supports {
+        Supports::None => notes.push(
             "the print has no supports, so neither has the model: add [[support]] entries, \
              or import with --fix-lowest"
                 .to_string(),
-        );
-    } else {
-        let z = model
-            .nodes
-            .iter()
-            .map(|n| n.z)
-            .fold(f64::INFINITY, f64::min);
-        let n = model.supports.len();
-        notes.push(format!(
-            "{n} node{} at the lowest z = {z} m fixed in all six DOFs (--fix-lowest); the \
-             print has no supports",
-            if n == 1 { "" } else { "s" }
-        ));
+        ),
+        Supports::FixLowest => {
+            let n = lowest_nodes(model).len();
+            notes.push(format!(
+                "{n} node{} at the lowest z = {} m fixed in all six DOFs (--fix-lowest); the \
+                 print has no supports",
+                if n == 1 { "" } else { "s" },
+                lowest_z(model)
+            ));
+        }
     }
     let shells = model
         .elements
@@ -128,13 +126,18 @@ pub fn import_notes(model: &Model) -> Vec<String> {
     notes
 }
 
-/// The tags of the nodes at the lowest z of `model`, in tag order.
-fn lowest_nodes(model: &Model) -> Vec<u32> {
-    let z0 = model
+/// The lowest z of `model`'s nodes, m.
+fn lowest_z(model: &Model) -> f64 {
+    model
         .nodes
         .iter()
         .map(|n| n.z)
-        .fold(f64::INFINITY, f64::min);
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The tags of the nodes at the lowest z of `model`, in tag order.
+fn lowest_nodes(model: &Model) -> Vec<u32> {
+    let z0 = lowest_z(model);
     let mut tags: Vec<u32> = model
         .nodes
         .iter()
