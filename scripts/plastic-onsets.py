@@ -6,7 +6,7 @@ stage, the energy the solver injected since the frame before (`history.csv`
 (`connections.csv` `time_plastic_s`, `time_broken_s`; connections that start plastic
 at the hand-off are counted apart); then the share of the whole run's injection that
 came in the window. A plastic spring whose rest pose is the start pose is switched on
-stretched by whatever the connection moved before (docs/ruin-numerics.md §2.6).
+stretched by whatever the connection moved before (docs/ruin-numerics.md, "At full scale").
 
 Usage: python3 scripts/plastic-onsets.py RUN_DIR [WINDOW_S (default 1.0)]
 Reads history.csv and connections.csv of a run folder (fem2rbd run).

@@ -6,7 +6,7 @@ boxes at that keyframe (the separating-axis depth over the 15 axes of two boxes,
 monitor acts at keyframe times, so the keyframe holds the poses it saw). With
 `connected_pairs_touch = "once_yielded"` that is when the pair's collision exemption is
 lifted, and Bullet's contact then pushes the pieces apart at its Baumgarte velocity
-ERP·depth/h (docs/ruin-numerics.md §2.6). Prints the counts by depth, the deepest pairs,
+ERP·depth/h (docs/ruin-numerics.md, "At full scale"). Prints the counts by depth, the deepest pairs,
 and Σ ½·m_red·(ERP·depth/h)² as an order of magnitude of that push-out energy (m_red the
 pair's reduced mass; the passive body's partner's mass for a foundation).
 
